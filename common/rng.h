@@ -14,6 +14,8 @@ namespace poet {
 
 inline constexpr uint64_t kGoldenGamma = 0x9E3779B97F4A7C15ULL;
 
+__extension__ using uint128 = unsigned __int128;  // GCC and Clang both have it; -Wpedantic knows it is not ISO
+
 // SplitMix64's output function: a bijective 64-bit mixer that passes BigCrush when fed a Weyl sequence.
 constexpr uint64_t mix64(uint64_t z) {
   z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ULL;
@@ -61,10 +63,10 @@ class RandomStream {
     if (hi <= lo) throw std::invalid_argument("uniform_int: empty range");
     const uint64_t n = static_cast<uint64_t>(hi - lo);
     if (n == 1) return lo;
-    unsigned __int128 m = static_cast<unsigned __int128>(next_u64()) * n;
+    uint128 m = static_cast<uint128>(next_u64()) * n;
     if (static_cast<uint64_t>(m) < n) {
       const uint64_t threshold = (0 - n) % n;
-      while (static_cast<uint64_t>(m) < threshold) m = static_cast<unsigned __int128>(next_u64()) * n;
+      while (static_cast<uint64_t>(m) < threshold) m = static_cast<uint128>(next_u64()) * n;
     }
     return lo + static_cast<int64_t>(m >> 64);
   }

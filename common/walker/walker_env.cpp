@@ -186,12 +186,16 @@ void WalkerEnv::apply_action(const Action& action) {
   }
 }
 
-StepOutcome WalkerEnv::step(const Action& action) {
+void WalkerEnv::advance(const Action& action) {
   if (!world_) throw std::logic_error("WalkerEnv::step before reset");
   for (double a : action)
     if (!std::isfinite(a)) throw std::invalid_argument("walker action must be finite");
   apply_action(action);
   world_->Step(static_cast<float>(1.0 / kFps), kVelocityIterations, kPositionIterations);
+}
+
+StepOutcome WalkerEnv::step(const Action& action) {
+  advance(action);
   observe();
 
   const double x = hull_->GetPosition().x;
@@ -235,6 +239,8 @@ void WalkerEnv::observe() {
 }
 
 double WalkerEnv::hull_x() const { return hull_->GetPosition().x; }
+
+bool WalkerEnv::hull_touched() const { return contacts_->hull_touched; }
 
 WalkerPose WalkerEnv::pose() const {
   WalkerPose p;

@@ -62,9 +62,13 @@ class WalkerEnv {
   const Observation& reset();
   // One step; the action must be finite (throws std::invalid_argument otherwise). Call reset() first.
   StepOutcome step(const Action& action);
+  // Physics only: applies the action and advances the world, leaving observation and reward untouched. The
+  // trajectory is the same as step()'s (observing changes nothing); it exists to measure bare physics.
+  void advance(const Action& action);
 
   const Observation& observation() const { return obs_; }
   double hull_x() const;
+  bool hull_touched() const;  // a hull contact has begun since reset (the "fell" condition besides x < 0)
   WalkerPose pose() const;
   std::array<BodySetup, 5> body_setup() const;    // same body order as WalkerPose
   std::array<JointSetup, 4> joint_setup() const;  // hip 1, knee 1, hip 2, knee 2

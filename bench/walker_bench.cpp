@@ -1,0 +1,155 @@
+// Throughput of the walker domain on one core: bare Box2D stepping vs full rollouts (policy, lidar, reward)
+// along the same episodes, and the cost of a reset. Run: build/bench/walker_bench (see bench/README.md).
+
+#include <benchmark/benchmark.h>
+
+#include <map>
+#include <string>
+#include <vector>
+
+#include "envgen/named_courses.h"
+#include "policy/mlp.h"
+#include "rng.h"
+#include "rollout.h"
+#include "walker/terrain.h"
+#include "walker/walker_env.h"
+
+namespace poet {
+namespace {
+
+constexpr int kPolicies = 16;
+
+EnvDef course_def(const std::string& name) { return {*named_course(name), 17}; }
+
+// The same 16 random initial policies (θ ~ N(0, 0.1²)) on each course, with the actions each took, so that the
+// bare-physics benchmark replays exactly the episodes the full rollouts run.
+struct Workload {
+  Terrain terrain;
+  std::vector<Mlp> policies;
+  std::vector<std::vector<Action>> actions;
+  int64_t steps = 0;
+};
+
+const Workload& workload(const std::string& name) {
+  static std::map<std::string, Workload> cache;
+  auto it = cache.find(name);
+  if (it != cache.end()) return it->second;
+  Workload w{Terrain::generate(course_def(name)), {}, {}, 0};
+  for (int p = 0; p < kPolicies; ++p) {
+    RandomStream rng(stream_key(2024, "bench-policy", {uint64_t(p)}));
+    w.policies.emplace_back(random_params(rng));
+    WalkerEnv env(w.terrain);
+    const Observation* obs = &env.reset();
+    std::vector<Action> acts;
+    for (int k = 0; k < walker::kDefaultTimeLimit; ++k) {
+      acts.push_back(w.policies.back().act(*obs));
+      if (env.step(acts.back()).done()) break;
+      obs = &env.observation();
+    }
+    w.steps += int64_t(acts.size());
+    w.actions.push_back(std::move(acts));
+  }
+  return cache.emplace(name, std::move(w)).first->second;
+}
+
+// (a) Box2D alone: build the world, then only motor settings and world steps along the recorded actions.
+void BM_BarePhysics(benchmark::State& state, const std::string& name) {
+  const Workload& w = workload(name);
+  for (auto _ : state) {
+    for (const auto& acts : w.actions) {
+      WalkerEnv env(w.terrain);
+      env.reset();
+      for (const Action& a : acts) env.advance(a);
+      benchmark::DoNotOptimize(env.hull_x());
+    }
+  }
+  state.SetItemsProcessed(state.iterations() * w.steps);
+  state.counters["steps_per_s"] = benchmark::Counter(double(w.steps), benchmark::Counter::kIsIterationInvariantRate);
+}
+
+// (b) Full rollouts of the same policies: reset, policy, lidar, observation, reward, termination.
+void BM_Rollout(benchmark::State& state, const std::string& name) {
+  const Workload& w = workload(name);
+  int64_t steps = 0;
+  for (auto _ : state) {
+    steps = 0;
+    for (const Mlp& policy : w.policies) steps += rollout(policy, w.terrain).steps;
+  }
+  if (steps != w.steps) state.SkipWithError("rollouts diverged from the recorded episodes");
+  state.SetItemsProcessed(state.iterations() * w.steps);
+  state.counters["steps_per_s"] = benchmark::Counter(double(w.steps), benchmark::Counter::kIsIterationInvariantRate);
+}
+
+// The peers' workload (STATISTICS.md): uniformly random actions, a reset whenever an episode ends. With
+// `with_policy` the policy is also evaluated on every observation (its answer discarded), so the figure includes
+// everything a rollout computes; without it, this is the environment alone, as the peers measured theirs.
+void BM_RandomActions(benchmark::State& state, const std::string& name, bool physics_only, bool with_policy) {
+  const Terrain terrain = Terrain::generate(course_def(name));
+  RandomStream policy_rng(stream_key(1, "bench-policy"));
+  const Mlp policy(random_params(policy_rng));
+  constexpr int kSteps = 20000;
+  for (auto _ : state) {
+    RandomStream rng(stream_key(5, "bench-actions"));
+    WalkerEnv env(terrain);
+    env.reset();
+    for (int k = 0; k < kSteps; ++k) {
+      const Action a = {rng.uniform(-1, 1), rng.uniform(-1, 1), rng.uniform(-1, 1), rng.uniform(-1, 1)};
+      if (physics_only) {
+        env.advance(a);
+        // ends where the full step would: the same episodes, so both rows step the same trajectories
+        if (env.hull_x() < 0 || env.hull_touched() || env.hull_x() > walker::kFinishX) env.reset();
+        continue;
+      }
+      if (with_policy) benchmark::DoNotOptimize(policy.act(env.observation()));
+      if (env.step(a).done()) env.reset();
+    }
+  }
+  state.SetItemsProcessed(state.iterations() * kSteps);
+}
+
+// (c) The cost of a reset, in its two parts: drawing the course, and building a world from it plus the reset step.
+void BM_GenerateCourse(benchmark::State& state, const std::string& name) {
+  const EnvDef def = course_def(name);
+  for (auto _ : state) benchmark::DoNotOptimize(Terrain::generate(def));
+}
+
+void BM_ResetWorld(benchmark::State& state, const std::string& name) {
+  const Terrain terrain = Terrain::generate(course_def(name));
+  for (auto _ : state) {
+    WalkerEnv env(terrain);
+    benchmark::DoNotOptimize(env.reset());
+  }
+}
+
+void BM_Policy(benchmark::State& state) {
+  RandomStream rng(stream_key(1, "bench"));
+  const Mlp policy(random_params(rng));
+  Observation obs{};
+  for (double& v : obs) v = rng.uniform(-1, 1);
+  for (auto _ : state) {
+    benchmark::DoNotOptimize(policy.act(obs));
+    obs[0] += 1e-9;
+  }
+}
+
+BENCHMARK_CAPTURE(BM_BarePhysics, flat, std::string("flat"))->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_Rollout, flat, std::string("flat"))->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_BarePhysics, hard, std::string("hard"))->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_Rollout, hard, std::string("hard"))->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_RandomActions, bare_flat, std::string("r1"), true, false)->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_RandomActions, env_flat, std::string("r1"), false, false)->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_RandomActions, env_policy_flat, std::string("r1"), false, true)->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_RandomActions, bare_hard, std::string("hardcore-like"), true, false)->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_RandomActions, env_hard, std::string("hardcore-like"), false, false)->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_RandomActions, env_policy_hard, std::string("hardcore-like"), false, true)
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_GenerateCourse, flat, std::string("flat"))->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(BM_GenerateCourse, hard, std::string("hard"))->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(BM_ResetWorld, flat, std::string("flat"))->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(BM_ResetWorld, hard, std::string("hard"))->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_Policy);
+
+}  // namespace
+}  // namespace poet
+
+BENCHMARK_MAIN();

@@ -1,0 +1,79 @@
+#include "envgen/env_distance.h"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+#include <vector>
+
+namespace poet {
+
+EnvVector env_vector(const EnvEncoding& e) {
+  EnvVector v{e.roughness, 0.0, 0.0, 0.0, 0.0};
+  if (e.pit_gap) {
+    v[1] = e.pit_gap->lo;
+    v[2] = e.pit_gap->hi;
+  }
+  if (e.stump_height) {
+    v[3] = e.stump_height->lo;
+    v[4] = e.stump_height->hi;
+  }
+  return v;
+}
+
+namespace {
+
+double distance(const EnvEncoding& a, const EnvEncoding& b, bool normalized) {
+  const EnvVector va = env_vector(a);
+  const EnvVector vb = env_vector(b);
+  double sum = 0.0;
+  for (size_t i = 0; i < va.size(); ++i) {
+    const double d = normalized ? va[i] / kEnvVectorMax[i] - vb[i] / kEnvVectorMax[i] : va[i] - vb[i];
+    sum += d * d;
+  }
+  const double norm = std::sqrt(sum);
+  return normalized ? norm / std::sqrt(static_cast<double>(va.size())) : norm;
+}
+
+}  // namespace
+
+double euclidean_distance(const EnvEncoding& a, const EnvEncoding& b) { return distance(a, b, false); }
+
+double normalized_distance(const EnvEncoding& a, const EnvEncoding& b) { return distance(a, b, true); }
+
+double novelty(const EnvEncoding& candidate, std::span<const EnvEncoding> archive, int k, bool normalized) {
+  if (k < 1) throw std::invalid_argument("novelty: k must be >= 1");
+  if (archive.empty()) return 0.0;
+  std::vector<double> distances;
+  distances.reserve(archive.size());
+  for (const EnvEncoding& e : archive) distances.push_back(distance(candidate, e, normalized));
+  // summing the nearest in ascending order makes the result independent of the archive's order
+  std::sort(distances.begin(), distances.end());
+  const size_t n = std::min(distances.size(), static_cast<size_t>(k));
+  double sum = 0.0;
+  for (size_t i = 0; i < n; ++i) sum += distances[i];
+  return sum / static_cast<double>(n);
+}
+
+Difficulty difficulty(const EnvEncoding& e) {
+  int met = 0;
+  if (e.stump_height && e.stump_height->hi >= kChallengingStumpHeight) ++met;
+  if (e.pit_gap && e.pit_gap->hi >= kChallengingGap) ++met;
+  if (e.roughness >= kChallengingRoughness) ++met;
+  return static_cast<Difficulty>(met);
+}
+
+std::string_view to_string(Difficulty d) {
+  switch (d) {
+    case Difficulty::kEasy:
+      return "easy";
+    case Difficulty::kChallenging:
+      return "challenging";
+    case Difficulty::kVeryChallenging:
+      return "very challenging";
+    case Difficulty::kExtremelyChallenging:
+      return "extremely challenging";
+  }
+  return "unknown";
+}
+
+}  // namespace poet

@@ -1,0 +1,43 @@
+#pragma once
+// How far apart two environments are and how hard one is (spec §1.4, paper §4.3 Table 1): the 5-vector of an
+// encoding, plain and normalised Euclidean distances on it, novelty against an archive, and difficulty levels.
+// Stairs do not enter any of these (as in the reference and the paper).
+
+#include <array>
+#include <span>
+#include <string_view>
+
+#include "envgen/env_encoding.h"
+
+namespace poet {
+
+// e(A) = (roughness, gap lo, gap hi, stump height lo, stump height hi); an absent type counts as [0, 0].
+using EnvVector = std::array<double, 5>;
+inline constexpr EnvVector kEnvVectorMax = {8.0, 8.0, 8.0, 3.0, 3.0};  // e(Max), the normalisation
+
+EnvVector env_vector(const EnvEncoding& encoding);
+
+// ‖e(A) − e(B)‖₂, the reference's (unnormalised) novelty distance.
+double euclidean_distance(const EnvEncoding& a, const EnvEncoding& b);
+
+// ‖(e(A) − e(B)) / e(Max)‖₂ / √5: 1 between flat and (8, [8, 8], [3, 3]).
+double normalized_distance(const EnvEncoding& a, const EnvEncoding& b);
+
+// The mean distance from candidate to its k nearest archive entries (plain Euclidean, or normalized_distance
+// when asked); the mean over all of them when the archive has fewer than k, and 0 for an empty archive (nothing
+// to be novel against). The archive's order does not matter. Throws std::invalid_argument when k < 1.
+double novelty(const EnvEncoding& candidate, std::span<const EnvEncoding> archive, int k = 5, bool normalized = false);
+
+// The number of Table 1 conditions met: stump height hi ≥ 2.4, gap hi ≥ 6.0, roughness ≥ 4.5.
+enum class Difficulty { kEasy = 0, kChallenging, kVeryChallenging, kExtremelyChallenging };
+
+inline constexpr double kChallengingStumpHeight = 2.4;
+inline constexpr double kChallengingGap = 6.0;
+inline constexpr double kChallengingRoughness = 4.5;
+
+Difficulty difficulty(const EnvEncoding& encoding);
+
+// "easy", "challenging", "very challenging", "extremely challenging".
+std::string_view to_string(Difficulty difficulty);
+
+}  // namespace poet

@@ -1,0 +1,139 @@
+#include "course_picture.h"
+
+#include <cairo-svg.h>
+#include <cairo.h>
+
+#include <algorithm>
+#include <cmath>
+#include <memory>
+
+#include "walker/walker_constants.h"
+
+namespace poet {
+namespace {
+
+using namespace walker;
+
+struct Frame {
+  double x_min, y_max, scale;
+  double px(double x) const { return (x - x_min) * scale; }
+  double py(double y) const { return (y_max - y) * scale; }
+};
+
+void polygon(cairo_t* cr, const Frame& f, const double (*pts)[2], int n) {
+  cairo_move_to(cr, f.px(pts[0][0]), f.py(pts[0][1]));
+  for (int i = 1; i < n; ++i) cairo_line_to(cr, f.px(pts[i][0]), f.py(pts[i][1]));
+  cairo_close_path(cr);
+}
+
+// A body's box or polygon (local coordinates, metres) placed at a pose.
+void body_outline(cairo_t* cr, const Frame& f, const BodyPose& pose, const double (*local)[2], int n) {
+  double world[8][2];
+  const double c = std::cos(pose.angle), s = std::sin(pose.angle);
+  for (int i = 0; i < n; ++i) {
+    world[i][0] = pose.x + c * local[i][0] - s * local[i][1];
+    world[i][1] = pose.y + s * local[i][0] + c * local[i][1];
+  }
+  polygon(cr, f, world, n);
+}
+
+void draw_walker(cairo_t* cr, const Frame& f, const WalkerPose& pose, double alpha) {
+  double hull[5][2];
+  for (int i = 0; i < 5; ++i) hull[i][0] = kHullPoly[i][0] / kScale, hull[i][1] = kHullPoly[i][1] / kScale;
+  const double uw = kLegW / 2, lw = kLowerLegWidthFactor * kLegW / 2, h = kLegH / 2;
+  const double upper[4][2] = {{-uw, -h}, {uw, -h}, {uw, h}, {-uw, h}};
+  const double lower[4][2] = {{-lw, -h}, {lw, -h}, {lw, h}, {-lw, h}};
+  // far leg first so the near leg and the hull are drawn over it
+  for (int leg : {1, 0}) {
+    const double shade = leg == 0 ? 0.55 : 0.35;
+    cairo_set_source_rgba(cr, shade, 0.25, 0.45, alpha);
+    body_outline(cr, f, pose[1 + 2 * leg], upper, 4);
+    cairo_fill(cr);
+    body_outline(cr, f, pose[2 + 2 * leg], lower, 4);
+    cairo_fill(cr);
+  }
+  cairo_set_source_rgba(cr, 0.5, 0.4, 0.9, alpha);
+  body_outline(cr, f, pose[0], hull, 5);
+  cairo_fill_preserve(cr);
+  cairo_set_source_rgba(cr, 0.3, 0.3, 0.5, alpha);
+  cairo_set_line_width(cr, 1.0);
+  cairo_stroke(cr);
+}
+
+}  // namespace
+
+std::string write_course_picture(const std::string& path, const Terrain& terrain, const RolloutResult& episode,
+                                 const PictureOptions& options) {
+  if (!(options.pixels_per_metre > 0) || options.pixels_per_metre > 200)
+    return "pixels_per_metre must be in (0, 200]";
+  const auto& ground = terrain.ground();
+  double y_min = ground.front().y, y_max = ground.front().y;
+  for (const Point& p : ground) y_min = std::min(y_min, p.y), y_max = std::max(y_max, p.y);
+  for (const TerrainBox& b : terrain.boxes()) y_min = std::min(y_min, b.y0), y_max = std::max(y_max, b.y1);
+  for (const WalkerPose& p : episode.trajectory) y_max = std::max(y_max, double(p[0].y));
+  const Frame f{ground.front().x - 1.0, y_max + 2.5, options.pixels_per_metre};
+  const double width = (ground.back().x + 1.0 - f.x_min) * f.scale;
+  const double height = (f.y_max - (y_min - 1.0)) * f.scale;
+
+  const bool png = path.size() > 4 && path.compare(path.size() - 4, 4, ".png") == 0;
+  using SurfacePtr = std::unique_ptr<cairo_surface_t, decltype(&cairo_surface_destroy)>;
+  SurfacePtr surface(png ? cairo_image_surface_create(CAIRO_FORMAT_RGB24, int(width), int(height))
+                         : cairo_svg_surface_create(path.c_str(), width, height),
+                     &cairo_surface_destroy);
+  if (cairo_surface_status(surface.get()) != CAIRO_STATUS_SUCCESS)
+    return "cannot create picture " + path + ": " + cairo_status_to_string(cairo_surface_status(surface.get()));
+  std::unique_ptr<cairo_t, decltype(&cairo_destroy)> ctx(cairo_create(surface.get()), &cairo_destroy);
+  cairo_t* cr = ctx.get();
+
+  // sky
+  cairo_set_source_rgb(cr, 0.9, 0.9, 1.0);
+  cairo_paint(cr);
+  // ground: filled down to the bottom of the picture, as the reference renders it
+  cairo_move_to(cr, f.px(ground.front().x), height);
+  for (const Point& p : ground) cairo_line_to(cr, f.px(p.x), f.py(p.y));
+  cairo_line_to(cr, f.px(ground.back().x), height);
+  cairo_close_path(cr);
+  cairo_set_source_rgb(cr, 0.4, 0.6, 0.3);
+  cairo_fill(cr);
+  // obstacles: pit walls grey, stumps brown, stairs blue-grey
+  for (const TerrainBox& b : terrain.boxes()) {
+    const double r = b.kind == ObstacleKind::kStump ? 0.55 : b.kind == ObstacleKind::kStair ? 0.45 : 0.6;
+    const double g = b.kind == ObstacleKind::kStump ? 0.35 : b.kind == ObstacleKind::kStair ? 0.5 : 0.6;
+    const double bl = b.kind == ObstacleKind::kStump ? 0.2 : b.kind == ObstacleKind::kStair ? 0.6 : 0.6;
+    cairo_rectangle(cr, f.px(b.x0), f.py(b.y1), (b.x1 - b.x0) * f.scale, (b.y1 - b.y0) * f.scale);
+    cairo_set_source_rgb(cr, r, g, bl);
+    cairo_fill_preserve(cr);
+    cairo_set_source_rgb(cr, 0.2, 0.2, 0.2);
+    cairo_set_line_width(cr, 0.8);
+    cairo_stroke(cr);
+  }
+  // finish line
+  cairo_set_source_rgb(cr, 0.9, 0.2, 0.0);
+  cairo_set_line_width(cr, 2.0);
+  cairo_move_to(cr, f.px(kFinishX), f.py(kTerrainHeight - 1.0));
+  cairo_line_to(cr, f.px(kFinishX), 0);
+  cairo_stroke(cr);
+
+  const auto& traj = episode.trajectory;
+  if (options.snapshot_every > 0)
+    for (size_t i = 0; i < traj.size(); i += static_cast<size_t>(options.snapshot_every))
+      draw_walker(cr, f, traj[i], 0.35);
+  if (!traj.empty()) {
+    cairo_set_source_rgb(cr, 0.8, 0.1, 0.1);
+    cairo_set_line_width(cr, 1.5);
+    cairo_move_to(cr, f.px(traj[0][0].x), f.py(traj[0][0].y));
+    for (const WalkerPose& p : traj) cairo_line_to(cr, f.px(p[0].x), f.py(p[0].y));
+    cairo_stroke(cr);
+    draw_walker(cr, f, traj.back(), 1.0);
+  }
+
+  cairo_surface_flush(surface.get());
+  if (png && cairo_surface_write_to_png(surface.get(), path.c_str()) != CAIRO_STATUS_SUCCESS)
+    return "cannot write " + path;
+  cairo_surface_finish(surface.get());
+  if (cairo_surface_status(surface.get()) != CAIRO_STATUS_SUCCESS)
+    return "cannot write " + path + ": " + cairo_status_to_string(cairo_surface_status(surface.get()));
+  return {};
+}
+
+}  // namespace poet
