@@ -1,0 +1,72 @@
+#include "course_sweep.h"
+
+#include <algorithm>
+#include <stdexcept>
+
+#include "parallel_for.h"
+
+namespace poet {
+
+double CourseSweep::mean_return() const {
+  double sum = 0;
+  for (const auto& e : episodes) sum += e.total_reward;
+  return sum / static_cast<double>(episodes.size());
+}
+
+double CourseSweep::min_return() const {
+  double m = episodes.front().total_reward;
+  for (const auto& e : episodes) m = std::min(m, e.total_reward);
+  return m;
+}
+
+double CourseSweep::max_return() const {
+  double m = episodes.front().total_reward;
+  for (const auto& e : episodes) m = std::max(m, e.total_reward);
+  return m;
+}
+
+int CourseSweep::finished() const {
+  return static_cast<int>(std::count_if(episodes.begin(), episodes.end(), [](const auto& e) { return e.finished; }));
+}
+
+int CourseSweep::fell() const {
+  return static_cast<int>(std::count_if(episodes.begin(), episodes.end(), [](const auto& e) { return e.fell; }));
+}
+
+int CourseSweep::timed_out() const {
+  return static_cast<int>(
+      std::count_if(episodes.begin(), episodes.end(), [](const auto& e) { return e.timed_out(); }));
+}
+
+double CourseSweep::mean_steps() const {
+  double sum = 0;
+  for (const auto& e : episodes) sum += e.steps;
+  return sum / static_cast<double>(episodes.size());
+}
+
+CourseSweep sweep_course(const Mlp& policy, const std::string& label, const EnvEncoding& encoding,
+                         uint32_t first_seed, int count, const WalkerOptions& options, int max_steps, int threads) {
+  if (count < 1) throw std::invalid_argument("sweep: at least one seed is needed");
+  if (uint64_t(first_seed) + uint64_t(count) > kMaxEnvSeed)
+    throw std::invalid_argument("sweep: terrain seeds must stay below 1000000");
+  CourseSweep sweep{label, first_seed, std::vector<RolloutResult>(static_cast<size_t>(count))};
+  parallel_for(count, threads, [&](int i) {
+    const Terrain terrain = Terrain::generate({encoding, first_seed + static_cast<uint32_t>(i)});
+    sweep.episodes[static_cast<size_t>(i)] = rollout(policy, terrain, options, {.max_steps = max_steps});
+  });
+  return sweep;
+}
+
+nlohmann::json to_json(const CourseSweep& s) {
+  nlohmann::json returns = nlohmann::json::array(), steps = nlohmann::json::array();
+  for (const auto& e : s.episodes) {
+    returns.push_back(e.total_reward);
+    steps.push_back(e.steps);
+  }
+  return {{"course", s.course},           {"first_seed", s.first_seed},   {"episodes", s.episodes.size()},
+          {"mean_return", s.mean_return()}, {"min_return", s.min_return()}, {"max_return", s.max_return()},
+          {"finished", s.finished()},       {"fell", s.fell()},             {"timed_out", s.timed_out()},
+          {"mean_steps", s.mean_steps()},   {"returns", returns},           {"steps", steps}};
+}
+
+}  // namespace poet
