@@ -94,7 +94,9 @@ TEST(Terrain, ObstacleSizesStayInsideTheirSampledIntervals) {
     const Terrain t = Terrain::generate(make_def(e, uint32_t(n)));
     const bool any = e.has_pits() || e.has_stumps() || e.has_stairs();
     ASSERT_EQ(!t.features().empty(), any);
-    if (any) EXPECT_EQ(t.features().front().point_index, kTerrainStartpad);  // first obstacle after the pad
+    if (any) {
+      EXPECT_EQ(t.features().front().point_index, kTerrainStartpad);  // first obstacle after the pad
+    }
     for (const ObstacleFeature& f : t.features()) {
       switch (f.kind) {
         case ObstacleKind::kPitWall:
