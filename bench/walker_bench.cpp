@@ -139,8 +139,10 @@ BENCHMARK_CAPTURE(BM_Rollout, hard, std::string("hard"))->Unit(benchmark::kMilli
 BENCHMARK_CAPTURE(BM_RandomActions, bare_flat, std::string("r1"), true, false)->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_RandomActions, env_flat, std::string("r1"), false, false)->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_RandomActions, env_policy_flat, std::string("r1"), false, true)->Unit(benchmark::kMillisecond);
-BENCHMARK_CAPTURE(BM_RandomActions, bare_hard, std::string("hardcore-like"), true, false)->Unit(benchmark::kMillisecond);
-BENCHMARK_CAPTURE(BM_RandomActions, env_hard, std::string("hardcore-like"), false, false)->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_RandomActions, bare_hard, std::string("hardcore-like"), true, false)
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_RandomActions, env_hard, std::string("hardcore-like"), false, false)
+    ->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_RandomActions, env_policy_hard, std::string("hardcore-like"), false, true)
     ->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_GenerateCourse, flat, std::string("flat"))->Unit(benchmark::kMicrosecond);

@@ -13,7 +13,8 @@ namespace {
 
 std::string errno_text(int err) { return std::generic_category().message(err); }  // strerror is not thread-safe
 
-// Writes all of text to fd, retrying short writes and interrupts. Returns errno, or 0.
+}  // namespace
+
 int write_all(int fd, std::string_view text) {
   while (!text.empty()) {
     const ssize_t n = ::write(fd, text.data(), text.size());
@@ -26,7 +27,6 @@ int write_all(int fd, std::string_view text) {
   return 0;
 }
 
-// Makes the rename itself durable; best effort, as some file systems refuse fsync on a directory.
 void sync_directory(const std::filesystem::path& dir) {
   const int fd = ::open(dir.empty() ? "." : dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
   if (fd < 0) return;
@@ -34,7 +34,12 @@ void sync_directory(const std::filesystem::path& dir) {
   ::close(fd);
 }
 
-}  // namespace
+int fsync_retrying(int fd) {
+  while (::fsync(fd) != 0) {
+    if (errno != EINTR) return errno;
+  }
+  return 0;
+}
 
 Expected<std::string> read_text_file(const std::filesystem::path& path, std::uintmax_t max_bytes) {
   std::error_code ec;
@@ -69,7 +74,7 @@ std::optional<std::string> write_file_atomically(const std::filesystem::path& pa
   if (fd < 0) return "cannot create temporary file " + tmp.string() + ": " + errno_text(errno);
 
   int err = write_all(fd, text);
-  if (err == 0 && ::fsync(fd) != 0) err = errno;
+  if (err == 0) err = fsync_retrying(fd);
   if (::close(fd) != 0 && err == 0) err = errno;
   if (err == 0 && ::rename(tmp.c_str(), path.c_str()) != 0) err = errno;
   if (err != 0) {

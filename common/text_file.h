@@ -22,4 +22,14 @@ Expected<std::string> read_text_file(const std::filesystem::path& path, std::uin
 // is left behind either way.
 std::optional<std::string> write_file_atomically(const std::filesystem::path& path, std::string_view text);
 
+// Writes all of text to fd, retrying short writes and interrupts. Returns errno, or 0.
+int write_all(int fd, std::string_view text);
+
+// Makes new entries of a directory (a rename, a created file) durable; best effort, as some file systems refuse
+// fsync on a directory.
+void sync_directory(const std::filesystem::path& dir);
+
+// fsync(fd), retried on EINTR. Returns errno, or 0.
+int fsync_retrying(int fd);
+
 }  // namespace poet

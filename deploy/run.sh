@@ -1,9 +1,14 @@
 #!/usr/bin/env bash
-# Sets up a fresh Debian machine (dependencies, build) and runs the main job: one walker episode on an obstacle
-# course, printed step by step and drawn to out/rollout.svg. Extra arguments go to poet-rollout (see --help).
+# Sets up a fresh Debian machine (dependencies, build) and runs the main job: POET with the `quick` preset on
+# this machine's cores, into out/quick. Interrupted (Ctrl-C), it saves its state; run this again to resume.
+# Extra arguments go to poet-coordinator (see --help), e.g. --threads 2 or --iterations 60.
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 bash "$root/deploy/build.sh"
-mkdir -p "$root/out"
-"$root/build/coordinator/tools/poet-rollout" --course hardcore-like --seed 1 --random 7 \
-  --picture "$root/out/rollout.svg" "$@"
+run_dir="${POET_RUN_DIR:-$root/out/quick}"
+mkdir -p "$(dirname "$run_dir")"
+if [[ -f "$run_dir/checkpoint.pb" ]]; then
+  exec "$root/build/coordinator/poet-coordinator" --run-dir "$run_dir" --resume "$@"
+fi
+exec "$root/build/coordinator/poet-coordinator" --config "$root/deploy/configs/quick.textproto" \
+  --run-dir "$run_dir" "$@"

@@ -64,8 +64,7 @@ void draw_walker(cairo_t* cr, const Frame& f, const WalkerPose& pose, double alp
 
 std::string write_course_picture(const std::string& path, const Terrain& terrain, const RolloutResult& episode,
                                  const PictureOptions& options) {
-  if (!(options.pixels_per_metre > 0) || options.pixels_per_metre > 200)
-    return "pixels_per_metre must be in (0, 200]";
+  if (!(options.pixels_per_metre > 0) || options.pixels_per_metre > 200) return "pixels_per_metre must be in (0, 200]";
   const auto& ground = terrain.ground();
   double y_min = ground.front().y, y_max = ground.front().y;
   for (const Point& p : ground) y_min = std::min(y_min, p.y), y_max = std::max(y_max, p.y);

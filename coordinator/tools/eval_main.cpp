@@ -3,7 +3,6 @@
 // (with every episode's return and steps) in machine-readable form.
 
 #include <CLI/CLI.hpp>
-
 #include <cstdio>
 #include <fstream>
 #include <iostream>

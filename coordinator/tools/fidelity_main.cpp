@@ -4,15 +4,13 @@
 // documents (estool-zoo/README.md, STATISTICS.md).
 
 #include <CLI/CLI.hpp>
-
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <nlohmann/json.hpp>
 #include <string>
 #include <thread>
-
-#include <nlohmann/json.hpp>
 
 #include "course_statistics.h"
 #include "course_sweep.h"
@@ -52,7 +50,8 @@ nlohmann::json load_json(const fs::path& p) {
 }
 
 void traces(const fs::path& ref) {
-  std::printf("\n### Traces: flat course, push 0 (walker-traces/)\n\n| figure | reference | this project |\n|---|---|---|\n");
+  std::printf(
+      "\n### Traces: flat course, push 0 (walker-traces/)\n\n| figure | reference | this project |\n|---|---|---|\n");
   const nlohmann::json t1 = load_json(ref / "walker-traces/T1_zero_action.json");
   const Terrain flat = Terrain::generate({*named_course("flat"), 0});
   WalkerEnv env(flat, kNoPush);
@@ -63,8 +62,8 @@ void traces(const fs::path& ref) {
   for (size_t i = 0; i < bodies.size(); ++i)
     worst_mass = std::max(worst_mass, std::abs(bodies[i].mass - t1["setup"]["bodies"][i]["mass"].get<double>()));
   for (size_t j = 0; j < joints.size(); ++j)
-    worst_angle = std::max(worst_angle, std::abs(joints[j].reference_angle -
-                                                 t1["setup"]["joints"][j]["reference_angle"].get<double>()));
+    worst_angle = std::max(
+        worst_angle, std::abs(joints[j].reference_angle - t1["setup"]["joints"][j]["reference_angle"].get<double>()));
   for (size_t i = 0; i < obs.size(); ++i)
     worst_obs = std::max(worst_obs, std::abs(obs[i] - t1["reset"]["obs"][i].get<double>()));
   row("body masses (5 bodies), largest difference", "T1 setup", fmt("%.1e kg", worst_mass));
@@ -81,8 +80,7 @@ void traces(const fs::path& ref) {
   scripted.reset();
   const auto& a = t2["steps"][0]["action"];
   scripted.step({a[0], a[1], a[2], a[3]});
-  row("T2 step 1: leg 1 knee angle (limit −0.1)",
-      fmt("%+.3f rad", t2["steps"][0]["joint_angle"][1].get<double>()),
+  row("T2 step 1: leg 1 knee angle (limit −0.1)", fmt("%+.3f rad", t2["steps"][0]["joint_angle"][1].get<double>()),
       fmt("%+.3f rad", scripted.observation()[6] - 1.0));
 
   const nlohmann::json t3 = load_json(ref / "walker-traces/T3_trained_policies.json");
@@ -99,8 +97,9 @@ void traces(const fs::path& ref) {
 }
 
 void trained_walkers(const fs::path& ref) {
-  std::printf("\n### Trained walkers, terrain seeds 0…49: mean (min) finished/50, fell, mean steps\n\n"
-              "| walker, course | reference (estool-zoo/README.md) | this project |\n|---|---|---|\n");
+  std::printf(
+      "\n### Trained walkers, terrain seeds 0…49: mean (min) finished/50, fell, mean steps\n\n"
+      "| walker, course | reference (estool-zoo/README.md) | this project |\n|---|---|---|\n");
   struct Cell {
     const char* policy;
     const char* course;
@@ -135,15 +134,17 @@ void trained_walkers(const fs::path& ref) {
                                          count, {.lidar = rule}, walker::kDefaultTimeLimit, g_threads);
       row(std::string("bipedhard.2, hardcore-like, seeds ") + label + ", " +
               (rule == LidarRule::kFirst ? "first-hit" : "nearest") + " lidar",
-          "—", fmt("mean %.1f, ", s.mean_return()) + std::to_string(s.finished()) + "/" + std::to_string(count) +
-                   " finished");
+          "—",
+          fmt("mean %.1f, ", s.mean_return()) + std::to_string(s.finished()) + "/" + std::to_string(count) +
+              " finished");
     }
   }
 }
 
 void statistics() {
-  std::printf("\n### Courses and random initial policies, terrain seeds 0…49\n\n"
-              "| figure | reference (STATISTICS.md) | this project |\n|---|---|---|\n");
+  std::printf(
+      "\n### Courses and random initial policies, terrain seeds 0…49\n\n"
+      "| figure | reference (STATISTICS.md) | this project |\n|---|---|---|\n");
   for (double r : {1.0, 3.0}) {
     EnvEncoding e;
     e.roughness = r;
@@ -175,8 +176,9 @@ void statistics() {
 
 // How often the two lidar rules read differently, over the steps of random-action episodes.
 void lidar_rules() {
-  std::printf("\n### Lidar rule: rays that read differently, first-hit vs nearest\n\n"
-              "| course | rays differing (random-action episodes, 20 seeds) |\n|---|---|\n");
+  std::printf(
+      "\n### Lidar rule: rays that read differently, first-hit vs nearest\n\n"
+      "| course | rays differing (random-action episodes, 20 seeds) |\n|---|---|\n");
   for (const char* course : {"r1", "r3", "hard", "hardcore-like"}) {
     long differ = 0, total = 0;
     for (uint32_t seed = 0; seed < 20; ++seed) {

@@ -2,7 +2,6 @@
 // return, the steps and the outcome, and draws the course with the walker's path.
 
 #include <CLI/CLI.hpp>
-
 #include <cstdio>
 #include <optional>
 #include <string>

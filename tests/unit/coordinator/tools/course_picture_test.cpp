@@ -15,8 +15,7 @@ namespace {
 class CoursePicture : public ::testing::Test {
  protected:
   void TearDown() override { std::filesystem::remove_all(dir_); }
-  std::filesystem::path dir_ = std::filesystem::temp_directory_path() /
-                               ("poet-picture-" + std::to_string(::getpid()));
+  std::filesystem::path dir_ = std::filesystem::temp_directory_path() / ("poet-picture-" + std::to_string(::getpid()));
 };
 
 TEST_F(CoursePicture, SvgShowsEveryObstacleAndThePath) {

@@ -1,0 +1,101 @@
+// The cost of an ES step (spec §2) through the engine's own path — tasks in a RolloutBatch, the LocalEvaluator,
+// the gradient and Adam — on a fixed course: wall time on 1 and 2 threads, the parallel efficiency, and the
+// coordinator's share (rebuilding noise, ranks, gradient, Adam) against the rollouts. Ratios are measured within
+// one run. Run: build/bench/es_bench (see bench/README.md).
+
+#include <benchmark/benchmark.h>
+
+#include <chrono>
+
+#include "envgen/named_courses.h"
+#include "es/optimizer.h"
+#include "evaluator/local_evaluator.h"
+#include "poet/rollout_batch.h"
+#include "policy/mlp.h"
+#include "rng.h"
+
+namespace poet {
+namespace {
+
+constexpr int kPerturbations = 64;  // 128 rollouts per step; the reference's 256 scales the same way
+
+using Clock = std::chrono::steady_clock;
+double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+
+struct Fixture {
+  EpisodeSettings episodes{WalkerOptions{}, 2000, false, 1};
+  EsSettings es;
+  EnvDef env{*named_course("r1"), 17};
+  std::vector<double> theta;
+  Fixture() {
+    RandomStream init(stream_key(2024, "bench-es", {0}));
+    theta = random_params(init, 0.1);
+    es.perturbations = kPerturbations;
+  }
+};
+
+struct StepTimes {
+  double rollouts = 0;     // seconds in the evaluator
+  double coordinator = 0;  // seconds rebuilding noise, ranking, gradient, Adam
+  int64_t env_steps = 0;
+};
+
+// One ES step of the fixture's pair; `step` varies the noise like successive iterations do.
+StepTimes es_step(Fixture& f, Evaluator& evaluator, uint64_t step) {
+  StepTimes times;
+  RunCounters counters;
+  RolloutBatch batch(f.episodes);
+  const size_t handle =
+      batch.add_es_step({share(f.theta), f.env, 0.1, stream_key(2024, "bench-noise", {step})}, kPerturbations);
+  auto t0 = Clock::now();
+  batch.run(evaluator, counters);
+  times.rollouts = seconds_since(t0);
+  t0 = Clock::now();
+  OptimizerState opt = fresh_optimizer(f.es, f.theta.size());
+  std::vector<double> theta = f.theta;
+  const EsOutcome out = batch.es_outcome(handle, f.es);
+  adam_step(theta, out.gradient, opt, f.es);
+  decay(opt, f.es);
+  benchmark::DoNotOptimize(theta.data());
+  times.coordinator = seconds_since(t0);
+  times.env_steps = counters.env_steps;
+  return times;
+}
+
+// Wall time of an ES step on N threads.
+void BM_EsStep(benchmark::State& state) {
+  Fixture f;
+  LocalEvaluator evaluator(static_cast<int>(state.range(0)));
+  uint64_t step = 0;
+  int64_t env_steps = 0;
+  for (auto _ : state) env_steps += es_step(f, evaluator, step++ % 4).env_steps;
+  state.counters["env_steps/s"] = benchmark::Counter(double(env_steps), benchmark::Counter::kIsRate);
+  state.counters["rollouts"] = 2 * kPerturbations;
+}
+BENCHMARK(BM_EsStep)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(4);
+
+// Within one run: the same steps on 1 and 2 threads (efficiency = T1 / (2·T2)), and the coordinator's work as a
+// share of the rollout time on one thread.
+void BM_EsStepRatios(benchmark::State& state) {
+  Fixture f;
+  LocalEvaluator one(1), two(2);
+  double t1 = 0, t2 = 0, coordinator = 0, rollouts = 0;
+  uint64_t step = 0;
+  for (auto _ : state) {
+    const StepTimes a = es_step(f, one, step % 4);
+    const StepTimes b = es_step(f, two, step % 4);
+    ++step;
+    t1 += a.rollouts + a.coordinator;
+    t2 += b.rollouts + b.coordinator;
+    coordinator += a.coordinator;
+    rollouts += a.rollouts;
+  }
+  state.counters["parallel_efficiency"] = t1 / (2 * t2);
+  state.counters["coordinator_share"] = coordinator / rollouts;
+}
+BENCHMARK(BM_EsStepRatios)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(4);
+
+}  // namespace
+}  // namespace poet
+
+BENCHMARK_MAIN();

@@ -1,0 +1,23 @@
+#include "rollout_task.h"
+
+#include <stdexcept>
+
+#include "es/perturbation.h"
+#include "policy/mlp.h"
+#include "walker/terrain.h"
+
+namespace poet {
+
+RolloutResult run_task(const RolloutTask& task) {
+  if (!task.theta) throw std::invalid_argument("rollout task: no policy parameters");
+  if (task.max_steps < 1) throw std::invalid_argument("rollout task: max_steps must be ≥ 1");
+  if (!task.perturbation) return rollout(Mlp(*task.theta), Terrain::generate(task.env), task.walker, {task.max_steps});
+
+  const Perturbation& p = *task.perturbation;
+  if (p.sign != 1 && p.sign != -1) throw std::invalid_argument("rollout task: perturbation sign must be ±1");
+  std::vector<double> params(task.theta->size());
+  perturb(*task.theta, p.key, p.sign, p.sigma, params);
+  return rollout(Mlp(params), Terrain::generate(task.env), task.walker, {task.max_steps});
+}
+
+}  // namespace poet

@@ -1,0 +1,278 @@
+#include "config/run_config.h"
+
+#include <google/protobuf/io/tokenizer.h>
+#include <google/protobuf/io/zero_copy_stream_impl_lite.h>
+#include <google/protobuf/text_format.h>
+
+#include <charconv>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <string>
+#include <utility>
+
+#include "config/env_proto.h"
+#include "text_file.h"
+
+namespace poet {
+namespace {
+
+namespace protobuf = google::protobuf;
+
+// Keeps the parser's first error with its position; later errors are usually consequences of the first.
+class FirstErrorCollector : public protobuf::io::ErrorCollector {
+ public:
+  void AddError(int line, protobuf::io::ColumnNumber column, const std::string& message) override {
+    if (error_) return;
+    // At the end of the text the parser names an empty token ("Expected identifier, got: ").
+    const std::string what = message.ends_with("got: ") ? message + "end of text" : message;
+    // The parser counts from 0 and gives -1 for errors not tied to a place in the text.
+    if (line < 0) {
+      error_ = what;
+    } else {
+      error_ = "line " + std::to_string(line + 1) + ":" + std::to_string(column + 1) + ": " + what;
+    }
+  }
+  void AddWarning(int, protobuf::io::ColumnNumber, const std::string&) override {}
+
+  const std::optional<std::string>& error() const { return error_; }
+
+ private:
+  std::optional<std::string> error_;
+};
+
+// Shortest form that reads back to the same double, so a message shows exactly the value that was refused.
+std::string number(double value) {
+  char buffer[64];
+  const auto [end, ec] = std::to_chars(buffer, buffer + sizeof buffer, value);
+  return std::string(buffer, end);
+}
+std::string number(int64_t value) { return std::to_string(value); }
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+// A range of a real field; an infinite bound is no bound.
+struct Range {
+  double lo = -kInf;
+  double hi = kInf;
+  bool lo_open = false;
+  bool hi_open = false;
+
+  bool contains(double v) const { return (lo_open ? v > lo : v >= lo) && (hi_open ? v < hi : v <= hi); }
+  std::string describe() const {
+    if (hi == kInf)
+      return lo == -kInf ? "must be a finite number" : (lo_open ? "must be > " : "must be >= ") + number(lo);
+    if (lo == -kInf) return (hi_open ? "must be < " : "must be <= ") + number(hi);
+    return std::string("must be in ") + (lo_open ? "(" : "[") + number(lo) + ", " + number(hi) + (hi_open ? ")" : "]");
+  }
+};
+
+constexpr Range kAny{};
+constexpr Range kPositive{0, kInf, true, false};
+constexpr Range kNonNegative{0, kInf, false, false};
+constexpr Range kDecay{0, 1, true, false};  // (0, 1]: 1 turns the decay off
+constexpr Range kBeta{0, 1, false, true};   // [0, 1): Adam divides by 1 − βᵗ
+
+// Collects the first problem; later checks are skipped once one is found, so the message names the first bad
+// field in the order the checks run (the schema's order).
+class Checks {
+ public:
+  void real(std::string_view path, double value, Range range) {
+    if (problem_) return;
+    if (!std::isfinite(value)) {
+      fail(path, "must be a finite number (got " + number(value) + ")");
+    } else if (!range.contains(value)) {
+      fail(path, range.describe() + " (got " + number(value) + ")");
+    }
+  }
+  void integer(std::string_view path, int64_t value, int64_t lo, int64_t hi = std::numeric_limits<int64_t>::max()) {
+    if (problem_ || (value >= lo && value <= hi)) return;
+    const std::string rule = hi == std::numeric_limits<int64_t>::max()
+                                 ? "must be >= " + number(lo)
+                                 : "must be in [" + number(lo) + ", " + number(hi) + "]";
+    fail(path, rule + " (got " + number(value) + ")");
+  }
+  // Two fields that must be ordered (a decay's floor and its starting value; mc_low and mc_high): a config that
+  // breaks the order contradicts itself, so the message names both fields.
+  void at_most(std::string_view path, double value, std::string_view other_path, double other) {
+    if (problem_ || value <= other) return;
+    fail(path, number(value) + " exceeds " + std::string(other_path) + " " + number(other));
+  }
+  template <class IsValid>
+  void known_enum(std::string_view path, int value, IsValid is_valid) {
+    if (problem_ || is_valid(value)) return;
+    fail(path, "unknown value " + number(int64_t{value}));
+  }
+  void fail(std::string_view path, const std::string& what) { fail_message(std::string(path) + ": " + what); }
+  void fail_message(std::string message) {
+    if (!problem_) problem_ = std::move(message);
+  }
+  bool failed() const { return problem_.has_value(); }
+  std::optional<std::string> result() && { return std::move(problem_); }
+
+ private:
+  std::optional<std::string> problem_;
+};
+
+void check_target(Checks& checks, std::string_view path, const pb::EnvDef& target) {
+  if (checks.failed()) return;
+  const Expected<EnvDef> def = env_def_from_proto(target);
+  // def.error() already starts with the field inside the EnvDef ("encoding.pit_gap: ...").
+  if (!def) checks.fail_message(std::string(path) + "." + def.error());
+}
+
+void check_es(Checks& c, const pb::EsConfig& es) {
+  c.integer("es.perturbations", es.perturbations(), 1, 1'000'000);
+  c.real("es.init_sigma", es.init_sigma(), kPositive);
+  c.real("es.sigma_decay", es.sigma_decay(), kDecay);
+  c.real("es.sigma_floor", es.sigma_floor(), kNonNegative);
+  c.at_most("es.sigma_floor", es.sigma_floor(), "es.init_sigma", es.init_sigma());
+  c.real("es.init_lr", es.init_lr(), kPositive);
+  c.real("es.lr_decay", es.lr_decay(), kDecay);
+  c.real("es.lr_floor", es.lr_floor(), kNonNegative);
+  c.at_most("es.lr_floor", es.lr_floor(), "es.init_lr", es.init_lr());
+  c.real("es.l2_coeff", es.l2_coeff(), kNonNegative);
+  c.real("es.adam_beta1", es.adam_beta1(), kBeta);
+  c.real("es.adam_beta2", es.adam_beta2(), kBeta);
+  c.real("es.adam_epsilon", es.adam_epsilon(), kPositive);
+}
+
+void check_poet(Checks& c, const pb::PoetConfig& poet, pb::RunConfig::Mode mode) {
+  c.integer("poet.mutation_interval", poet.mutation_interval(), 1);
+  c.integer("poet.transfer_interval", poet.transfer_interval(), 1);
+  c.real("poet.repro_threshold", poet.repro_threshold(), kAny);
+  c.integer("poet.max_children", poet.max_children(), 0);
+  c.integer("poet.max_admitted", poet.max_admitted(), 0);
+  c.real("poet.mc_low", poet.mc_low(), kAny);
+  c.real("poet.mc_high", poet.mc_high(), kAny);
+  c.at_most("poet.mc_low", poet.mc_low(), "poet.mc_high", poet.mc_high());
+  c.integer("poet.active_cap", poet.active_cap(), 1);
+  c.integer("poet.novelty_k", poet.novelty_k(), 1);
+  c.known_enum("poet.child_ranking", poet.child_ranking(), pb::ChildRanking_IsValid);
+  c.known_enum("poet.admission_proposal", poet.admission_proposal(), pb::ProposalKind_IsValid);
+  c.known_enum("poet.transfer_proposal", poet.transfer_proposal(), pb::ProposalKind_IsValid);
+  const pb::MutationConfig& m = poet.mutation();
+  const bool evolves = mode == pb::RunConfig::POET || mode == pb::RunConfig::POET_WITHOUT_TRANSFER;
+  // With nothing to mutate every child equals its parent and is dropped: the run could never grow.
+  if (evolves && !m.roughness() && !m.pits() && !m.stumps() && !m.stairs())
+    c.fail("poet.mutation", "no gene type enabled (roughness, pits, stumps and stairs are all false) in mode " +
+                                pb::RunConfig::Mode_Name(mode));
+  c.real("poet.solved_score", poet.solved_score(), kAny);
+  if (poet.keep_admission_selection() && mode != pb::RunConfig::POET_WITHOUT_TRANSFER)
+    c.fail("poet.keep_admission_selection", "true contradicts mode " + pb::RunConfig::Mode_Name(mode) +
+                                                " (it applies to mode POET_WITHOUT_TRANSFER only)");
+}
+
+void check_walker(Checks& c, const pb::WalkerConfig& walker) {
+  c.real("walker.push_scale", walker.push_scale(), Range{0, 1000});
+  c.known_enum("walker.lidar", walker.lidar(), pb::WalkerConfig::LidarRule_IsValid);
+  c.integer("walker.max_steps", walker.max_steps(), 1, 100'000);
+  c.integer("walker.eval_episodes", walker.eval_episodes(), 1, 1000);
+}
+
+void check_mode(Checks& c, const pb::RunConfig& config) {
+  const pb::RunConfig::Mode mode = config.mode();
+  const std::string mode_name = pb::RunConfig::Mode_Name(mode);
+  if (config.has_es_alone() && mode != pb::RunConfig::ES_ALONE)
+    c.fail("es_alone", "given, but mode is " + mode_name + " (es_alone applies to mode ES_ALONE only)");
+  if (config.has_direct_path() && mode != pb::RunConfig::DIRECT_PATH)
+    c.fail("direct_path", "given, but mode is " + mode_name + " (direct_path applies to mode DIRECT_PATH only)");
+  if (mode == pb::RunConfig::ES_ALONE) {
+    if (!config.es_alone().has_target()) c.fail("es_alone.target", "required in mode ES_ALONE");
+    check_target(c, "es_alone.target", config.es_alone().target());
+  }
+  if (mode == pb::RunConfig::DIRECT_PATH) {
+    const pb::DirectPathConfig& direct = config.direct_path();
+    if (!direct.has_target()) c.fail("direct_path.target", "required in mode DIRECT_PATH");
+    check_target(c, "direct_path.target", direct.target());
+    c.real("direct_path.advance_threshold", direct.advance_threshold(), kAny);
+    if (!direct.has_budget_es_steps()) c.fail("direct_path.budget_es_steps", "required in mode DIRECT_PATH");
+    c.integer("direct_path.budget_es_steps", direct.budget_es_steps(), 1);
+  }
+}
+
+}  // namespace
+
+std::optional<std::string> validate(const pb::RunConfig& config) {
+  Checks c;
+  c.known_enum("mode", config.mode(), pb::RunConfig::Mode_IsValid);
+  if (c.failed()) return std::move(c).result();  // the mode rules below need a known mode
+  c.integer("iterations", config.iterations(), 0);
+  c.integer("checkpoint_interval", config.checkpoint_interval(), 1);
+  c.real("init_stddev", config.init_stddev(), Range{0, 10});
+  check_es(c, config.es());
+  check_poet(c, config.poet(), config.mode());
+  check_walker(c, config.walker());
+  check_mode(c, config);
+  return std::move(c).result();
+}
+
+Expected<pb::RunConfig> parse_run_config(std::string_view text) {
+  // The stream below takes an int size; a real config is far smaller anyway.
+  if (text.size() > kMaxRunConfigBytes)
+    return Unexpected{"text is larger than " + std::to_string(kMaxRunConfigBytes) + " bytes"};
+  FirstErrorCollector errors;
+  protobuf::TextFormat::Parser parser;  // refuses unknown fields and repeated singular fields by default
+  parser.RecordErrorsTo(&errors);
+  protobuf::io::ArrayInputStream input(text.data(), static_cast<int>(text.size()));
+  pb::RunConfig config;
+  if (!parser.Parse(&input, &config)) return Unexpected{errors.error().value_or("not a valid RunConfig text")};
+  if (auto problem = validate(config)) return Unexpected{std::move(*problem)};
+  return config;
+}
+
+Expected<pb::RunConfig> load_run_config(const std::string& path) {
+  const Expected<std::string> text = read_text_file(path, kMaxRunConfigBytes);
+  if (!text) return Unexpected{path + ": " + text.error()};
+  Expected<pb::RunConfig> config = parse_run_config(*text);
+  if (!config) return Unexpected{path + ": " + config.error()};
+  return config;
+}
+
+EsSettings es_settings(const pb::RunConfig& config) {
+  const pb::EsConfig& es = config.es();
+  EsSettings s;
+  s.perturbations = es.perturbations();
+  s.init_sigma = es.init_sigma();
+  s.sigma_decay = es.sigma_decay();
+  s.sigma_floor = es.sigma_floor();
+  s.init_lr = es.init_lr();
+  s.lr_decay = es.lr_decay();
+  s.lr_floor = es.lr_floor();
+  s.l2_coeff = es.l2_coeff();
+  s.adam_beta1 = es.adam_beta1();
+  s.adam_beta2 = es.adam_beta2();
+  s.adam_epsilon = es.adam_epsilon();
+  s.normalize_grads_by_sigma = es.normalize_grads_by_sigma();
+  return s;
+}
+
+MutationOptions mutation_options(const pb::RunConfig& config) {
+  const pb::MutationConfig& m = config.poet().mutation();
+  MutationOptions o;
+  o.roughness = m.roughness();
+  o.pits = m.pits();
+  o.stumps = m.stumps();
+  o.stairs = m.stairs();
+  o.mutate_stair_steps = m.mutate_stair_steps();
+  o.all_types = m.all_types();
+  return o;
+}
+
+WalkerOptions walker_options(const pb::RunConfig& config) {
+  WalkerOptions o;
+  o.push_scale = config.walker().push_scale();
+  o.lidar = config.walker().lidar() == pb::WalkerConfig::FIRST ? LidarRule::kFirst : LidarRule::kNearest;
+  return o;
+}
+
+std::string run_config_text(const pb::RunConfig& config) {
+  // The printer writes doubles with 15 significant digits when those read back exactly and 17 otherwise
+  // (protobuf's SimpleDtoa), so the text round-trips bit for bit; the tests hold it to that.
+  protobuf::TextFormat::Printer printer;
+  std::string text;
+  printer.PrintToString(config, &text);
+  return text;
+}
+
+}  // namespace poet

@@ -1,0 +1,45 @@
+#pragma once
+// The run configuration (pb::RunConfig of proto/poet.proto): reading it from protobuf text format, checking it,
+// and handing its parts to the code that uses them. A config file names only what it changes; every other field
+// keeps the schema's default (the reference implementation's value). Presets live in deploy/configs/.
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <string_view>
+
+#include "envgen/mutation.h"
+#include "es/es_settings.h"
+#include "expected.h"
+#include "poet.pb.h"
+#include "walker/walker_env.h"
+
+namespace poet {
+
+// Config files larger than this are refused unread: a real one is a few kilobytes.
+inline constexpr std::uintmax_t kMaxRunConfigBytes = 1u << 20;
+
+// Text format in, a validated config out. Syntax errors, unknown fields, wrong types and repeated singular
+// fields come back as "line L:C: <parser's message>" (1-based); a parsed config that validate() refuses comes
+// back with validate()'s message.
+Expected<pb::RunConfig> parse_run_config(std::string_view text);
+
+// read_text_file (at most kMaxRunConfigBytes) then parse_run_config; every error starts with "<path>: ".
+Expected<pb::RunConfig> load_run_config(const std::string& path);
+
+// Checks every field (set or defaulted) and the fields' agreement with the mode. Returns a message naming the
+// first bad field by its dotted path, with the value ("es.init_sigma: must be > 0 (got -1)"; a contradiction
+// names both fields), or nothing when the config is runnable.
+std::optional<std::string> validate(const pb::RunConfig& config);
+
+// The parts of a config, for a config that validate() accepts. WalkerOptions carries the physics options only;
+// max_steps, stochastic_envs and eval_episodes are read from config.walker() by the rollout code.
+EsSettings es_settings(const pb::RunConfig& config);
+MutationOptions mutation_options(const pb::RunConfig& config);
+WalkerOptions walker_options(const pb::RunConfig& config);
+
+// Text format that parse_run_config reads back to an equal message (same fields set, doubles bit for bit).
+// Only set fields are printed, so a default stays a default.
+std::string run_config_text(const pb::RunConfig& config);
+
+}  // namespace poet

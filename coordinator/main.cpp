@@ -1,0 +1,234 @@
+// poet-coordinator: runs POET (or one of the paper's controls) in a run directory, on threads of this process.
+//   poet-coordinator --config FILE --run-dir DIR [--threads N] [--iterations N]   a new run
+//   poet-coordinator --run-dir DIR --resume [--iterations N]                       continue it (N may extend it)
+// The state is checkpointed every checkpoint_interval iterations and at the end. SIGINT/SIGTERM finish the
+// current iteration, checkpoint and exit 130; a second signal exits at once (the last checkpoint stays valid).
+// Exit codes: 0 done, 1 runtime error, 2 bad command line, config or run directory, 130 interrupted.
+
+#include <spdlog/sinks/stdout_color_sinks.h>
+#include <spdlog/spdlog.h>
+#include <unistd.h>
+
+#include <CLI/CLI.hpp>
+#include <algorithm>
+#include <chrono>
+#include <climits>
+#include <csignal>
+#include <cstdio>
+#include <exception>
+#include <optional>
+#include <string>
+#include <thread>
+#include <utility>
+
+#include "config/run_config.h"
+#include "evaluator/local_evaluator.h"
+#include "poet/engine.h"
+#include "run/progress_display.h"
+#include "run/run_directory.h"
+
+namespace poet {
+namespace {
+
+constexpr int kExitError = 1;
+constexpr int kExitUsage = 2;
+constexpr int kExitInterrupted = 130;
+
+volatile std::sig_atomic_t g_stop_requested = 0;
+
+extern "C" void on_stop_signal(int) {
+  if (g_stop_requested) ::_exit(kExitInterrupted);  // the second signal: the last checkpoint stays valid
+  g_stop_requested = 1;
+}
+
+void install_signal_handlers() {
+  struct sigaction action {};
+  action.sa_handler = on_stop_signal;
+  sigemptyset(&action.sa_mask);
+  action.sa_flags = SA_RESTART;  // the evaluator's threads keep running their rollouts undisturbed
+  sigaction(SIGINT, &action, nullptr);
+  sigaction(SIGTERM, &action, nullptr);
+}
+
+struct Options {
+  std::string config_path;
+  std::string run_dir;
+  int threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  std::optional<int> iterations;
+  bool resume = false;
+  bool quiet = false;
+  std::string log_level = "info";
+};
+
+// "iteration 12: pair_created pair=3 env=r0.4 ..." from {"iteration": 12, "event": "pair_created", ...}.
+std::string describe_event(const nlohmann::ordered_json& event) {
+  constexpr auto kReplace = nlohmann::ordered_json::error_handler_t::replace;
+  if (!event.is_object()) return event.dump(-1, ' ', false, kReplace);
+  std::string text = "iteration " + event.value("iteration", nlohmann::ordered_json()).dump() + ": ";
+  const auto name = event.find("event");
+  text += name != event.end() && name->is_string() ? name->get<std::string>() : "event";
+  for (const auto& [key, value] : event.items()) {
+    if (key == "iteration" || key == "event") continue;
+    text += " " + key + "=" + (value.is_string() ? value.get<std::string>() : value.dump(-1, ' ', false, kReplace));
+  }
+  return text;
+}
+
+void print_summary(const RunState& state, double wall_seconds) {
+  int active = 0;
+  int solved = 0;
+  for (const Pair& pair : state.pairs) {
+    active += pair.active() ? 1 : 0;
+    solved += pair.solved() ? 1 : 0;
+  }
+  const RunCounters& c = state.counters;
+  std::printf("iterations: %d of %d\n", state.next_iteration, state.config.iterations());
+  std::printf("pairs: %zu created, %d active, %d solved\n", state.pairs.size(), active, solved);
+  std::printf("transfers: %lld accepted of %lld attempted\n", static_cast<long long>(c.transfer_successes),
+              static_cast<long long>(c.transfer_attempts));
+  std::printf("rollouts: %lld, env steps: %lld\n", static_cast<long long>(c.rollouts),
+              static_cast<long long>(c.env_steps));
+  std::printf("wall time: %.1f s\n", wall_seconds);
+  std::fflush(stdout);
+}
+
+// A new run: the config (with --iterations applied), a fresh directory and its first checkpoint.
+std::optional<std::pair<RunDirectory, RunState>> start_run(const Options& options) {
+  Expected<pb::RunConfig> config = load_run_config(options.config_path);
+  if (!config) {
+    spdlog::error("{}", config.error());
+    return std::nullopt;
+  }
+  if (options.iterations) {
+    config->set_iterations(*options.iterations);
+    if (auto error = validate(*config)) {
+      spdlog::error("--iterations: {}", *error);
+      return std::nullopt;
+    }
+  }
+  Expected<RunDirectory> dir = RunDirectory::create(options.run_dir, *config);
+  if (!dir) {
+    spdlog::error("{}", dir.error());
+    return std::nullopt;
+  }
+  RunState state = initial_state(*config);
+  if (auto error = dir->save(state)) {
+    spdlog::error("{}", *error);
+    return std::nullopt;
+  }
+  spdlog::info("new run in {}: mode {}, seed {}, {} iterations", options.run_dir,
+               pb::RunConfig::Mode_Name(config->mode()), config->seed(), config->iterations());
+  return std::pair<RunDirectory, RunState>(std::move(*dir), std::move(state));
+}
+
+// A resumed run: the checkpoint's state, with --iterations applied (and recorded in the directory).
+std::optional<std::pair<RunDirectory, RunState>> resume_run(const Options& options) {
+  Expected<std::pair<RunDirectory, RunState>> resumed = RunDirectory::resume(options.run_dir);
+  if (!resumed) {
+    spdlog::error("{}", resumed.error());
+    return std::nullopt;
+  }
+  auto& [dir, state] = *resumed;
+  if (options.iterations && (!state.config.has_iterations() || state.config.iterations() != *options.iterations)) {
+    state.config.set_iterations(*options.iterations);
+    if (auto error = validate(state.config)) {
+      spdlog::error("--iterations: {}", *error);
+      return std::nullopt;
+    }
+    std::optional<std::string> error = dir.write_config(state.config);
+    if (!error) error = dir.save(state);
+    if (error) {
+      spdlog::error("{}", *error);
+      return std::nullopt;
+    }
+  }
+  spdlog::info("resumed {} at iteration {} of {}", options.run_dir, state.next_iteration, state.config.iterations());
+  return std::move(*resumed);
+}
+
+int run(const Options& options) {
+  const auto started = std::chrono::steady_clock::now();
+  install_signal_handlers();
+  std::optional<std::pair<RunDirectory, RunState>> opened = options.resume ? resume_run(options) : start_run(options);
+  if (!opened) return kExitUsage;
+  auto& [dir, state] = *opened;
+
+  LocalEvaluator evaluator(options.threads);
+  ProgressDisplay progress(!options.quiet);
+  const int interval = state.config.checkpoint_interval();
+  int saved_iteration = state.next_iteration;
+  auto save = [&]() {
+    if (auto error = dir.save(state)) {
+      progress.finish();
+      spdlog::error("{}", *error);
+      return false;
+    }
+    saved_iteration = state.next_iteration;
+    return true;
+  };
+
+  while (!run_complete(state) && !g_stop_requested) {
+    IterationReport report = run_iteration(state, evaluator);
+    dir.append(report);
+    if (!report.events.empty() && spdlog::should_log(spdlog::level::info)) progress.clear();
+    for (const auto& event : report.events) spdlog::info("{}", describe_event(event));
+    if (state.next_iteration % interval == 0 || run_complete(state) || g_stop_requested) {
+      if (!save()) return kExitError;
+    }
+    progress.update(state, report);
+  }
+  // a signal between an iteration's save check and the loop test leaves that iteration unsaved
+  if (state.next_iteration != saved_iteration && !save()) return kExitError;
+  progress.finish();
+
+  const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+  if (!run_complete(state)) {
+    spdlog::warn("interrupted at iteration {}; continue with: poet-coordinator --run-dir {} --resume",
+                 state.next_iteration, options.run_dir);
+    print_summary(state, wall);
+    return kExitInterrupted;
+  }
+  spdlog::info("run finished at iteration {}", state.next_iteration);
+  print_summary(state, wall);
+  return 0;
+}
+
+}  // namespace
+}  // namespace poet
+
+int main(int argc, char** argv) {
+  poet::Options options;
+  CLI::App app{"Run POET (or a control) in a run directory; resume it after an interruption"};
+  auto* config = app.add_option("--config", options.config_path, "Run config (protobuf text format): a new run");
+  app.add_option("--run-dir", options.run_dir, "The run directory")->required();
+  app.add_option("--threads", options.threads, "Rollout threads (default: hardware concurrency)")
+      ->check(CLI::Range(1, 4096));
+  int iterations = 0;
+  auto* iterations_option =
+      app.add_option("--iterations", iterations, "Override the iteration limit (on resume it may extend it)")
+          ->check(CLI::Range(0, INT_MAX));
+  app.add_flag("--resume", options.resume, "Continue the run in --run-dir")->excludes(config);
+  app.add_flag("--quiet", options.quiet, "No progress line");
+  app.add_option("--log-level", options.log_level, "trace, debug, info (default), warn, error or off")
+      ->check(CLI::IsMember({"trace", "debug", "info", "warn", "error", "off"}));
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    const int code = app.exit(e);
+    return code == 0 ? 0 : poet::kExitUsage;
+  }
+  if (iterations_option->count() > 0) options.iterations = iterations;
+
+  spdlog::set_default_logger(spdlog::stderr_color_mt("poet-coordinator"));
+  spdlog::set_level(spdlog::level::from_str(options.log_level));
+  if (!options.resume && options.config_path.empty()) {
+    spdlog::error("give --config FILE for a new run, or --resume to continue the run in --run-dir");
+    return poet::kExitUsage;
+  }
+  try {
+    return poet::run(options);
+  } catch (const std::exception& e) {
+    spdlog::error("{}; the last checkpoint in {} stays valid (continue with --resume)", e.what(), options.run_dir);
+    return poet::kExitError;
+  }
+}

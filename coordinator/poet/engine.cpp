@@ -1,0 +1,101 @@
+#include "poet/engine.h"
+
+#include "config/env_proto.h"
+#include "config/run_config.h"
+#include "envgen/named_courses.h"
+#include "poet/iteration_context.h"
+#include "policy/mlp.h"
+#include "rng.h"
+
+namespace poet {
+
+uint64_t IterationContext::key(std::string_view purpose, std::initializer_list<uint64_t> ids) const {
+  return stream_key(config.seed(), purpose, ids);
+}
+
+void IterationContext::event(std::string_view name, nlohmann::ordered_json fields) {
+  nlohmann::ordered_json e = {{"iteration", t}, {"event", name}};
+  for (auto& [k, v] : fields.items()) e[k] = v;
+  report.events.push_back(std::move(e));
+}
+
+void record_evaluation(IterationContext& ctx, Pair& pair, const std::vector<double>& theta, const Evaluation& eval) {
+  pair.latest_score = eval.score;
+  pair.latest_finished = eval.finished;
+  if (pair.best_iteration == kNone || eval.score > pair.best_score) {
+    pair.best_score = eval.score;
+    pair.best_theta = theta;
+    pair.best_iteration = ctx.t;
+  }
+  if (!pair.solved() && eval.finished && eval.score >= ctx.config.poet().solved_score()) {
+    pair.first_solved_iteration = ctx.t;
+    ctx.event("solved", {{"pair", pair.id},
+                         {"env", pair.env.encoding.name},
+                         {"score", eval.score},
+                         {"iterations_to_solve", ctx.t - pair.created_iteration}});
+  }
+}
+
+std::vector<double> propose(pb::ProposalKind kind, const std::vector<double>& theta, const std::vector<double>& g,
+                            const OptimizerState& optimizer, double lr, const EsSettings& es) {
+  if (kind == pb::ADAM_PROPOSAL) return adam_proposal(theta, g, optimizer, lr, es);
+  return sgd_proposal(theta, g, lr, es.l2_coeff);
+}
+
+RunState initial_state(const pb::RunConfig& config) {
+  RunState state;
+  state.config = config;
+  const EsSettings es = es_settings(config);
+
+  Pair first;
+  first.id = state.next_pair_id++;
+  switch (config.mode()) {
+    case pb::RunConfig::ES_ALONE:
+      first.env = env_def_from_proto(config.es_alone().target()).value();
+      break;
+    case pb::RunConfig::DIRECT_PATH:
+      first.env = EnvDef{named_course("flat").value(), env_def_from_proto(config.direct_path().target()).value().seed};
+      break;
+    default:
+      first.env = EnvDef{named_course("flat").value(), static_cast<uint32_t>(config.seed() % kMaxEnvSeed)};
+  }
+  if (config.init_zero()) {
+    first.theta = zero_params();
+  } else {
+    RandomStream init(stream_key(config.seed(), "init", {0}));
+    first.theta = random_params(init, config.init_stddev());
+  }
+  first.optimizer = fresh_optimizer(es, first.theta.size());
+  first.best_theta = first.theta;
+  if (config.mode() == pb::RunConfig::DIRECT_PATH) state.stages.push_back({first.env, 0, kNone});
+  state.pairs.push_back(std::move(first));
+  return state;
+}
+
+bool run_complete(const RunState& state) { return state.finished || state.next_iteration >= state.config.iterations(); }
+
+IterationReport run_iteration(RunState& state, Evaluator& evaluator) {
+  IterationReport report;
+  report.iteration = state.next_iteration;
+  const int64_t rollouts_before = state.counters.rollouts;
+  IterationContext ctx{state,
+                       evaluator,
+                       report,
+                       state.config,
+                       es_settings(state.config),
+                       episode_settings(state.config),
+                       state.next_iteration};
+
+  const auto mode = state.config.mode();
+  const bool poet = mode == pb::RunConfig::POET || mode == pb::RunConfig::POET_WITHOUT_TRANSFER;
+  if (poet) reproduce(ctx);
+  optimise(ctx);
+  if (mode == pb::RunConfig::POET) transfer(ctx);
+  if (mode == pb::RunConfig::DIRECT_PATH) advance_curriculum(ctx);
+
+  state.next_iteration += 1;
+  report.rollouts = state.counters.rollouts - rollouts_before;
+  return report;
+}
+
+}  // namespace poet

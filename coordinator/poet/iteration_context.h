@@ -1,0 +1,45 @@
+#pragma once
+// What the steps of one iteration share (internal to the engine): the state, the evaluator, the settings read
+// once from the config, and the report being filled.
+
+#include <string_view>
+
+#include "es/es_settings.h"
+#include "evaluator/evaluator.h"
+#include "poet/iteration_report.h"
+#include "poet/rollout_batch.h"
+#include "poet/run_state.h"
+
+namespace poet {
+
+struct IterationContext {
+  RunState& state;
+  Evaluator& evaluator;
+  IterationReport& report;
+  const pb::RunConfig& config;
+  EsSettings es;
+  EpisodeSettings episodes;
+  int t = 0;  // this iteration
+
+  // The key of the stream for (run seed, purpose, ids): every random number of a run is drawn by address.
+  uint64_t key(std::string_view purpose, std::initializer_list<uint64_t> ids) const;
+  // Appends an event {"iteration": t, "event": name, fields...}.
+  void event(std::string_view name, nlohmann::ordered_json fields = nlohmann::ordered_json::object());
+  RolloutBatch batch() const { return RolloutBatch(episodes); }
+};
+
+// Records an evaluation of θ on the pair's own environment: latest score, best score and θ, and the first solve
+// (finished and score ≥ solved_score), with a "solved" event.
+void record_evaluation(IterationContext& ctx, Pair& pair, const std::vector<double>& theta, const Evaluation& eval);
+
+// A one-step proposal from θ with gradient g: Adam's next update from `optimizer` with learning rate lr, or SGD.
+std::vector<double> propose(pb::ProposalKind kind, const std::vector<double>& theta, const std::vector<double>& g,
+                            const OptimizerState& optimizer, double lr, const EsSettings& es);
+
+// The steps of an iteration, in the order run_iteration calls them.
+void reproduce(IterationContext& ctx);           // POET modes, every mutation_interval iterations
+void optimise(IterationContext& ctx);            // every mode: one ES step per active pair, then evaluations
+void transfer(IterationContext& ctx);            // POET, every transfer_interval iterations
+void advance_curriculum(IterationContext& ctx);  // DIRECT_PATH: stage changes and the stopping rule
+
+}  // namespace poet

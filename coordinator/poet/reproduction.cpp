@@ -1,0 +1,201 @@
+// Step 1 of an iteration (spec §3): mutate eligible parents' environments into children, keep those that are new
+// and pass the minimal criterion, rank them (novelty or score), admit the best through the best starting agent
+// among the active pairs, and retire the oldest pairs beyond the cap.
+
+#include <algorithm>
+#include <numeric>
+
+#include "config/run_config.h"
+#include "envgen/env_distance.h"
+#include "envgen/mutation.h"
+#include "poet/iteration_context.h"
+#include "rng.h"
+
+namespace poet {
+namespace {
+
+struct Child {
+  EnvDef env;
+  int parent = kNone;  // pair id
+  int attempt = 0;     // mutation attempt index: names the child in keys and events
+  Evaluation mc;       // the parent's θ on the child
+  double novelty = 0;
+};
+
+// The best starting agent for a child, and its score.
+struct Start {
+  int source = kNone;
+  bool proposal = false;
+  std::vector<double> theta;
+  Evaluation eval;
+};
+
+bool archived(const RunState& state, const EnvEncoding& encoding) {
+  return std::any_of(state.pairs.begin(), state.pairs.end(),
+                     [&](const Pair& p) { return p.env.encoding.same_genes(encoding); });
+}
+
+bool passes_mc(const pb::PoetConfig& poet, double score) { return poet.mc_low() <= score && score <= poet.mc_high(); }
+
+// Step 1.d: for each active pair in creation order, its θ (direct) and then a one-step proposal from it made
+// with a fresh optimizer's lr and σ; the first best wins ties.
+Start best_start(IterationContext& ctx, const Child& child) {
+  const auto u = [](auto v) { return static_cast<uint64_t>(v); };
+  const std::vector<size_t> active = ctx.state.active_indices();
+  const OptimizerState fresh = fresh_optimizer(ctx.es, kParamCount);
+  const pb::ProposalKind kind = ctx.config.poet().admission_proposal();
+
+  RolloutBatch first = ctx.batch();
+  std::vector<size_t> direct, steps;
+  for (size_t i : active) {
+    const Pair& source = ctx.state.pairs[i];
+    const SharedParams theta = share(source.theta);
+    direct.push_back(first.add_evaluation(theta, child.env,
+                                          ctx.key("admission-eval", {u(ctx.t), u(child.attempt), u(source.id), 0})));
+    steps.push_back(first.add_es_step(
+        {theta, child.env, fresh.sigma, ctx.key("admission-noise", {u(ctx.t), u(child.attempt), u(source.id)})},
+        ctx.es.perturbations));
+  }
+  first.run(ctx.evaluator, ctx.state.counters);
+
+  RolloutBatch second = ctx.batch();
+  std::vector<std::vector<double>> proposals;
+  std::vector<size_t> proposal_evals;
+  for (size_t s = 0; s < active.size(); ++s) {
+    const Pair& source = ctx.state.pairs[active[s]];
+    const EsOutcome out = first.es_outcome(steps[s], ctx.es);
+    proposals.push_back(propose(kind, source.theta, out.gradient, fresh, fresh.lr, ctx.es));
+    proposal_evals.push_back(second.add_evaluation(
+        share(proposals.back()), child.env, ctx.key("admission-eval", {u(ctx.t), u(child.attempt), u(source.id), 1})));
+  }
+  second.run(ctx.evaluator, ctx.state.counters);
+
+  Start best;
+  for (size_t s = 0; s < active.size(); ++s) {
+    const Pair& source = ctx.state.pairs[active[s]];
+    const Evaluation d = first.evaluation(direct[s]);
+    if (best.source == kNone || d.score > best.eval.score) best = {source.id, false, source.theta, d};
+    const Evaluation p = second.evaluation(proposal_evals[s]);
+    if (p.score > best.eval.score) best = {source.id, true, proposals[s], p};
+  }
+  return best;
+}
+
+void admit(IterationContext& ctx, const Child& child, Start start) {
+  RunState& state = ctx.state;
+  Pair pair;
+  pair.id = state.next_pair_id++;
+  pair.env = child.env;
+  pair.created_iteration = ctx.t;
+  pair.parent_id = child.parent;
+  pair.initial_source_pair = start.source;
+  pair.initial_by_proposal = start.proposal;
+  pair.admission_score = start.eval.score;
+  pair.theta = std::move(start.theta);
+  pair.optimizer = fresh_optimizer(ctx.es, pair.theta.size());
+  state.counters.children_admitted += 1;
+  ctx.event("pair_created", {{"pair", pair.id},
+                             {"env", pair.env.encoding.name},
+                             {"seed", pair.env.seed},
+                             {"parent", pair.parent_id},
+                             {"source", pair.initial_source_pair},
+                             {"proposal", pair.initial_by_proposal},
+                             {"score", pair.admission_score},
+                             {"novelty", child.novelty}});
+  const std::vector<double> theta = pair.theta;
+  record_evaluation(ctx, pair, theta, start.eval);
+  state.pairs.push_back(std::move(pair));
+}
+
+}  // namespace
+
+void reproduce(IterationContext& ctx) {
+  const pb::PoetConfig& poet = ctx.config.poet();
+  if (ctx.t == 0 || ctx.t % poet.mutation_interval() != 0) return;
+  RunState& state = ctx.state;
+  const auto u = [](auto v) { return static_cast<uint64_t>(v); };
+
+  // a. eligible parents
+  std::vector<size_t> eligible;
+  for (size_t i : state.active_indices())
+    if (state.pairs[i].latest_score >= poet.repro_threshold()) eligible.push_back(i);
+  if (eligible.empty()) {
+    ctx.event("reproduction", {{"eligible", 0}});
+    return;
+  }
+
+  // b. mutation attempts; duplicates of the archive are dropped, the rest evaluated with their parent's θ
+  const MutationOptions mutation = mutation_options(ctx.config);
+  RandomStream stream(ctx.key("reproduce", {u(ctx.t)}));
+  std::vector<Child> children;
+  int duplicates = 0;
+  for (int a = 0; a < poet.max_children(); ++a) {
+    const Pair& parent = state.pairs[eligible[static_cast<size_t>(stream.uniform_int(0, eligible.size()))]];
+    Child child{mutate_def(parent.env, mutation, stream), parent.id, a, {}, 0};
+    state.counters.children_tried += 1;
+    if (archived(state, child.env.encoding)) {
+      duplicates += 1;
+      continue;
+    }
+    children.push_back(std::move(child));
+  }
+  RolloutBatch mc_batch = ctx.batch();
+  std::vector<size_t> mc_handles;
+  for (const Child& c : children) {
+    const Pair* parent = state.find(c.parent);
+    mc_handles.push_back(
+        mc_batch.add_evaluation(share(parent->theta), c.env, ctx.key("mc-eval", {u(ctx.t), u(c.attempt)})));
+  }
+  mc_batch.run(ctx.evaluator, state.counters);
+  std::vector<Child> survivors;
+  for (size_t c = 0; c < children.size(); ++c) {
+    children[c].mc = mc_batch.evaluation(mc_handles[c]);
+    if (passes_mc(poet, children[c].mc.score)) survivors.push_back(std::move(children[c]));
+  }
+  state.counters.children_passed_mc += static_cast<int64_t>(survivors.size());
+
+  // c. ranking: most novel first against the archive (or lowest MC score first); ties keep generation order
+  std::vector<EnvEncoding> archive;
+  for (const Pair& p : state.pairs) archive.push_back(p.env.encoding);
+  for (Child& c : survivors) c.novelty = novelty(c.env.encoding, archive, poet.novelty_k(), poet.novelty_normalized());
+  if (poet.child_ranking() == pb::LOWEST_SCORE_FIRST) {
+    std::stable_sort(survivors.begin(), survivors.end(),
+                     [](const Child& a, const Child& b) { return a.mc.score < b.mc.score; });
+  } else {
+    std::stable_sort(survivors.begin(), survivors.end(),
+                     [](const Child& a, const Child& b) { return a.novelty > b.novelty; });
+  }
+
+  // d. admission through the best starting agent
+  const bool select = ctx.config.mode() == pb::RunConfig::POET || poet.keep_admission_selection();
+  int admitted = 0;
+  for (const Child& c : survivors) {
+    if (admitted >= poet.max_admitted()) break;
+    if (archived(state, c.env.encoding)) continue;  // an earlier admission of this walk had the same genes
+    Start start;
+    if (select) {
+      start = best_start(ctx, c);
+      if (!passes_mc(poet, start.eval.score)) continue;
+    } else {
+      const Pair* parent = state.find(c.parent);
+      start = {parent->id, false, parent->theta, c.mc};
+    }
+    admit(ctx, c, std::move(start));
+    admitted += 1;
+  }
+  ctx.event("reproduction", {{"eligible", eligible.size()},
+                             {"tried", poet.max_children()},
+                             {"duplicates", duplicates},
+                             {"passed_mc", survivors.size()},
+                             {"admitted", admitted}});
+
+  // e. the cap: retire the oldest active pairs
+  std::vector<size_t> active = state.active_indices();
+  for (size_t r = 0; active.size() > static_cast<size_t>(poet.active_cap()) + r; ++r) {
+    Pair& old = state.pairs[active[r]];
+    old.retired_iteration = ctx.t;
+    ctx.event("pair_retired", {{"pair", old.id}, {"env", old.env.encoding.name}, {"solved", old.solved()}});
+  }
+}
+
+}  // namespace poet

@@ -1,0 +1,115 @@
+#include "poet/rollout_batch.h"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+#include "config/run_config.h"
+#include "es/es_gradient.h"
+#include "rng.h"
+
+namespace poet {
+namespace {
+
+// A fresh course seed for stochastic environments, drawn by address from the key of what it is for.
+uint32_t course_seed(uint64_t key, uint64_t index) {
+  RandomStream stream(stream_key(key, "course", {index}));
+  return static_cast<uint32_t>(stream.uniform_int(0, kMaxEnvSeed));
+}
+
+}  // namespace
+
+EpisodeSettings episode_settings(const pb::RunConfig& config) {
+  const pb::WalkerConfig& w = config.walker();
+  EpisodeSettings s;
+  s.walker = walker_options(config);
+  s.max_steps = w.max_steps();
+  s.stochastic = w.stochastic_envs();
+  s.eval_episodes = s.stochastic ? w.eval_episodes() : 1;
+  return s;
+}
+
+RolloutTask RolloutBatch::task(SharedParams theta, const EnvDef& env) const {
+  RolloutTask t;
+  t.theta = std::move(theta);
+  t.env = env;
+  t.walker = settings_.walker;
+  t.max_steps = settings_.max_steps;
+  return t;
+}
+
+size_t RolloutBatch::add_es_step(const EsRequest& request, int perturbations) {
+  Slot slot{tasks_.size(), 2 * static_cast<size_t>(perturbations), {}, request.sigma};
+  slot.keys.reserve(static_cast<size_t>(perturbations));
+  for (int i = 0; i < perturbations; ++i) {
+    const uint64_t key = stream_key(request.step_key, "perturbation", {static_cast<uint64_t>(i)});
+    slot.keys.push_back(key);
+    EnvDef env = request.env;
+    if (settings_.stochastic) env.seed = course_seed(request.step_key, static_cast<uint64_t>(i));
+    for (int sign : {1, -1}) {
+      RolloutTask t = task(request.theta, env);
+      t.perturbation = Perturbation{key, sign, request.sigma};
+      tasks_.push_back(std::move(t));
+    }
+  }
+  slots_.push_back(std::move(slot));
+  return slots_.size() - 1;
+}
+
+size_t RolloutBatch::add_evaluation(SharedParams theta, const EnvDef& env, uint64_t eval_key) {
+  Slot slot{tasks_.size(), static_cast<size_t>(settings_.eval_episodes), {}, 0};
+  for (int e = 0; e < settings_.eval_episodes; ++e) {
+    EnvDef course = env;
+    if (settings_.stochastic) course.seed = course_seed(eval_key, static_cast<uint64_t>(e));
+    tasks_.push_back(task(theta, course));
+  }
+  slots_.push_back(std::move(slot));
+  return slots_.size() - 1;
+}
+
+void RolloutBatch::run(Evaluator& evaluator, RunCounters& counters) {
+  if (tasks_.empty()) return;  // nothing to ask for: evaluators never see empty batches
+  results_ = evaluator.evaluate(tasks_);
+  if (results_.size() != tasks_.size())
+    throw std::runtime_error("evaluator returned " + std::to_string(results_.size()) + " results for " +
+                             std::to_string(tasks_.size()) + " tasks");
+  for (const RolloutResult& r : results_) {
+    if (!std::isfinite(r.total_reward)) throw std::runtime_error("evaluator returned a non-finite return");
+    counters.rollouts += 1;
+    counters.env_steps += r.steps;
+  }
+}
+
+EsOutcome RolloutBatch::es_outcome(size_t handle, const EsSettings& settings) const {
+  const Slot& slot = slots_.at(handle);
+  const size_t n = slot.keys.size();
+  std::vector<double> plus(n), minus(n);
+  EsOutcome out;
+  out.max_return = results_.at(slot.offset).total_reward;
+  for (size_t i = 0; i < n; ++i) {
+    plus[i] = results_[slot.offset + 2 * i].total_reward;
+    minus[i] = results_[slot.offset + 2 * i + 1].total_reward;
+    out.mean_return += plus[i] + minus[i];
+    out.max_return = std::max({out.max_return, plus[i], minus[i]});
+  }
+  out.mean_return /= static_cast<double>(2 * n);
+  const size_t dim = tasks_.at(slot.offset).theta->size();
+  out.gradient = es_gradient(slot.keys, plus, minus, slot.sigma, settings.normalize_grads_by_sigma, dim);
+  return out;
+}
+
+Evaluation RolloutBatch::evaluation(size_t handle) const {
+  const Slot& slot = slots_.at(handle);
+  Evaluation e;
+  e.finished = true;
+  e.steps = results_.at(slot.offset).steps;
+  for (size_t i = 0; i < slot.count; ++i) {
+    const RolloutResult& r = results_[slot.offset + i];
+    e.score += r.total_reward;
+    e.finished = e.finished && r.finished;
+  }
+  e.score /= static_cast<double>(slot.count);
+  return e;
+}
+
+}  // namespace poet

@@ -1,0 +1,264 @@
+#include "run/run_directory.h"
+
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <charconv>
+#include <exception>
+#include <new>
+#include <string_view>
+#include <system_error>
+#include <tuple>
+
+#include "config/run_config.h"
+#include "envgen/env_json.h"
+#include "poet/checkpoint.h"
+#include "policy/policy_file.h"
+#include "text_file.h"
+
+namespace poet {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string errno_text(int err) { return std::generic_category().message(err); }
+
+std::string number(double value) {
+  char buffer[64];
+  const auto [end, ec] = std::to_chars(buffer, buffer + sizeof buffer, value);
+  return std::string(buffer, end);
+}
+
+std::string csv_field(const std::string& text) {
+  if (text.find_first_of(",\"\r\n") == std::string::npos) return text;
+  std::string quoted = "\"";
+  for (char c : text) quoted += c == '"' ? std::string("\"\"") : std::string(1, c);
+  return quoted + "\"";
+}
+
+Expected<int> open_log(const fs::path& path, int extra_flags) {
+  const int fd = ::open(path.c_str(), O_WRONLY | O_APPEND | O_CLOEXEC | extra_flags, 0644);
+  if (fd < 0) return Unexpected{path.string() + ": cannot open: " + errno_text(errno)};
+  return fd;
+}
+
+Expected<int64_t> file_size(int fd, const fs::path& path) {
+  struct stat st {};
+  if (::fstat(fd, &st) != 0) return Unexpected{path.string() + ": cannot stat: " + errno_text(errno)};
+  return static_cast<int64_t>(st.st_size);
+}
+
+// Cuts a log back to the size a checkpoint recorded; a log shorter than that lost lines the state has seen.
+std::optional<std::string> truncate_log(int fd, const fs::path& path, int64_t size) {
+  Expected<int64_t> current = file_size(fd, path);
+  if (!current) return current.error();
+  if (*current < size)
+    return path.string() + ": " + std::to_string(*current) + " bytes, shorter than the " + std::to_string(size) +
+           " the checkpoint has seen (the file was changed outside the run)";
+  if (*current == size) return std::nullopt;
+  if (::ftruncate(fd, size) != 0) return path.string() + ": cannot truncate: " + errno_text(errno);
+  if (const int err = fsync_retrying(fd)) return path.string() + ": fsync: " + errno_text(err);
+  return std::nullopt;
+}
+
+std::optional<std::string> write_named(const fs::path& path, std::string_view text) {
+  if (auto error = write_file_atomically(path, text)) return path.string() + ": " + *error;
+  return std::nullopt;
+}
+
+std::string pair_file(int id, const char* suffix) { return "pair-" + std::to_string(id) + suffix; }
+
+}  // namespace
+
+std::string pair_stats_header() {
+  return "iteration,pair,env,score,finished,eval_steps,best_score,solved,es_steps,lr,sigma,perturbation_mean,"
+         "perturbation_max,grad_norm,theta_norm\n";
+}
+
+std::string pair_stats_row(const PairStatsRow& row) {
+  std::string line = std::to_string(row.iteration) + "," + std::to_string(row.pair) + "," + csv_field(row.env);
+  line += "," + number(row.score) + "," + (row.finished ? "true" : "false") + "," + std::to_string(row.eval_steps);
+  line += "," + number(row.best_score) + "," + (row.solved ? "true" : "false") + "," + std::to_string(row.es_steps);
+  line += "," + number(row.lr) + "," + number(row.sigma) + "," + number(row.perturbation_mean);
+  line += "," + number(row.perturbation_max) + "," + number(row.grad_norm) + "," + number(row.theta_norm) + "\n";
+  return line;
+}
+
+RunDirectory::RunDirectory(fs::path dir, int events_fd, int stats_fd)
+    : dir_(std::move(dir)), events_fd_(events_fd), stats_fd_(stats_fd) {}
+
+RunDirectory::RunDirectory(RunDirectory&& other) noexcept
+    : dir_(std::move(other.dir_)),
+      events_fd_(std::exchange(other.events_fd_, -1)),
+      stats_fd_(std::exchange(other.stats_fd_, -1)),
+      append_error_(std::move(other.append_error_)),
+      pairs_with_env_files_(other.pairs_with_env_files_),
+      active_at_last_save_(std::move(other.active_at_last_save_)) {}
+
+RunDirectory& RunDirectory::operator=(RunDirectory&& other) noexcept {
+  if (this == &other) return *this;
+  close_logs();
+  dir_ = std::move(other.dir_);
+  events_fd_ = std::exchange(other.events_fd_, -1);
+  stats_fd_ = std::exchange(other.stats_fd_, -1);
+  append_error_ = std::move(other.append_error_);
+  pairs_with_env_files_ = other.pairs_with_env_files_;
+  active_at_last_save_ = std::move(other.active_at_last_save_);
+  return *this;
+}
+
+RunDirectory::~RunDirectory() { close_logs(); }
+
+void RunDirectory::close_logs() {
+  if (events_fd_ >= 0) ::close(events_fd_);
+  if (stats_fd_ >= 0) ::close(stats_fd_);
+  events_fd_ = stats_fd_ = -1;
+}
+
+Expected<RunDirectory> RunDirectory::create(const fs::path& dir, const pb::RunConfig& config) {
+  std::error_code ec;
+  fs::create_directories(dir, ec);
+  if (ec) return Unexpected{dir.string() + ": cannot create directory: " + ec.message()};
+  if (!fs::is_directory(dir, ec)) return Unexpected{dir.string() + ": not a directory"};
+  const bool has_checkpoint = fs::exists(dir / kCheckpointFile, ec);
+  if (ec) return Unexpected{(dir / kCheckpointFile).string() + ": cannot access: " + ec.message()};
+  if (has_checkpoint) return Unexpected{dir.string() + " already holds a run; resume it or choose another directory"};
+  for (const char* sub : {kEnvsDir, kPoliciesDir}) {
+    fs::create_directories(dir / sub, ec);
+    if (ec) return Unexpected{(dir / sub).string() + ": cannot create directory: " + ec.message()};
+  }
+  if (auto error = write_named(dir / kConfigFile, run_config_text(config))) return Unexpected{*error};
+
+  // A directory without a checkpoint holds no run, so logs left by an earlier attempt are started over.
+  Expected<int> events = open_log(dir / kEventsFile, O_CREAT | O_TRUNC);
+  if (!events) return Unexpected{events.error()};
+  RunDirectory run(dir, *events, -1);
+  Expected<int> stats = open_log(dir / kStatsFile, O_CREAT | O_TRUNC);
+  if (!stats) return Unexpected{stats.error()};
+  run.stats_fd_ = *stats;
+  if (const int err = write_all(run.stats_fd_, pair_stats_header()))
+    return Unexpected{(dir / kStatsFile).string() + ": " + errno_text(err)};
+  sync_directory(dir);
+  return run;
+}
+
+Expected<std::pair<RunDirectory, RunState>> RunDirectory::resume(const fs::path& dir) {
+  std::error_code ec;
+  if (!fs::is_directory(dir, ec)) return Unexpected{dir.string() + ": no such directory (nothing to resume)"};
+  const fs::path checkpoint_path = dir / kCheckpointFile;
+  if (!fs::exists(checkpoint_path, ec))
+    return Unexpected{checkpoint_path.string() + ": does not exist (" + dir.string() + " holds no run to resume)"};
+
+  // the checkpoint: bounded read, parse, the directory's own fields, then the state's checks
+  Expected<std::string> bytes = read_text_file(checkpoint_path, kMaxCheckpointBytes);
+  if (!bytes) return Unexpected{checkpoint_path.string() + ": " + bytes.error()};
+  pb::Checkpoint checkpoint;
+  if (!checkpoint.ParseFromString(*bytes))
+    return Unexpected{checkpoint_path.string() + ": not a valid checkpoint (corrupt or truncated)"};
+  for (const auto& [name, present, value] :
+       {std::tuple{"events_bytes", checkpoint.has_events_bytes(), checkpoint.events_bytes()},
+        std::tuple{"stats_bytes", checkpoint.has_stats_bytes(), checkpoint.stats_bytes()}}) {
+    if (!present) return Unexpected{checkpoint_path.string() + ": " + name + ": missing (corrupt or truncated)"};
+    if (value < 0)
+      return Unexpected{checkpoint_path.string() + ": " + name + ": must be >= 0 (got " + std::to_string(value) + ")"};
+  }
+  Expected<RunState> state = from_checkpoint(checkpoint);
+  if (!state) return Unexpected{checkpoint_path.string() + ": " + state.error()};
+
+  // the logs, cut back to what the state has seen
+  Expected<int> events = open_log(dir / kEventsFile, checkpoint.events_bytes() == 0 ? O_CREAT : 0);
+  if (!events) return Unexpected{events.error()};
+  RunDirectory run(dir, *events, -1);
+  Expected<int> stats = open_log(dir / kStatsFile, 0);
+  if (!stats) return Unexpected{stats.error()};
+  run.stats_fd_ = *stats;
+  if (auto error = truncate_log(run.events_fd_, dir / kEventsFile, checkpoint.events_bytes()))
+    return Unexpected{*error};
+  if (auto error = truncate_log(run.stats_fd_, dir / kStatsFile, checkpoint.stats_bytes())) return Unexpected{*error};
+  for (const char* sub : {kEnvsDir, kPoliciesDir}) {
+    fs::create_directories(dir / sub, ec);
+    if (ec) return Unexpected{(dir / sub).string() + ": cannot create directory: " + ec.message()};
+  }
+
+  // the pair files the checkpoint's save wrote
+  run.pairs_with_env_files_ = state->pairs.size();
+  for (const Pair& pair : state->pairs)
+    if (pair.active()) run.active_at_last_save_.insert(pair.id);
+  return std::pair<RunDirectory, RunState>(std::move(run), std::move(*state));
+}
+
+void RunDirectory::append(const IterationReport& report) {
+  if (append_error_) return;  // the logs are already inconsistent with any further checkpoint
+  std::string events;
+  for (const auto& event : report.events)
+    events += event.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace) + "\n";
+  std::string stats;
+  for (const PairStatsRow& row : report.stats) stats += pair_stats_row(row);
+  if (const int err = write_all(events_fd_, events))
+    append_error_ = (dir_ / kEventsFile).string() + ": " + errno_text(err);
+  else if (const int err2 = write_all(stats_fd_, stats))
+    append_error_ = (dir_ / kStatsFile).string() + ": " + errno_text(err2);
+}
+
+std::optional<std::string> RunDirectory::write_pair_files(const RunState& state) {
+  fs::path current;  // the file being written, for an exception's message
+  try {
+    for (size_t i = pairs_with_env_files_; i < state.pairs.size(); ++i) {
+      const Pair& pair = state.pairs[i];
+      current = dir_ / kEnvsDir / pair_file(pair.id, ".env.json");
+      if (auto error = write_named(current, env_def_json_text(pair.env))) return error;
+    }
+    for (const Pair& pair : state.pairs) {
+      if (!pair.active() && !active_at_last_save_.contains(pair.id)) continue;
+      current = dir_ / kPoliciesDir / pair_file(pair.id, ".json");
+      if (auto error = write_named(current, policy_json_text(pair.theta, pair.latest_score))) return error;
+      if (pair.best_theta.empty()) continue;  // no evaluation yet
+      current = dir_ / kPoliciesDir / pair_file(pair.id, ".best.json");
+      if (auto error = write_named(current, policy_json_text(pair.best_theta, pair.best_score))) return error;
+    }
+  } catch (const std::bad_alloc&) {
+    throw;
+  } catch (const std::exception& e) {  // a non-finite θ or score: refused by the file formats
+    return current.string() + ": " + e.what();
+  }
+  return std::nullopt;
+}
+
+std::optional<std::string> RunDirectory::save(const RunState& state) {
+  if (append_error_) return append_error_;
+
+  // the logs first: the checkpoint must never count bytes that a crash could still lose
+  const std::pair<int, const char*> logs[] = {{events_fd_, kEventsFile}, {stats_fd_, kStatsFile}};
+  int64_t sizes[2] = {0, 0};
+  for (int i = 0; i < 2; ++i) {
+    const fs::path path = dir_ / logs[i].second;
+    if (const int err = fsync_retrying(logs[i].first)) return path.string() + ": fsync: " + errno_text(err);
+    Expected<int64_t> size = file_size(logs[i].first, path);
+    if (!size) return size.error();
+    sizes[i] = *size;
+  }
+
+  if (auto error = write_pair_files(state)) return error;
+
+  pb::Checkpoint checkpoint = to_checkpoint(state);
+  checkpoint.set_events_bytes(sizes[0]);
+  checkpoint.set_stats_bytes(sizes[1]);
+  std::string bytes;
+  if (!checkpoint.SerializeToString(&bytes))
+    return (dir_ / kCheckpointFile).string() + ": cannot serialise the checkpoint";
+  if (auto error = write_named(dir_ / kCheckpointFile, bytes)) return error;
+
+  pairs_with_env_files_ = state.pairs.size();
+  active_at_last_save_.clear();
+  for (const Pair& pair : state.pairs)
+    if (pair.active()) active_at_last_save_.insert(pair.id);
+  return std::nullopt;
+}
+
+std::optional<std::string> RunDirectory::write_config(const pb::RunConfig& config) {
+  return write_named(dir_ / kConfigFile, run_config_text(config));
+}
+
+}  // namespace poet

@@ -1,0 +1,523 @@
+#include "config/run_config.h"
+
+#include <google/protobuf/util/message_differencer.h>
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include "config/env_proto.h"
+
+namespace poet {
+namespace {
+
+namespace fs = std::filesystem;
+using google::protobuf::util::MessageDifferencer;
+
+bool contains(const std::string& text, std::string_view part) { return text.find(part) != std::string::npos; }
+
+// The presets live in the source tree; this file's own path locates it (no compile definition needed).
+fs::path configs_dir() {
+  const std::string self = __FILE__;
+  const size_t tests = self.rfind("/tests/unit/");
+  EXPECT_NE(tests, std::string::npos) << self;
+  return fs::path(self.substr(0, tests)) / "deploy" / "configs";
+}
+
+pb::RunConfig load_preset(const std::string& name) {
+  const Expected<pb::RunConfig> config = load_run_config((configs_dir() / name).string());
+  EXPECT_TRUE(config) << config.error();
+  return config ? *config : pb::RunConfig{};
+}
+
+// The error of a text that must be refused.
+std::string error_of(const std::string& text) {
+  const Expected<pb::RunConfig> config = parse_run_config(text);
+  EXPECT_FALSE(config) << "accepted: " << text;
+  return config.error();
+}
+
+// ------------------------------------------------------------------------------------------------ presets
+
+TEST(RunConfig, EveryPresetParsesAndValidates) {
+  std::vector<std::string> names;
+  for (const auto& entry : fs::directory_iterator(configs_dir())) {
+    if (entry.path().extension() != ".textproto") continue;
+    names.push_back(entry.path().filename().string());
+    const Expected<pb::RunConfig> config = load_run_config(entry.path().string());
+    EXPECT_TRUE(config) << config.error();
+  }
+  for (const char* expected :
+       {"paper.textproto", "quick.textproto", "es_alone.textproto", "direct_path.textproto", "no_transfer.textproto"})
+    EXPECT_NE(std::find(names.begin(), names.end(), expected), names.end()) << expected << " missing";
+}
+
+TEST(RunConfig, PaperPresetHasThePapersNumbers) {
+  const pb::RunConfig c = load_preset("paper.textproto");
+  EXPECT_EQ(c.mode(), pb::RunConfig::POET);
+  EXPECT_EQ(c.poet().active_cap(), 20);
+  EXPECT_EQ(c.poet().mc_low(), 50);
+  EXPECT_EQ(c.poet().mc_high(), 300);
+  EXPECT_EQ(c.poet().max_children(), 512);
+  EXPECT_EQ(c.poet().repro_threshold(), 200);
+  EXPECT_EQ(c.es().perturbations(), 256);  // 512 rollouts per ES step
+  EXPECT_EQ(c.iterations(), 25200);
+  EXPECT_EQ(c.poet().solved_score(), 230);
+  // Where the paper is silent the preset equals the reference, i.e. the schema default.
+  EXPECT_EQ(c.seed(), pb::RunConfig{}.seed());
+  EXPECT_EQ(c.poet().mutation_interval(), 200);
+  EXPECT_EQ(c.poet().transfer_interval(), 25);
+  EXPECT_EQ(c.es().init_sigma(), 0.1);
+  EXPECT_EQ(c.es().init_lr(), 0.01);
+  EXPECT_EQ(c.es().adam_epsilon(), 1e-8);
+  EXPECT_EQ(c.walker().push_scale(), 5);
+}
+
+// Quick exists to show the loop at work within minutes: small populations, frequent reproduction and transfer.
+TEST(RunConfig, QuickPresetIsSmall) {
+  const pb::RunConfig c = load_preset("quick.textproto");
+  EXPECT_EQ(c.mode(), pb::RunConfig::POET);
+  EXPECT_LE(c.iterations(), 60);
+  EXPECT_LE(c.es().perturbations(), 32);
+  EXPECT_LE(c.poet().mutation_interval(), 10);
+  EXPECT_LE(c.poet().transfer_interval(), 10);
+  EXPECT_LT(c.poet().mutation_interval(), c.iterations());
+  EXPECT_LE(c.poet().active_cap(), 5);
+  EXPECT_GE(c.poet().max_admitted(), 1);
+}
+
+TEST(RunConfig, ControlPresetsHaveTheirModes) {
+  const pb::RunConfig es_alone = load_preset("es_alone.textproto");
+  EXPECT_EQ(es_alone.mode(), pb::RunConfig::ES_ALONE);
+  const Expected<EnvDef> es_target = env_def_from_proto(es_alone.es_alone().target());
+  ASSERT_TRUE(es_target) << es_target.error();
+  EXPECT_EQ(es_target->seed, 0u);
+
+  const pb::RunConfig direct = load_preset("direct_path.textproto");
+  EXPECT_EQ(direct.mode(), pb::RunConfig::DIRECT_PATH);
+  const Expected<EnvDef> direct_target = env_def_from_proto(direct.direct_path().target());
+  ASSERT_TRUE(direct_target) << direct_target.error();
+  EXPECT_TRUE(direct_target->encoding.has_pits());
+  EXPECT_TRUE(direct_target->encoding.has_stumps());
+  EXPECT_GT(direct_target->encoding.roughness, 0);
+  EXPECT_GT(direct.direct_path().budget_es_steps(), 0);
+
+  EXPECT_EQ(load_preset("no_transfer.textproto").mode(), pb::RunConfig::POET_WITHOUT_TRANSFER);
+}
+
+// ------------------------------------------------------------------------------------------------ defaults
+
+TEST(RunConfig, DefaultsAreTheReferenceValues) {
+  const Expected<pb::RunConfig> parsed = parse_run_config("");
+  ASSERT_TRUE(parsed) << parsed.error();
+  const pb::RunConfig& c = *parsed;
+  EXPECT_EQ(c.mode(), pb::RunConfig::POET);
+  EXPECT_EQ(c.seed(), 24582922u);
+  EXPECT_EQ(c.iterations(), 50000);
+  EXPECT_EQ(c.init_stddev(), 0.1);
+  EXPECT_FALSE(c.init_zero());
+  EXPECT_EQ(c.es().perturbations(), 256);
+  EXPECT_EQ(c.es().init_sigma(), 0.1);
+  EXPECT_EQ(c.es().sigma_decay(), 0.999);
+  EXPECT_EQ(c.es().sigma_floor(), 0.01);
+  EXPECT_EQ(c.es().init_lr(), 0.01);
+  EXPECT_EQ(c.es().lr_decay(), 0.9999);
+  EXPECT_EQ(c.es().lr_floor(), 0.001);
+  EXPECT_EQ(c.es().l2_coeff(), 0.01);
+  EXPECT_EQ(c.es().adam_beta1(), 0.9);
+  EXPECT_EQ(c.es().adam_beta2(), 0.999);
+  EXPECT_EQ(c.es().adam_epsilon(), 1e-8);
+  EXPECT_TRUE(c.es().normalize_grads_by_sigma());
+  EXPECT_EQ(c.poet().mutation_interval(), 200);
+  EXPECT_EQ(c.poet().transfer_interval(), 25);
+  EXPECT_EQ(c.poet().repro_threshold(), 200);
+  EXPECT_EQ(c.poet().max_children(), 8);
+  EXPECT_EQ(c.poet().max_admitted(), 1);
+  EXPECT_EQ(c.poet().mc_low(), 25);
+  EXPECT_EQ(c.poet().mc_high(), 340);
+  EXPECT_EQ(c.poet().active_cap(), 25);
+  EXPECT_EQ(c.poet().novelty_k(), 5);
+  EXPECT_FALSE(c.poet().novelty_normalized());
+  EXPECT_EQ(c.poet().child_ranking(), pb::NOVELTY);
+  EXPECT_EQ(c.poet().admission_proposal(), pb::SGD_PROPOSAL);
+  EXPECT_EQ(c.poet().transfer_proposal(), pb::ADAM_PROPOSAL);
+  EXPECT_EQ(c.poet().solved_score(), 230);
+  EXPECT_EQ(c.walker().push_scale(), 5);
+  EXPECT_EQ(c.walker().lidar(), pb::WalkerConfig::NEAREST);
+  EXPECT_EQ(c.walker().max_steps(), 2000);
+  EXPECT_EQ(c.walker().eval_episodes(), 5);
+  EXPECT_FALSE(c.walker().stochastic_envs());
+  EXPECT_EQ(c.direct_path().advance_threshold(), 200);
+}
+
+TEST(RunConfig, DefaultsMatchTheLibraryStructs) {
+  const pb::RunConfig c;
+  EXPECT_FALSE(validate(c).has_value()) << *validate(c);
+  const EsSettings es = es_settings(c), want_es;
+  EXPECT_EQ(es.perturbations, want_es.perturbations);
+  EXPECT_EQ(es.init_sigma, want_es.init_sigma);
+  EXPECT_EQ(es.sigma_decay, want_es.sigma_decay);
+  EXPECT_EQ(es.sigma_floor, want_es.sigma_floor);
+  EXPECT_EQ(es.init_lr, want_es.init_lr);
+  EXPECT_EQ(es.lr_decay, want_es.lr_decay);
+  EXPECT_EQ(es.lr_floor, want_es.lr_floor);
+  EXPECT_EQ(es.l2_coeff, want_es.l2_coeff);
+  EXPECT_EQ(es.adam_beta1, want_es.adam_beta1);
+  EXPECT_EQ(es.adam_beta2, want_es.adam_beta2);
+  EXPECT_EQ(es.adam_epsilon, want_es.adam_epsilon);
+  EXPECT_EQ(es.normalize_grads_by_sigma, want_es.normalize_grads_by_sigma);
+  const MutationOptions m = mutation_options(c), want_m;
+  EXPECT_EQ(m.roughness, want_m.roughness);
+  EXPECT_EQ(m.pits, want_m.pits);
+  EXPECT_EQ(m.stumps, want_m.stumps);
+  EXPECT_EQ(m.stairs, want_m.stairs);
+  EXPECT_EQ(m.mutate_stair_steps, want_m.mutate_stair_steps);
+  EXPECT_EQ(m.all_types, want_m.all_types);
+  const WalkerOptions w = walker_options(c), want_w;
+  EXPECT_EQ(w.push_scale, want_w.push_scale);
+  EXPECT_EQ(w.lidar, want_w.lidar);
+}
+
+TEST(RunConfig, ConversionsCarryEveryField) {
+  const Expected<pb::RunConfig> c = parse_run_config(R"(
+    es { perturbations: 3 init_sigma: 0.2 sigma_decay: 0.5 sigma_floor: 0.05 init_lr: 0.3 lr_decay: 0.25
+         lr_floor: 0.125 l2_coeff: 0 adam_beta1: 0.5 adam_beta2: 0.75 adam_epsilon: 1e-4
+         normalize_grads_by_sigma: false }
+    poet { mutation { roughness: false pits: false stumps: false stairs: true mutate_stair_steps: true
+                      all_types: false } }
+    walker { push_scale: 0 lidar: FIRST }
+  )");
+  ASSERT_TRUE(c) << c.error();
+  const EsSettings es = es_settings(*c);
+  EXPECT_EQ(es.perturbations, 3);
+  EXPECT_EQ(es.init_sigma, 0.2);
+  EXPECT_EQ(es.sigma_decay, 0.5);
+  EXPECT_EQ(es.sigma_floor, 0.05);
+  EXPECT_EQ(es.init_lr, 0.3);
+  EXPECT_EQ(es.lr_decay, 0.25);
+  EXPECT_EQ(es.lr_floor, 0.125);
+  EXPECT_EQ(es.l2_coeff, 0);
+  EXPECT_EQ(es.adam_beta1, 0.5);
+  EXPECT_EQ(es.adam_beta2, 0.75);
+  EXPECT_EQ(es.adam_epsilon, 1e-4);
+  EXPECT_FALSE(es.normalize_grads_by_sigma);
+  const MutationOptions m = mutation_options(*c);
+  EXPECT_FALSE(m.roughness);
+  EXPECT_FALSE(m.pits);
+  EXPECT_FALSE(m.stumps);
+  EXPECT_TRUE(m.stairs);
+  EXPECT_TRUE(m.mutate_stair_steps);
+  EXPECT_FALSE(m.all_types);
+  const WalkerOptions w = walker_options(*c);
+  EXPECT_EQ(w.push_scale, 0);
+  EXPECT_EQ(w.lidar, LidarRule::kFirst);
+}
+
+// ------------------------------------------------------------------------------------------------ parse errors
+
+TEST(RunConfig, UnknownFieldIsRefusedByName) {
+  const std::string top = error_of("seed: 3\nbogus_field: 1\n");
+  EXPECT_TRUE(contains(top, "bogus_field")) << top;
+  EXPECT_TRUE(top.starts_with("line 2:")) << top;
+  const std::string nested = error_of("es {\n  sigma: 0.1\n}\n");
+  EXPECT_TRUE(contains(nested, "sigma")) << nested;
+  EXPECT_TRUE(nested.starts_with("line 2:")) << nested;
+}
+
+TEST(RunConfig, WrongTypeIsRefused) {
+  for (const char* text : {"iterations: \"many\"", "es { perturbations: 1.5 }", "walker { stochastic_envs: 7 }",
+                           "es { init_sigma: \"0.1\" }", "es: 3", "seed: -1", "iterations: 99999999999"}) {
+    const std::string error = error_of(text);
+    EXPECT_TRUE(error.starts_with("line 1:")) << text << " -> " << error;
+  }
+}
+
+TEST(RunConfig, UnknownEnumValueIsRefused) {
+  EXPECT_TRUE(contains(error_of("mode: POET_FOREVER"), "POET_FOREVER"));
+  EXPECT_TRUE(error_of("mode: 7").starts_with("line 1:"));
+  EXPECT_TRUE(contains(error_of("walker { lidar: FARTHEST }"), "FARTHEST"));
+}
+
+TEST(RunConfig, SyntaxErrorHasLineAndColumn) {
+  const std::string error = error_of("seed: 1\n\nes {\n  perturbations: 4\n");
+  EXPECT_TRUE(error.starts_with("line ")) << error;
+  EXPECT_TRUE(error_of("es { perturbations 4 }").starts_with("line 1:"));
+}
+
+TEST(RunConfig, RepeatedSingularFieldIsRefused) {
+  const std::string error = error_of("seed: 1\nseed: 2\n");
+  EXPECT_TRUE(error.starts_with("line 2:")) << error;
+  EXPECT_TRUE(contains(error, "seed")) << error;
+}
+
+TEST(RunConfig, CommentsAndNonAsciiInCommentsAreFine) {
+  const Expected<pb::RunConfig> c = parse_run_config("# θ₀ ~ N(0, 0.1²), ≥ 230\nseed: 4  # × 2\n");
+  ASSERT_TRUE(c) << c.error();
+  EXPECT_EQ(c->seed(), 4u);
+}
+
+// ------------------------------------------------------------------------------------------------ validation
+
+TEST(RunConfig, OutOfRangeNamesTheFieldAndValue) {
+  EXPECT_EQ(error_of("es { init_sigma: -1 }"), "es.init_sigma: must be > 0 (got -1)");
+  EXPECT_EQ(error_of("es { perturbations: 0 }"), "es.perturbations: must be in [1, 1000000] (got 0)");
+  EXPECT_EQ(error_of("walker { push_scale: 1000.5 }"), "walker.push_scale: must be in [0, 1000] (got 1000.5)");
+  EXPECT_EQ(error_of("es { adam_beta1: 1 }"), "es.adam_beta1: must be in [0, 1) (got 1)");
+  EXPECT_EQ(error_of("es { lr_decay: 0 }"), "es.lr_decay: must be in (0, 1] (got 0)");
+  EXPECT_EQ(error_of("es { init_lr: nan }"), "es.init_lr: must be a finite number (got nan)");
+
+  const struct {
+    const char* text;
+    const char* path;
+  } cases[] = {
+      {"es { perturbations: 1000001 }", "es.perturbations:"},
+      {"es { init_sigma: 0 }", "es.init_sigma:"},
+      {"es { init_sigma: inf }", "es.init_sigma:"},
+      {"es { sigma_decay: 0 }", "es.sigma_decay:"},
+      {"es { sigma_decay: 1.01 }", "es.sigma_decay:"},
+      {"es { sigma_floor: -0.01 }", "es.sigma_floor:"},
+      {"es { init_lr: 0 }", "es.init_lr:"},
+      {"es { lr_decay: 2 }", "es.lr_decay:"},
+      {"es { lr_floor: -1 }", "es.lr_floor:"},
+      {"es { l2_coeff: -0.1 }", "es.l2_coeff:"},
+      {"es { adam_beta1: -0.1 }", "es.adam_beta1:"},
+      {"es { adam_beta2: 1 }", "es.adam_beta2:"},
+      {"es { adam_epsilon: 0 }", "es.adam_epsilon:"},
+      {"poet { mutation_interval: 0 }", "poet.mutation_interval:"},
+      {"poet { transfer_interval: -5 }", "poet.transfer_interval:"},
+      {"poet { repro_threshold: -inf }", "poet.repro_threshold:"},
+      {"poet { max_children: -1 }", "poet.max_children:"},
+      {"poet { max_admitted: -1 }", "poet.max_admitted:"},
+      {"poet { mc_high: nan }", "poet.mc_high:"},
+      {"poet { active_cap: 0 }", "poet.active_cap:"},
+      {"poet { novelty_k: 0 }", "poet.novelty_k:"},
+      {"poet { solved_score: inf }", "poet.solved_score:"},
+      {"walker { push_scale: -1 }", "walker.push_scale:"},
+      {"walker { max_steps: 0 }", "walker.max_steps:"},
+      {"walker { max_steps: 100001 }", "walker.max_steps:"},
+      {"walker { eval_episodes: 0 }", "walker.eval_episodes:"},
+      {"walker { eval_episodes: 1001 }", "walker.eval_episodes:"},
+      {"iterations: -1", "iterations:"},
+      {"checkpoint_interval: 0", "checkpoint_interval:"},
+      {"init_stddev: -0.1", "init_stddev:"},
+      {"init_stddev: 10.5", "init_stddev:"},
+  };
+  for (const auto& c : cases) {
+    const std::string error = error_of(c.text);
+    EXPECT_TRUE(error.starts_with(c.path)) << c.text << " -> " << error;
+    EXPECT_TRUE(contains(error, "(got ")) << c.text << " -> " << error;
+  }
+}
+
+TEST(RunConfig, BoundaryValuesAreAccepted) {
+  for (const char* text :
+       {"es { perturbations: 1 }", "es { perturbations: 1000000 }", "es { sigma_decay: 1 lr_decay: 1 }",
+        "es { sigma_floor: 0 lr_floor: 0 l2_coeff: 0 adam_beta1: 0 adam_beta2: 0 }",
+        "es { sigma_floor: 0.1 lr_floor: 0.01 }", "poet { max_children: 0 max_admitted: 0 }",
+        "poet { mc_low: 100 mc_high: 100 }", "poet { active_cap: 1 novelty_k: 1 mutation_interval: 1 }",
+        "walker { push_scale: 0 }", "walker { push_scale: 1000 max_steps: 100000 eval_episodes: 1000 }",
+        "iterations: 0", "init_stddev: 0", "init_stddev: 10", "seed: 18446744073709551615",
+        "mode: ES_ALONE es_alone { target { } } poet { mutation { roughness: false pits: false stumps: false } }"}) {
+    const Expected<pb::RunConfig> c = parse_run_config(text);
+    EXPECT_TRUE(c) << text << " -> " << c.error();
+  }
+}
+
+TEST(RunConfig, FloorAboveItsInitialValueIsAContradiction) {
+  EXPECT_EQ(error_of("es { sigma_floor: 0.5 }"), "es.sigma_floor: 0.5 exceeds es.init_sigma 0.1");
+  EXPECT_EQ(error_of("es { init_lr: 0.001 lr_floor: 0.002 }"), "es.lr_floor: 0.002 exceeds es.init_lr 0.001");
+}
+
+TEST(RunConfig, McLowAboveMcHighIsAContradiction) {
+  EXPECT_EQ(error_of("poet { mc_low: 300 mc_high: 50 }"), "poet.mc_low: 300 exceeds poet.mc_high 50");
+}
+
+TEST(RunConfig, PoetModesNeedAMutableGeneType) {
+  const char* none = "poet { mutation { roughness: false pits: false stumps: false stairs: false } }";
+  const std::string poet = error_of(none);
+  EXPECT_TRUE(poet.starts_with("poet.mutation:")) << poet;
+  EXPECT_TRUE(contains(poet, "POET")) << poet;
+  const std::string no_transfer = error_of(std::string("mode: POET_WITHOUT_TRANSFER ") + none);
+  EXPECT_TRUE(no_transfer.starts_with("poet.mutation:")) << no_transfer;
+  // One type is enough.
+  EXPECT_TRUE(parse_run_config("poet { mutation { roughness: false pits: false stumps: false stairs: true } }"));
+}
+
+TEST(RunConfig, SectionOfAnotherModeIsAContradiction) {
+  const std::string es_alone = error_of("es_alone { target { seed: 1 } }");
+  EXPECT_TRUE(es_alone.starts_with("es_alone:")) << es_alone;
+  EXPECT_TRUE(contains(es_alone, "mode")) << es_alone;
+  EXPECT_TRUE(contains(es_alone, "ES_ALONE")) << es_alone;
+
+  const std::string direct = error_of("mode: ES_ALONE es_alone { target { } } direct_path { budget_es_steps: 5 }");
+  EXPECT_TRUE(direct.starts_with("direct_path:")) << direct;
+  EXPECT_TRUE(contains(direct, "mode is ES_ALONE")) << direct;
+
+  // Even an empty section counts as given.
+  EXPECT_TRUE(error_of("direct_path { }").starts_with("direct_path:"));
+}
+
+TEST(RunConfig, KeepAdmissionSelectionOnlyWithoutTransfer) {
+  for (const char* mode :
+       {"POET", "ES_ALONE es_alone { target { } }", "DIRECT_PATH direct_path { target { } budget_es_steps: 1 }"}) {
+    const std::string error = error_of(std::string("mode: ") + mode + " poet { keep_admission_selection: true }");
+    EXPECT_TRUE(error.starts_with("poet.keep_admission_selection:")) << error;
+    EXPECT_TRUE(contains(error, "mode")) << error;
+  }
+  EXPECT_TRUE(parse_run_config("mode: POET_WITHOUT_TRANSFER poet { keep_admission_selection: true }"));
+  EXPECT_TRUE(parse_run_config("poet { keep_admission_selection: false }"));
+}
+
+TEST(RunConfig, ModeRequirements) {
+  EXPECT_EQ(error_of("mode: ES_ALONE"), "es_alone.target: required in mode ES_ALONE");
+  EXPECT_EQ(error_of("mode: ES_ALONE es_alone { }"), "es_alone.target: required in mode ES_ALONE");
+  EXPECT_EQ(error_of("mode: DIRECT_PATH direct_path { budget_es_steps: 10 }"),
+            "direct_path.target: required in mode DIRECT_PATH");
+  EXPECT_EQ(error_of("mode: DIRECT_PATH direct_path { target { } }"),
+            "direct_path.budget_es_steps: required in mode DIRECT_PATH");
+  EXPECT_EQ(error_of("mode: DIRECT_PATH direct_path { target { } budget_es_steps: 0 }"),
+            "direct_path.budget_es_steps: must be >= 1 (got 0)");
+  EXPECT_TRUE(error_of("mode: DIRECT_PATH direct_path { target { } budget_es_steps: 5 advance_threshold: nan }")
+                  .starts_with("direct_path.advance_threshold:"));
+  EXPECT_TRUE(parse_run_config("mode: ES_ALONE es_alone { target { seed: 3 } }"));
+  EXPECT_TRUE(parse_run_config("mode: DIRECT_PATH direct_path { target { } budget_es_steps: 1 }"));
+}
+
+TEST(RunConfig, InvalidTargetNamesItsPath) {
+  const std::string pits = error_of("mode: ES_ALONE es_alone { target { encoding { pit_gap { lo: 2 hi: 1 } } } }");
+  EXPECT_TRUE(pits.starts_with("es_alone.target.encoding.pit_gap:")) << pits;
+  EXPECT_TRUE(contains(pits, "(got [2, 1])")) << pits;
+  const std::string seed = error_of("mode: DIRECT_PATH direct_path { target { seed: 1000000 } budget_es_steps: 1 }");
+  EXPECT_EQ(seed, "direct_path.target.seed: must be < 1000000 (got 1000000)");
+  const std::string rough =
+      error_of("mode: DIRECT_PATH direct_path { target { encoding { roughness: -2 } } budget_es_steps: 1 }");
+  EXPECT_TRUE(rough.starts_with("direct_path.target.encoding.roughness:")) << rough;
+}
+
+TEST(RunConfig, ValidateReportsTheFirstBadField) {
+  pb::RunConfig c;
+  c.mutable_es()->set_init_sigma(-1);
+  c.mutable_walker()->set_max_steps(0);
+  EXPECT_EQ(validate(c).value_or(""), "es.init_sigma: must be > 0 (got -1)");
+  c.mutable_es()->set_init_sigma(std::numeric_limits<double>::quiet_NaN());
+  EXPECT_TRUE(validate(c).value_or("").starts_with("es.init_sigma: must be a finite number"));
+  c.mutable_es()->clear_init_sigma();
+  EXPECT_TRUE(validate(c).value_or("").starts_with("walker.max_steps:"));
+}
+
+// ------------------------------------------------------------------------------------------------ text round trip
+
+void expect_round_trip(const pb::RunConfig& config) {
+  const std::string text = run_config_text(config);
+  const Expected<pb::RunConfig> back = parse_run_config(text);
+  ASSERT_TRUE(back) << back.error() << "\n" << text;
+  std::string diff;
+  MessageDifferencer differencer;
+  differencer.ReportDifferencesToString(&diff);
+  EXPECT_TRUE(differencer.Compare(config, *back)) << diff << "\n" << text;
+}
+
+TEST(RunConfig, TextRoundTripsEveryPreset) {
+  for (const auto& entry : fs::directory_iterator(configs_dir())) {
+    if (entry.path().extension() != ".textproto") continue;
+    SCOPED_TRACE(entry.path().string());
+    const Expected<pb::RunConfig> config = load_run_config(entry.path().string());
+    ASSERT_TRUE(config) << config.error();
+    expect_round_trip(*config);
+  }
+}
+
+TEST(RunConfig, TextRoundTripIsBitExact) {
+  pb::RunConfig c;
+  c.set_mode(pb::RunConfig::ES_ALONE);
+  c.set_seed(std::numeric_limits<uint64_t>::max());
+  c.set_init_stddev(0.1 + 0.2);
+  c.mutable_es()->set_init_sigma(1.0 / 3.0);
+  c.mutable_es()->set_sigma_floor(std::nextafter(0.01, 0.0));
+  c.mutable_es()->set_l2_coeff(5e-324);  // the smallest subnormal
+  c.mutable_es()->set_adam_epsilon(std::numeric_limits<double>::min());
+  c.mutable_es()->set_sigma_decay(std::nextafter(1.0, 0.0));
+  c.mutable_es()->set_init_lr(0.01);  // explicitly set to the default: must stay set
+  c.mutable_poet()->set_mc_low(-1e300);
+  c.mutable_poet()->set_mc_high(std::numeric_limits<double>::max());
+  c.mutable_poet()->set_repro_threshold(-0.0);
+  c.mutable_walker()->set_push_scale(2.0 / 3.0);
+  c.mutable_walker()->set_lidar(pb::WalkerConfig::FIRST);
+  EnvDef target;
+  target.encoding.name = "odd \"name\"\n";
+  target.encoding.roughness = 0.1 + 0.7;
+  target.encoding.pit_gap = Interval{1.0 / 7.0, 19.999999999999996};
+  target.seed = 999'999;
+  *c.mutable_es_alone()->mutable_target() = to_proto(target);
+  ASSERT_FALSE(validate(c).has_value()) << *validate(c);
+
+  expect_round_trip(c);
+  const Expected<pb::RunConfig> back = parse_run_config(run_config_text(c));
+  ASSERT_TRUE(back) << back.error();
+  EXPECT_TRUE(back->es().has_init_lr());
+  EXPECT_FALSE(back->es().has_lr_floor());
+  EXPECT_EQ(back->es().l2_coeff(), 5e-324);
+  EXPECT_TRUE(std::signbit(back->poet().repro_threshold()));
+  EXPECT_EQ(back->es().sigma_decay(), std::nextafter(1.0, 0.0));
+}
+
+TEST(RunConfig, DefaultConfigPrintsEmpty) { EXPECT_EQ(run_config_text(pb::RunConfig{}), ""); }
+
+// ------------------------------------------------------------------------------------------------ files
+
+class RunConfigFile : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() / ("poet_run_config_test_" + std::to_string(::getpid()));
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+  std::string write(const std::string& name, const std::string& text) {
+    const fs::path path = dir_ / name;
+    std::ofstream(path) << text;
+    return path.string();
+  }
+  fs::path dir_;
+};
+
+TEST_F(RunConfigFile, LoadsAFile) {
+  const Expected<pb::RunConfig> c = load_run_config(write("ok.textproto", "iterations: 7\n"));
+  ASSERT_TRUE(c) << c.error();
+  EXPECT_EQ(c->iterations(), 7);
+}
+
+TEST_F(RunConfigFile, ErrorsStartWithThePath) {
+  const std::string missing = (dir_ / "missing.textproto").string();
+  const Expected<pb::RunConfig> absent = load_run_config(missing);
+  ASSERT_FALSE(absent);
+  EXPECT_TRUE(absent.error().starts_with(missing + ": ")) << absent.error();
+
+  const std::string bad = write("bad.textproto", "es {\n  nope: 1\n}\n");
+  const Expected<pb::RunConfig> syntax = load_run_config(bad);
+  ASSERT_FALSE(syntax);
+  EXPECT_TRUE(syntax.error().starts_with(bad + ": line 2:")) << syntax.error();
+
+  const std::string invalid = write("invalid.textproto", "es { init_sigma: -1 }\n");
+  EXPECT_EQ(load_run_config(invalid).error(), invalid + ": es.init_sigma: must be > 0 (got -1)");
+
+  const std::string dir = dir_.string();
+  EXPECT_TRUE(load_run_config(dir).error().starts_with(dir + ": ")) << load_run_config(dir).error();
+}
+
+TEST_F(RunConfigFile, RefusesAHugeFile) {
+  const std::string huge = write("huge.textproto", std::string(kMaxRunConfigBytes + 1, '#'));
+  const Expected<pb::RunConfig> c = load_run_config(huge);
+  ASSERT_FALSE(c);
+  EXPECT_TRUE(contains(c.error(), "larger than")) << c.error();
+  EXPECT_FALSE(parse_run_config(std::string(kMaxRunConfigBytes + 1, ' ')));
+}
+
+}  // namespace
+}  // namespace poet

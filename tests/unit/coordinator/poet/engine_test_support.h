@@ -1,0 +1,69 @@
+#pragma once
+// Small builders shared by the engine's logic tests: a tiny config and hand-made pairs.
+
+#include <vector>
+
+#include "config/run_config.h"
+#include "envgen/named_courses.h"
+#include "poet/engine.h"
+#include "policy/mlp.h"
+
+namespace poet::testing {
+
+// POET with 2 perturbations per ES step, reproduction every 4 iterations, transfer only at 0 (never with one
+// pair), MC 50..300, threshold 200, 6 children, no admissions: each test turns on what it checks.
+inline pb::RunConfig tiny_config() {
+  pb::RunConfig c;
+  c.set_seed(3);
+  c.set_iterations(100);
+  c.mutable_es()->set_perturbations(2);
+  pb::PoetConfig* p = c.mutable_poet();
+  p->set_mutation_interval(4);
+  p->set_transfer_interval(1000);
+  p->set_mc_low(50);
+  p->set_mc_high(300);
+  p->set_repro_threshold(200);
+  p->set_max_children(6);
+  p->set_max_admitted(0);
+  p->set_active_cap(10);
+  return c;
+}
+
+inline EnvDef rough(double roughness, uint32_t seed = 11) {
+  EnvDef def{named_course("flat").value(), seed};
+  def.encoding.roughness = roughness;
+  def.encoding.name = "r" + std::to_string(roughness);
+  return def;
+}
+
+// Appends a pair on env with a recognisable constant θ and the given latest score.
+inline Pair& add_pair(RunState& state, const EnvDef& env, double latest_score) {
+  Pair p;
+  p.id = state.next_pair_id++;
+  p.env = env;
+  p.theta.assign(kParamCount, 0.01 * (p.id + 1));
+  p.best_theta = p.theta;
+  p.optimizer = fresh_optimizer(es_settings(state.config), kParamCount);
+  p.latest_score = latest_score;
+  p.best_score = latest_score;
+  p.best_iteration = 0;
+  state.pairs.push_back(std::move(p));
+  return state.pairs.back();
+}
+
+// A state whose first pair has the given latest score, about to run iteration t.
+inline RunState state_at(const pb::RunConfig& config, int t, double first_score) {
+  RunState s = initial_state(config);
+  s.pairs[0].latest_score = first_score;
+  s.next_iteration = t;
+  return s;
+}
+
+inline std::vector<nlohmann::ordered_json> events_named(const IterationReport& r, const std::string& name) {
+  std::vector<nlohmann::ordered_json> out;
+  for (const auto& e : r.events)
+    if (e["event"] == name) out.push_back(e);
+  return out;
+}
+
+}  // namespace poet::testing

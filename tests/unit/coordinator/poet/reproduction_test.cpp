@@ -1,0 +1,223 @@
+// Step 1 of the loop against a scripted evaluator: eligibility, the minimal criterion's bounds, de-duplication
+// against the archive, ranking, admission through the best start, the cap and retirement.
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+
+#include "engine_test_support.h"
+#include "envgen/env_distance.h"
+#include "scripted_evaluator.h"
+
+namespace poet::testing {
+namespace {
+
+// Unperturbed rollouts score `plain`, perturbed ones 0.
+ScriptedEvaluator::Script constant(double plain) {
+  return [plain](int, size_t, const RolloutTask& t) { return scored(t.perturbation ? 0.0 : plain); };
+}
+
+bool is_mc_batch(const std::vector<RolloutTask>& batch) {
+  return !batch.empty() && std::none_of(batch.begin(), batch.end(), [](const auto& t) { return t.perturbation; });
+}
+
+TEST(Reproduction, OnlyPairsAtTheThresholdAreParents) {
+  pb::RunConfig c = tiny_config();
+  RunState s = state_at(c, 4, 150);
+  const Pair& eligible = add_pair(s, rough(1.0), 200);  // exactly the threshold counts
+  const std::vector<double> parent_theta = eligible.theta;
+  ScriptedEvaluator ev(constant(100));
+  const IterationReport r = run_iteration(s, ev);
+
+  ASSERT_TRUE(is_mc_batch(ev.batches[0]));
+  ASSERT_EQ(ev.batches[0].size(), 6u);
+  for (const RolloutTask& t : ev.batches[0]) {
+    EXPECT_EQ(*t.theta, parent_theta);                 // the parent's current θ on each child
+    EXPECT_GE(t.env.encoding.roughness, 0.4 - 1e-12);  // children of r = 1.0 move by at most 0.6
+    EXPECT_LE(t.env.encoding.roughness, 1.6 + 1e-12);
+  }
+  EXPECT_EQ(events_named(r, "reproduction").at(0)["eligible"], 1);
+}
+
+TEST(Reproduction, NoEligibleParentMeansNoChildren) {
+  RunState s = state_at(tiny_config(), 4, 199.9);
+  ScriptedEvaluator ev(constant(100));
+  const IterationReport r = run_iteration(s, ev);
+  ASSERT_EQ(ev.batches.size(), 2u);  // the ES step and its evaluation only
+  EXPECT_TRUE(ev.batches[0][0].perturbation);
+  EXPECT_EQ(events_named(r, "reproduction").at(0)["eligible"], 0);
+  EXPECT_EQ(s.counters.children_tried, 0);
+}
+
+TEST(Reproduction, OnlyOnMultiplesOfTheInterval) {
+  RunState s = state_at(tiny_config(), 5, 250);
+  ScriptedEvaluator ev(constant(100));
+  const IterationReport r = run_iteration(s, ev);
+  EXPECT_EQ(ev.batches.size(), 2u);
+  EXPECT_TRUE(events_named(r, "reproduction").empty());
+}
+
+TEST(Reproduction, MinimalCriterionKeepsBothBoundsInclusive) {
+  RunState s = state_at(tiny_config(), 4, 250);
+  const std::vector<double> mc_scores = {49.99, 50, 300, 300.01, 100, -5};
+  ScriptedEvaluator ev([&](int call, size_t i, const RolloutTask& t) {
+    if (call == 0) return scored(mc_scores.at(i));
+    return scored(t.perturbation ? 0.0 : 100.0);
+  });
+  const IterationReport r = run_iteration(s, ev);
+  ASSERT_EQ(ev.batches[0].size(), 6u);
+  EXPECT_EQ(s.counters.children_tried, 6);
+  EXPECT_EQ(s.counters.children_passed_mc, 3);  // 50, 300 and 100
+  EXPECT_EQ(events_named(r, "reproduction").at(0)["passed_mc"], 3);
+}
+
+TEST(Reproduction, ChildrenEqualToAnyArchivedEnvironmentAreDropped) {
+  pb::RunConfig c = tiny_config();
+  c.mutable_poet()->mutable_mutation()->set_pits(false);
+  c.mutable_poet()->mutable_mutation()->set_stumps(false);
+  RunState s = state_at(c, 4, 250);
+  // flat's roughness-only children are r ∈ {0.0, …, 0.6}: all archived, r > 0 by retired pairs
+  for (int k = 1; k <= 6; ++k) add_pair(s, rough(k / 10.0), 0).retired_iteration = 1;
+  ScriptedEvaluator ev(constant(100));
+  const IterationReport r = run_iteration(s, ev);
+  EXPECT_FALSE(is_mc_batch(ev.batches[0]));  // nothing left to evaluate
+  EXPECT_EQ(s.counters.children_tried, 6);
+  EXPECT_EQ(events_named(r, "reproduction").at(0)["duplicates"], 6);
+  EXPECT_EQ(s.pairs.size(), 7u);
+}
+
+// The novelty ranking the spec asks for, computed here from the children the loop evaluated.
+std::vector<EnvDef> novelty_ranking(const std::vector<RolloutTask>& mc_batch, const RunState& before, int k) {
+  std::vector<EnvEncoding> archive;
+  for (const Pair& p : before.pairs) archive.push_back(p.env.encoding);
+  std::vector<std::pair<double, EnvDef>> ranked;
+  for (const RolloutTask& t : mc_batch) ranked.push_back({novelty(t.env.encoding, archive, k), t.env});
+  std::stable_sort(ranked.begin(), ranked.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
+  std::vector<EnvDef> out;
+  for (auto& [n, env] : ranked) out.push_back(env);
+  return out;
+}
+
+TEST(Reproduction, AdmitsInNoveltyOrderMostNovelFirst) {
+  pb::RunConfig c = tiny_config();
+  c.mutable_poet()->set_max_admitted(10);
+  RunState s = state_at(c, 4, 250);
+  add_pair(s, rough(2.0), 0);
+  const RunState before = s;
+  ScriptedEvaluator ev(constant(100));
+  const IterationReport r = run_iteration(s, ev);
+
+  const std::vector<EnvDef> ranking = novelty_ranking(ev.batches[0], before, 5);
+  const auto created = events_named(r, "pair_created");
+  ASSERT_GE(created.size(), 2u);
+  double previous = 1e300;
+  for (const auto& e : created) {
+    EXPECT_LE(e["novelty"].get<double>(), previous);
+    previous = e["novelty"].get<double>();
+  }
+  // the new pairs are the ranking with later duplicates of an admitted child skipped
+  std::vector<EnvDef> expected;
+  for (const EnvDef& env : ranking)
+    if (std::none_of(expected.begin(), expected.end(),
+                     [&](const EnvDef& x) { return x.encoding.same_genes(env.encoding); }))
+      expected.push_back(env);
+  ASSERT_EQ(s.pairs.size(), 2 + expected.size());
+  for (size_t i = 0; i < expected.size(); ++i) {
+    EXPECT_TRUE(s.pairs[2 + i].env.encoding.same_genes(expected[i].encoding)) << i;
+    EXPECT_EQ(s.pairs[2 + i].env.seed, expected[i].seed);
+    EXPECT_EQ(s.pairs[2 + i].created_iteration, 4);
+    EXPECT_EQ(s.pairs[2 + i].parent_id, 0);
+  }
+  EXPECT_EQ(s.counters.children_admitted, static_cast<int64_t>(expected.size()));
+}
+
+TEST(Reproduction, LowestScoreFirstIsAnOption) {
+  pb::RunConfig c = tiny_config();
+  c.mutable_poet()->set_max_admitted(1);
+  c.mutable_poet()->set_child_ranking(pb::LOWEST_SCORE_FIRST);
+  RunState s = state_at(c, 4, 250);
+  const std::vector<double> mc_scores = {200, 60, 150, 100, 250, 80};
+  ScriptedEvaluator ev([&](int call, size_t i, const RolloutTask& t) {
+    if (call == 0) return scored(mc_scores.at(i));
+    return scored(t.perturbation ? 0.0 : 100.0);
+  });
+  run_iteration(s, ev);
+  ASSERT_EQ(s.pairs.size(), 2u);
+  EXPECT_TRUE(s.pairs[1].env.encoding.same_genes(ev.batches[0][1].env.encoding));  // the child that scored 60
+}
+
+TEST(Reproduction, AdmissionNeedsTheBestStartToPassTheCriterionAndStopsAtTheCap) {
+  pb::RunConfig c = tiny_config();
+  c.mutable_poet()->set_max_admitted(1);
+  RunState s = state_at(c, 4, 250);
+  const RunState before = s;
+  // the first candidate's starts all score above mc_high; the second candidate's pass
+  ScriptedEvaluator ev([](int call, size_t, const RolloutTask& t) {
+    if (t.perturbation) return scored(0);
+    if (call == 1 || call == 2) return scored(301);
+    return scored(100);
+  });
+  const IterationReport r = run_iteration(s, ev);
+  const std::vector<EnvDef> ranking = novelty_ranking(ev.batches[0], before, 5);
+  ASSERT_EQ(s.pairs.size(), 2u);
+  EXPECT_EQ(events_named(r, "pair_created").size(), 1u);
+  ASSERT_FALSE(ranking[0].encoding.same_genes(ranking[1].encoding));
+  EXPECT_TRUE(s.pairs[1].env.encoding.same_genes(ranking[1].encoding));
+  // walks: MC batch, (direct + proposal ES, proposal evaluations) × 2 candidates, then the ES step and evaluation
+  EXPECT_EQ(ev.batches.size(), 7u);
+}
+
+TEST(Reproduction, BestStartPrefersTheHighestScoreAndTheFirstOnTies) {
+  for (const bool tie : {false, true}) {
+    pb::RunConfig c = tiny_config();
+    c.mutable_poet()->set_max_admitted(1);
+    RunState s = state_at(c, 4, 250);
+    const Pair& other = add_pair(s, rough(3.0), 0);
+    const std::vector<double> theta0 = s.pairs[0].theta, theta1 = other.theta;
+    // call 1: direct evaluations (θ0 → 60, θ1 → 80) and the proposals' ES; call 2: proposals (70 and 90)
+    ScriptedEvaluator ev([&](int call, size_t i, const RolloutTask& t) {
+      if (t.perturbation) return scored(0);
+      if (tie) return scored(60);
+      if (call == 1) return scored(*t.theta == theta0 ? 60 : 80);
+      if (call == 2) return scored(i == 0 ? 70 : 90);
+      return scored(100);
+    });
+    run_iteration(s, ev);
+    ASSERT_EQ(s.pairs.size(), 3u);
+    const Pair& child = s.pairs[2];
+    if (tie) {
+      EXPECT_EQ(child.initial_source_pair, 0);
+      EXPECT_FALSE(child.initial_by_proposal);
+      EXPECT_EQ(child.admission_score, 60);
+    } else {
+      EXPECT_EQ(child.initial_source_pair, 1);
+      EXPECT_TRUE(child.initial_by_proposal);
+      EXPECT_EQ(child.admission_score, 90);
+      EXPECT_EQ(ev.batches[2].at(1).theta->size(), static_cast<size_t>(kParamCount));
+      EXPECT_NE(*ev.batches[2].at(1).theta, theta1);  // a proposal, not θ1 itself
+    }
+    EXPECT_EQ(child.optimizer.t, 1);  // a fresh optimizer, then its first ES step this iteration
+    EXPECT_EQ(child.es_steps, 1);
+  }
+}
+
+TEST(Reproduction, TheOldestActivePairsRetireBeyondTheCap) {
+  pb::RunConfig c = tiny_config();
+  c.mutable_poet()->set_max_admitted(1);
+  c.mutable_poet()->set_active_cap(2);
+  RunState s = state_at(c, 4, 250);
+  add_pair(s, rough(3.0), 0);
+  ScriptedEvaluator ev(constant(100));
+  const IterationReport r = run_iteration(s, ev);
+  ASSERT_EQ(s.pairs.size(), 3u);  // retired pairs stay in the archive
+  EXPECT_EQ(s.pairs[0].retired_iteration, 4);
+  EXPECT_TRUE(s.pairs[1].active());
+  EXPECT_TRUE(s.pairs[2].active());
+  EXPECT_EQ(events_named(r, "pair_retired").at(0)["pair"], 0);
+  // the retired pair takes no ES step: the optimisation batch holds two pairs' perturbations
+  EXPECT_EQ(ev.batches[ev.batches.size() - 2].size(), 2u * 2 * 2);
+  EXPECT_EQ(s.pairs[0].es_steps, 0);
+}
+
+}  // namespace
+}  // namespace poet::testing

@@ -1,0 +1,128 @@
+// Step 3 of the loop against a scripted evaluator: direct and proposal transfers, acceptance only when strictly
+// better, ties to the first in order, θs from before the round, optimizer reset, counters and lineage.
+
+#include <gtest/gtest.h>
+
+#include "engine_test_support.h"
+#include "scripted_evaluator.h"
+
+namespace poet::testing {
+namespace {
+
+// Two pairs (flat and roughness 1) about to run iteration 5 with transfers every 5 iterations.
+RunState two_pairs() {
+  pb::RunConfig c = tiny_config();
+  c.mutable_poet()->set_mutation_interval(1000);
+  c.mutable_poet()->set_transfer_interval(5);
+  RunState s = state_at(c, 5, 0);
+  add_pair(s, rough(1.0), 0);
+  return s;
+}
+
+bool on_flat(const RolloutTask& t) { return t.env.encoding.roughness == 0; }
+
+// Calls: 0 the ES steps, 1 their evaluations (both pairs 100), 2 direct transfers and the proposals' ES,
+// 3 the proposals' evaluations.
+ScriptedEvaluator transfer_script(double direct_on_flat, double direct_on_rough, double proposal_on_flat,
+                                  double proposal_on_rough, bool finished = false) {
+  return ScriptedEvaluator([=](int call, size_t, const RolloutTask& t) {
+    if (t.perturbation) return scored(0);
+    if (call == 2) return scored(on_flat(t) ? direct_on_flat : direct_on_rough, finished);
+    if (call == 3) return scored(on_flat(t) ? proposal_on_flat : proposal_on_rough, finished);
+    return scored(100);
+  });
+}
+
+TEST(Transfer, DirectAndProposalTransfersReplaceWhenStrictlyBetter) {
+  RunState s = two_pairs();
+  ScriptedEvaluator ev = transfer_script(150, 100, 120, 200);
+  const IterationReport r = run_iteration(s, ev);
+  ASSERT_EQ(ev.batches.size(), 4u);
+
+  // θ1 as it stood before the round went to pair 0, directly
+  std::vector<double> theta1_before;
+  for (const RolloutTask& t : ev.batches[2])
+    if (!t.perturbation && on_flat(t)) theta1_before = *t.theta;
+  const Pair& p0 = s.pairs[0];
+  EXPECT_EQ(p0.theta, theta1_before);
+  EXPECT_EQ(p0.latest_score, 150);
+  ASSERT_EQ(p0.transfers.size(), 1u);
+  EXPECT_EQ(p0.transfers[0].source_pair, 1);
+  EXPECT_FALSE(p0.transfers[0].proposal);
+  EXPECT_EQ(p0.transfers[0].iteration, 5);
+
+  // pair 1: the direct transfer only ties (100), the proposal wins
+  const Pair& p1 = s.pairs[1];
+  EXPECT_EQ(p1.latest_score, 200);
+  ASSERT_EQ(p1.transfers.size(), 1u);
+  EXPECT_TRUE(p1.transfers[0].proposal);
+  EXPECT_EQ(*ev.batches[3].at(1).theta, p1.theta);
+
+  // both optimizers are back to fresh
+  for (const Pair& p : s.pairs) {
+    EXPECT_EQ(p.optimizer.t, 0);
+    EXPECT_EQ(p.optimizer.lr, s.config.es().init_lr());
+    EXPECT_EQ(p.optimizer.sigma, s.config.es().init_sigma());
+    EXPECT_EQ(p.optimizer.m, std::vector<double>(kParamCount, 0.0));
+    EXPECT_EQ(p.transfer_attempts, 1);
+    EXPECT_EQ(p.best_score, p.latest_score);
+  }
+  EXPECT_EQ(s.counters.transfer_attempts, 2);
+  EXPECT_EQ(s.counters.transfer_successes, 2);
+  EXPECT_EQ(events_named(r, "transfer").size(), 2u);
+}
+
+TEST(Transfer, EqualScoresDoNotReplace) {
+  RunState s = two_pairs();
+  const RunState before = s;
+  ScriptedEvaluator ev = transfer_script(100, 100, 100, 100);
+  run_iteration(s, ev);
+  for (const Pair& p : s.pairs) {
+    EXPECT_TRUE(p.transfers.empty());
+    EXPECT_EQ(p.optimizer.t, 1);  // the iteration's own ES step, not reset
+  }
+  EXPECT_EQ(s.counters.transfer_attempts, 2);
+  EXPECT_EQ(s.counters.transfer_successes, 0);
+}
+
+TEST(Transfer, DirectWinsATieWithAProposal) {
+  RunState s = two_pairs();
+  ScriptedEvaluator ev = transfer_script(150, 100, 150, 100);
+  run_iteration(s, ev);
+  ASSERT_EQ(s.pairs[0].transfers.size(), 1u);
+  EXPECT_FALSE(s.pairs[0].transfers[0].proposal);
+}
+
+TEST(Transfer, ATransferredAgentCanSolve) {
+  RunState s = two_pairs();
+  ScriptedEvaluator ev = transfer_script(240, 100, 0, 0, /*finished=*/true);
+  const IterationReport r = run_iteration(s, ev);
+  EXPECT_EQ(s.pairs[0].first_solved_iteration, 5);
+  EXPECT_FALSE(s.pairs[1].solved());
+  EXPECT_EQ(events_named(r, "solved").size(), 1u);
+}
+
+TEST(Transfer, OnlyOnMultiplesOfTheIntervalAndWithTwoPairs) {
+  RunState s = two_pairs();
+  s.next_iteration = 6;
+  ScriptedEvaluator ev = transfer_script(150, 150, 150, 150);
+  run_iteration(s, ev);
+  EXPECT_EQ(ev.batches.size(), 2u);
+  EXPECT_EQ(s.counters.transfer_attempts, 0);
+}
+
+TEST(Transfer, ProposalsUseTheTargetsSigma) {
+  RunState s = two_pairs();
+  s.pairs[0].optimizer.sigma = 0.05;
+  s.pairs[1].optimizer.sigma = 0.07;
+  ScriptedEvaluator ev = transfer_script(0, 0, 0, 0);
+  run_iteration(s, ev);
+  for (const RolloutTask& t : ev.batches[2]) {
+    if (!t.perturbation) continue;
+    // σ after the iteration's own step decayed it once
+    EXPECT_DOUBLE_EQ(t.perturbation->sigma, (on_flat(t) ? 0.05 : 0.07) * s.config.es().sigma_decay());
+  }
+}
+
+}  // namespace
+}  // namespace poet::testing
