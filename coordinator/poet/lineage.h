@@ -1,0 +1,22 @@
+#pragma once
+// Reading a run's lineage records (spec §3): the ES steps POET spent on an environment's line of ancestors, which
+// is the direct-path control's budget for that environment.
+
+#include <cstdint>
+#include <map>
+
+#include "poet/run_state.h"
+
+namespace poet {
+
+// For each pair that contributed to pair_id's agent, the last iteration whose ES step counts: the pair itself up
+// to its first solve (or its last step); its parent and the source of its first θ up to the iteration before
+// its creation (reproduction runs before the ES steps); each accepted transfer's source up to the transfer's
+// iteration (transfer runs after them) — and so on, recursively, for every contributor. Empty for an unknown id.
+std::map<int, int> lineage_horizons(const RunState& state, int pair_id);
+
+// The ES steps of those contributors up to their horizons: every active pair takes one ES step per iteration
+// from its creation until it retires. The direct-path budget for pair_id.
+int64_t lineage_es_steps(const RunState& state, int pair_id);
+
+}  // namespace poet

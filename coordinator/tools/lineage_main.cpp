@@ -1,0 +1,74 @@
+// poet-lineage: a pair's lineage in a run directory (parent, first θ, accepted transfers, solve) and the
+// direct-path control's budget for its environment; with --direct-path-config, a runnable config for that
+// control (the run's settings, mode DIRECT_PATH, the pair's environment as the target, the budget).
+//   poet-lineage --run-dir DIR --pair ID [--direct-path-config]
+
+#include <CLI/CLI.hpp>
+#include <cstdio>
+#include <iostream>
+
+#include "config/env_proto.h"
+#include "config/run_config.h"
+#include "poet/checkpoint.h"
+#include "poet/lineage.h"
+#include "run/run_directory.h"
+#include "text_file.h"
+
+int main(int argc, char** argv) {
+  using namespace poet;
+  CLI::App app{"A pair's lineage and the direct-path budget of its environment"};
+  std::string run_dir;
+  int pair_id = 0;
+  bool emit_config = false;
+  app.add_option("--run-dir", run_dir, "Run directory")->required();
+  app.add_option("--pair", pair_id, "Pair id")->required();
+  app.add_flag("--direct-path-config", emit_config, "Print a DIRECT_PATH run config for this pair's environment");
+  CLI11_PARSE(app, argc, argv);
+
+  // read the checkpoint without touching the run's files (resume would truncate its logs)
+  const std::string path = run_dir + "/" + std::string(kCheckpointFile);
+  Expected<std::string> bytes = read_text_file(path, kMaxCheckpointBytes);
+  pb::Checkpoint checkpoint;
+  if (!bytes || !checkpoint.ParseFromString(*bytes)) {
+    std::cerr << path << ": " << (bytes ? std::string("not a checkpoint") : bytes.error()) << "\n";
+    return 2;
+  }
+  Expected<RunState> state = from_checkpoint(checkpoint);
+  if (!state) {
+    std::cerr << path << ": " << state.error() << "\n";
+    return 2;
+  }
+  const Pair* pair = state->find(pair_id);
+  if (!pair) {
+    std::cerr << "no pair " << pair_id << " in " << run_dir << "\n";
+    return 2;
+  }
+  const int64_t budget = lineage_es_steps(*state, pair_id);
+
+  if (emit_config) {
+    pb::RunConfig config = state->config;
+    config.set_mode(pb::RunConfig::DIRECT_PATH);
+    config.clear_es_alone();
+    config.mutable_poet()->clear_keep_admission_selection();
+    pb::DirectPathConfig* direct = config.mutable_direct_path();
+    *direct->mutable_target() = to_proto(pair->env);
+    direct->set_budget_es_steps(budget);
+    std::cout << run_config_text(config);
+    return 0;
+  }
+  std::printf("pair %d: %s seed %u, created at iteration %d\n", pair->id, pair->env.encoding.name.c_str(),
+              pair->env.seed, pair->created_iteration);
+  std::printf("  parent %d; first θ from pair %d (%s)\n", pair->parent_id, pair->initial_source_pair,
+              pair->initial_by_proposal ? "proposal" : "direct");
+  for (const TransferRecord& t : pair->transfers)
+    std::printf("  transfer at %d from pair %d (%s), score %.2f\n", t.iteration, t.source_pair,
+                t.proposal ? "proposal" : "direct", t.score);
+  if (pair->solved())
+    std::printf("  solved at iteration %d\n", pair->first_solved_iteration);
+  else
+    std::printf("  not solved (best %.2f)\n", pair->best_score);
+  std::printf("contributors (pair: last counted iteration):");
+  for (const auto& [id, until] : lineage_horizons(*state, pair_id)) std::printf(" %d:%d", id, until);
+  std::printf("\ndirect-path budget: %lld ES steps\n", static_cast<long long>(budget));
+  return 0;
+}
