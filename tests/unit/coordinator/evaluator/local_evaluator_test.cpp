@@ -1,0 +1,69 @@
+// LocalEvaluator: results in task order, equal to running each task alone, whatever the thread count; and
+// run_task's perturbed episode is the plain rollout of θ + sign·σ·ε.
+
+#include "evaluator/local_evaluator.h"
+
+#include <gtest/gtest.h>
+
+#include "envgen/named_courses.h"
+#include "es/perturbation.h"
+#include "policy/mlp.h"
+
+namespace poet {
+namespace {
+
+std::vector<RolloutTask> tasks() {
+  RandomStream init(stream_key(8, "init"));
+  auto theta = std::make_shared<const std::vector<double>>(random_params(init, 0.1));
+  std::vector<RolloutTask> out;
+  for (int i = 0; i < 7; ++i) {
+    RolloutTask t;
+    t.theta = theta;
+    t.env = EnvDef{*named_course(i % 2 ? "r1" : "hard"), static_cast<uint32_t>(i)};
+    t.max_steps = 150;
+    if (i > 0) t.perturbation = Perturbation{stream_key(8, "noise", {uint64_t(i)}), i % 2 ? 1 : -1, 0.1};
+    out.push_back(t);
+  }
+  return out;
+}
+
+TEST(LocalEvaluator, ResultsComeInTaskOrderWhateverTheThreadCount) {
+  const std::vector<RolloutTask> batch = tasks();
+  const std::vector<RolloutResult> one = LocalEvaluator(1).evaluate(batch);
+  const std::vector<RolloutResult> two = LocalEvaluator(2).evaluate(batch);
+  ASSERT_EQ(one.size(), batch.size());
+  ASSERT_EQ(two.size(), batch.size());
+  for (size_t i = 0; i < batch.size(); ++i) {
+    const RolloutResult alone = run_task(batch[i]);
+    EXPECT_EQ(one[i].total_reward, alone.total_reward) << i;
+    EXPECT_EQ(two[i].total_reward, alone.total_reward) << i;
+    EXPECT_EQ(two[i].steps, alone.steps) << i;
+  }
+  EXPECT_NE(one[1].total_reward, one[2].total_reward);
+}
+
+TEST(RunTask, APerturbedTaskIsTheRolloutOfThePerturbedParameters) {
+  const RolloutTask task = tasks()[3];
+  std::vector<double> params(task.theta->size());
+  perturb(*task.theta, task.perturbation->key, task.perturbation->sign, task.perturbation->sigma, params);
+  const RolloutResult direct = rollout(params, task.env, task.walker, {task.max_steps});
+  EXPECT_EQ(run_task(task).total_reward, direct.total_reward);
+}
+
+TEST(RunTask, RefusesTasksThatCannotRun) {
+  RolloutTask no_theta = tasks()[0];
+  no_theta.theta.reset();
+  EXPECT_THROW(run_task(no_theta), std::invalid_argument);
+  RolloutTask bad_sign = tasks()[1];
+  bad_sign.perturbation->sign = 0;
+  EXPECT_THROW(run_task(bad_sign), std::invalid_argument);
+  RolloutTask short_theta = tasks()[0];
+  short_theta.theta = std::make_shared<const std::vector<double>>(3, 0.0);
+  EXPECT_THROW(run_task(short_theta), std::invalid_argument);
+  RolloutTask bad_env = tasks()[0];
+  bad_env.env.seed = kMaxEnvSeed;
+  EXPECT_THROW(run_task(bad_env), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace poet

@@ -1,0 +1,101 @@
+// How ES steps and evaluations become tasks: mirrored pairs, keys, σ, course seeds (fixed or stochastic), and
+// how results come back (gradient slices, mean scores, finished only when every episode finished).
+
+#include "poet/rollout_batch.h"
+
+#include <gtest/gtest.h>
+
+#include <set>
+
+#include "engine_test_support.h"
+#include "es/es_gradient.h"
+#include "scripted_evaluator.h"
+
+namespace poet::testing {
+namespace {
+
+EpisodeSettings settings(bool stochastic) {
+  pb::RunConfig c = tiny_config();
+  c.mutable_walker()->set_stochastic_envs(stochastic);
+  c.mutable_walker()->set_eval_episodes(3);
+  c.mutable_walker()->set_max_steps(123);
+  return episode_settings(c);
+}
+
+TEST(RolloutBatch, AnEsStepIsMirroredPairsOnTheEnvironmentsCourse) {
+  RolloutBatch batch(settings(false));
+  const SharedParams theta = share(std::vector<double>(kParamCount, 0.5));
+  batch.add_evaluation(theta, rough(1.0, 9), 1);
+  const size_t step = batch.add_es_step({theta, rough(2.0, 7), 0.05, 42}, 3);
+  ASSERT_EQ(batch.size(), 1u + 6u);
+
+  ScriptedEvaluator ev([](int, size_t i, const RolloutTask&) { return scored(double(i)); });
+  RunCounters counters;
+  batch.run(ev, counters);
+  EXPECT_EQ(counters.rollouts, 7);
+  EXPECT_EQ(counters.env_steps, 70);
+
+  const auto& tasks = ev.batches[0];
+  EXPECT_FALSE(tasks[0].perturbation);
+  EXPECT_EQ(tasks[0].max_steps, 123);
+  std::vector<uint64_t> keys;
+  for (size_t i = 0; i < 3; ++i) {
+    const RolloutTask& plus = tasks[1 + 2 * i];
+    const RolloutTask& minus = tasks[2 + 2 * i];
+    ASSERT_TRUE(plus.perturbation && minus.perturbation);
+    EXPECT_EQ(plus.perturbation->key, minus.perturbation->key);
+    EXPECT_EQ(plus.perturbation->sign, 1);
+    EXPECT_EQ(minus.perturbation->sign, -1);
+    EXPECT_EQ(plus.perturbation->sigma, 0.05);
+    EXPECT_EQ(plus.env.seed, 7u);              // the environment's own course
+    EXPECT_EQ(plus.theta.get(), theta.get());  // θ shared, not copied per task
+    keys.push_back(plus.perturbation->key);
+  }
+  EXPECT_EQ(std::set<uint64_t>(keys.begin(), keys.end()).size(), 3u);
+
+  // the gradient is es_gradient of the slice's returns (1..6 here), with the batch's keys
+  const EsOutcome out = batch.es_outcome(step, EsSettings{});
+  const std::vector<double> plus = {1, 3, 5}, minus = {2, 4, 6};
+  EXPECT_EQ(out.gradient, es_gradient(keys, plus, minus, 0.05, true, kParamCount));
+  EXPECT_DOUBLE_EQ(out.mean_return, 3.5);
+  EXPECT_EQ(out.max_return, 6);
+}
+
+TEST(RolloutBatch, StochasticEnvironmentsDrawCoursesPerMirroredPairAndPerEpisode) {
+  RolloutBatch batch(settings(true));
+  const SharedParams theta = share(std::vector<double>(kParamCount, 0.5));
+  batch.add_es_step({theta, rough(2.0, 7), 0.05, 42}, 4);
+  const size_t eval = batch.add_evaluation(theta, rough(2.0, 7), 99);
+  ScriptedEvaluator ev([](int, size_t i, const RolloutTask&) { return scored(10.0 * double(i), i != 9); });
+  RunCounters counters;
+  batch.run(ev, counters);
+  const auto& tasks = ev.batches[0];
+  ASSERT_EQ(tasks.size(), 8u + 3u);
+  std::set<uint32_t> seeds;
+  for (size_t i = 0; i < 4; ++i) {
+    EXPECT_EQ(tasks[2 * i].env.seed, tasks[2 * i + 1].env.seed);  // a mirrored pair shares its course
+    seeds.insert(tasks[2 * i].env.seed);
+  }
+  for (size_t e = 8; e < 11; ++e) seeds.insert(tasks[e].env.seed);
+  EXPECT_EQ(seeds.size(), 7u);  // every pair and every evaluation episode on its own course
+
+  const Evaluation ev_out = batch.evaluation(eval);  // episodes 8, 9, 10 → 80, 90, 100; 9 did not finish
+  EXPECT_DOUBLE_EQ(ev_out.score, 90);
+  EXPECT_FALSE(ev_out.finished);
+}
+
+TEST(RolloutBatch, AnEmptyBatchNeverReachesTheEvaluatorAndBadResultsAreRefused) {
+  RolloutBatch empty(settings(false));
+  ScriptedEvaluator ev([](int, size_t, const RolloutTask&) { return scored(1); });
+  RunCounters counters;
+  empty.run(ev, counters);
+  EXPECT_TRUE(ev.batches.empty());
+
+  RolloutBatch batch(settings(false));
+  batch.add_evaluation(share(std::vector<double>(kParamCount, 0.0)), rough(0.0), 1);
+  ScriptedEvaluator nan([](int, size_t, const RolloutTask&) { return scored(std::nan("")); });
+  EXPECT_THROW(batch.run(nan, counters), std::runtime_error);
+}
+
+}  // namespace
+}  // namespace poet::testing
