@@ -7,6 +7,7 @@
 #include <cmath>
 #include <string>
 
+#include "../../common/envgen/awkward_env_def.h"
 #include "envgen/named_courses.h"
 
 namespace poet {
@@ -22,27 +23,8 @@ pb::EnvDef def_from_text(const std::string& text) {
   return message;
 }
 
-// Every type present, with numbers that have no short decimal form.
-EnvDef awkward_def() {
-  EnvDef def;
-  def.encoding.name = "awkward";
-  def.encoding.roughness = 0.1 + 0.2;
-  def.encoding.pit_gap = Interval{1.0 / 3.0, 2.0 / 3.0 + 1.0};
-  def.encoding.stump_width = Interval{1.0, 3.0};
-  def.encoding.stump_height = Interval{5e-324, 19.999999999999996};
-  def.encoding.stump_float = Interval{0.0, 1.0};
-  def.encoding.stair_height = Interval{std::nextafter(0.4, 1.0), std::nextafter(0.4, 1.0)};
-  def.encoding.stair_width = Interval{4.0, 5.0};
-  def.encoding.stair_steps = Interval{1.0, 9.0};
-  def.seed = 999'999;
-  return def;
-}
-
-void expect_same(const EnvDef& a, const EnvDef& b) {
-  EXPECT_TRUE(a.encoding.same_genes(b.encoding));
-  EXPECT_EQ(a.encoding.name, b.encoding.name);
-  EXPECT_EQ(a.seed, b.seed);
-}
+using testing::awkward_def;
+using testing::expect_same;
 
 TEST(EnvProto, RoundTripIsExact) {
   const EnvDef def = awkward_def();
