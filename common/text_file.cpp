@@ -1,17 +1,35 @@
 #include "text_file.h"
 
 #include <fcntl.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <atomic>
 #include <cerrno>
-#include <fstream>
 #include <system_error>
 
 namespace poet {
 namespace {
 
 std::string errno_text(int err) { return std::generic_category().message(err); }  // strerror is not thread-safe
+
+// Why a file of this type is refused, or nothing for a regular file.
+std::optional<std::string> refusal(mode_t mode) {
+  if (S_ISREG(mode)) return std::nullopt;
+  if (S_ISDIR(mode)) return "is a directory";
+  if (S_ISFIFO(mode)) return "is not a regular file (a FIFO)";
+  if (S_ISCHR(mode)) return "is not a regular file (a character device)";
+  if (S_ISBLK(mode)) return "is not a regular file (a block device)";
+  if (S_ISSOCK(mode)) return "is not a regular file (a socket)";
+  return "is not a regular file";
+}
+
+// Closes the descriptor on every path out.
+struct FdCloser {
+  int fd;
+  ~FdCloser() { ::close(fd); }
+};
 
 }  // namespace
 
@@ -42,21 +60,45 @@ int fsync_retrying(int fd) {
 }
 
 Expected<std::string> read_text_file(const std::filesystem::path& path, std::uintmax_t max_bytes) {
-  std::error_code ec;
-  const auto status = std::filesystem::status(path, ec);
-  if (ec && ec != std::errc::no_such_file_or_directory) return Unexpected{"cannot access: " + ec.message()};
-  if (!std::filesystem::exists(status)) return Unexpected{"does not exist"};
-  if (std::filesystem::is_directory(status)) return Unexpected{"is a directory"};
-  std::ifstream in(path, std::ios::binary);
-  if (!in) return Unexpected{"cannot open"};
+  // refuse what is not a regular file before opening it: opening a FIFO for reading waits for a writer
+  struct stat before {};
+  if (::stat(path.c_str(), &before) != 0) {
+    const int err = errno;
+    if (err == ENOENT || err == ENOTDIR) return Unexpected{"does not exist"};
+    return Unexpected{"cannot access: " + errno_text(err)};
+  }
+  if (auto why = refusal(before.st_mode)) return Unexpected{*why};
+
+  // the path may name something else by now: O_NONBLOCK keeps a FIFO swapped in from blocking the open, and the
+  // open descriptor is checked again
+  const int fd = ::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC | O_NOCTTY);
+  if (fd < 0) {
+    const int err = errno;
+    if (err == ENOENT || err == ENOTDIR) return Unexpected{"does not exist"};
+    return Unexpected{"cannot open: " + errno_text(err)};
+  }
+  const FdCloser closer{fd};
+  struct stat opened {};
+  if (::fstat(fd, &opened) != 0) return Unexpected{"cannot access: " + errno_text(errno)};
+  if (auto why = refusal(opened.st_mode)) return Unexpected{*why};
+  const std::string too_large = "is larger than " + std::to_string(max_bytes) + " bytes";
+  if (static_cast<std::uintmax_t>(opened.st_size) > max_bytes) return Unexpected{too_large};
+
+  // read to the end, but never more than one byte past the limit (the file may grow while it is read, and some
+  // files, such as those of /proc, report size 0)
   std::string text;
   char buffer[1 << 16];
-  while (in && text.size() <= max_bytes) {
-    in.read(buffer, sizeof buffer);
-    text.append(buffer, static_cast<size_t>(in.gcount()));
+  while (text.size() <= max_bytes) {
+    const std::uintmax_t wanted = std::min<std::uintmax_t>(sizeof buffer, max_bytes - text.size() + 1);
+    const ssize_t n = ::read(fd, buffer, static_cast<size_t>(wanted));
+    if (n < 0) {
+      if (errno == EINTR) continue;
+      return Unexpected{"read error: " + errno_text(errno)};
+    }
+    if (n == 0) break;
+    text.append(buffer, static_cast<size_t>(n));
   }
-  if (in.bad()) return Unexpected{"read error"};
-  if (text.size() > max_bytes) return Unexpected{"is larger than " + std::to_string(max_bytes) + " bytes"};
+  if (text.size() > max_bytes) return Unexpected{too_large};
   return text;
 }
 

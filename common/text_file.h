@@ -1,7 +1,8 @@
 #pragma once
-// Reading and writing the project's small text files (policies, environment definitions, and later run state).
-// Reads are bounded, so a huge or endless file (a FIFO, /dev/zero) is refused without being read whole; writes
-// are atomic, so a reader sees the old file or the new one, never a part.
+// Reading and writing the project's small files given as input (run configs, policies, environment definitions,
+// checkpoints). Reads take regular files only, so they never block (a FIFO waits for a writer) nor read an endless
+// device (/dev/zero), and are bounded, so a huge file is refused without being read whole; writes are atomic, so
+// a reader sees the old file or the new one, never a part.
 
 #include <cstdint>
 #include <filesystem>
@@ -13,8 +14,11 @@
 
 namespace poet {
 
-// The whole file, or an error ("does not exist", "is a directory", "is larger than N bytes", an I/O error).
-// Messages do not repeat the path: callers prefix it.
+// The whole file, or an error: "does not exist", "is a directory", "is not a regular file (a FIFO)" (or a
+// character device, a block device, a socket), "is larger than N bytes", or an I/O error. The type is checked
+// before the file is opened and again on the open descriptor (the path may change in between), and the open does
+// not block, so no file, not even a FIFO swapped in between the two checks, makes the call wait. Symbolic links
+// are followed. Messages do not repeat the path: callers prefix it. Thread-safe.
 Expected<std::string> read_text_file(const std::filesystem::path& path, std::uintmax_t max_bytes);
 
 // Writes text to a fresh temporary file beside path (same file system), fsyncs it, renames it over path and

@@ -1,7 +1,9 @@
 #include "config/run_config.h"
 
+#include <google/protobuf/descriptor.h>
 #include <google/protobuf/io/tokenizer.h>
 #include <google/protobuf/io/zero_copy_stream_impl_lite.h>
+#include <google/protobuf/message.h>
 #include <google/protobuf/text_format.h>
 
 #include <charconv>
@@ -10,6 +12,7 @@
 #include <limits>
 #include <string>
 #include <utility>
+#include <vector>
 
 #include "config/env_proto.h"
 #include "text_file.h"
@@ -67,11 +70,13 @@ struct Range {
   }
 };
 
-constexpr Range kAny{};
-constexpr Range kPositive{0, kInf, true, false};
 constexpr Range kNonNegative{0, kInf, false, false};
 constexpr Range kDecay{0, 1, true, false};  // (0, 1]: 1 turns the decay off
 constexpr Range kBeta{0, 1, false, true};   // [0, 1): Adam divides by 1 − βᵗ
+// Scores are episode returns: the shaping telescopes to 130·Δx/SCALE (about 360 over a finished course), a fall
+// scores −100 and the torque cost is at most 0.112 a step (224 over 2000 steps), so a return lies within a few
+// hundred of zero (spec §1); a threshold beyond ±10^4 is a typo.
+constexpr Range kScore{-1e4, 1e4};
 
 // Collects the first problem; later checks are skipped once one is found, so the message names the first bad
 // field in the order the checks run (the schema's order).
@@ -122,32 +127,43 @@ void check_target(Checks& checks, std::string_view path, const pb::EnvDef& targe
 }
 
 void check_es(Checks& c, const pb::EsConfig& es) {
-  c.integer("es.perturbations", es.perturbations(), 1, 1'000'000);
-  c.real("es.init_sigma", es.init_sigma(), kPositive);
+  // 400× the reference's 256 mirrored pairs (2n rollouts per ES step); more is a typo, not a bigger run
+  c.integer("es.perturbations", es.perturbations(), 1, 100'000);
+  // noise on the parameters of a tanh network (θ₀ ~ N(0, 0.1²), the reference's σ 0.1): beyond 10 every unit of
+  // θ ± σε saturates and the rollouts say nothing about θ
+  c.real("es.init_sigma", es.init_sigma(), Range{0, 10, true, false});
   c.real("es.sigma_decay", es.sigma_decay(), kDecay);
   c.real("es.sigma_floor", es.sigma_floor(), kNonNegative);
   c.at_most("es.sigma_floor", es.sigma_floor(), "es.init_sigma", es.init_sigma());
-  c.real("es.init_lr", es.init_lr(), kPositive);
+  // Adam's step moves each parameter by about lr, and θ's entries are of order 0.1 (the reference uses 0.01)
+  c.real("es.init_lr", es.init_lr(), Range{0, 1, true, false});
   c.real("es.lr_decay", es.lr_decay(), kDecay);
   c.real("es.lr_floor", es.lr_floor(), kNonNegative);
   c.at_most("es.lr_floor", es.lr_floor(), "es.init_lr", es.init_lr());
-  c.real("es.l2_coeff", es.l2_coeff(), kNonNegative);
+  // with lr ≤ 1, lr·λ ≤ 1 keeps the decay θ ← θ − lr·λθ (the SGD proposal's) from overshooting past zero
+  c.real("es.l2_coeff", es.l2_coeff(), Range{0, 1});
   c.real("es.adam_beta1", es.adam_beta1(), kBeta);
   c.real("es.adam_beta2", es.adam_beta2(), kBeta);
-  c.real("es.adam_epsilon", es.adam_epsilon(), kPositive);
+  // added to √v to keep the division finite (reference 1e-8); at 1 it already dwarfs any gradient's scale
+  c.real("es.adam_epsilon", es.adam_epsilon(), Range{0, 1, true, false});
 }
 
 void check_poet(Checks& c, const pb::PoetConfig& poet, pb::RunConfig::Mode mode) {
-  c.integer("poet.mutation_interval", poet.mutation_interval(), 1);
-  c.integer("poet.transfer_interval", poet.transfer_interval(), 1);
-  c.real("poet.repro_threshold", poet.repro_threshold(), kAny);
-  c.integer("poet.max_children", poet.max_children(), 0);
-  c.integer("poet.max_admitted", poet.max_admitted(), 0);
-  c.real("poet.mc_low", poet.mc_low(), kAny);
-  c.real("poet.mc_high", poet.mc_high(), kAny);
+  // iterations between reproductions (reference 200) and transfers (25); beyond 10^6 they never come
+  c.integer("poet.mutation_interval", poet.mutation_interval(), 1, 1'000'000);
+  c.integer("poet.transfer_interval", poet.transfer_interval(), 1, 1'000'000);
+  c.real("poet.repro_threshold", poet.repro_threshold(), kScore);
+  // mutation attempts per reproduction (the paper's text 512, the reference 8), all evaluated in one batch
+  c.integer("poet.max_children", poet.max_children(), 0, 10'000);
+  // admissions per reproduction (reference 1); it cannot exceed the attempts
+  c.integer("poet.max_admitted", poet.max_admitted(), 0, 10'000);
+  c.real("poet.mc_low", poet.mc_low(), kScore);
+  c.real("poet.mc_high", poet.mc_high(), kScore);
   c.at_most("poet.mc_low", poet.mc_low(), "poet.mc_high", poet.mc_high());
-  c.integer("poet.active_cap", poet.active_cap(), 1);
-  c.integer("poet.novelty_k", poet.novelty_k(), 1);
+  // active pairs (paper 20, reference 25); a transfer round holds N(N−1) proposals of 22 KB each (0.2 GB at 100)
+  c.integer("poet.active_cap", poet.active_cap(), 1, 100);
+  // neighbours of the novelty score (reference 5); the archive rarely holds more than a few thousand
+  c.integer("poet.novelty_k", poet.novelty_k(), 1, 1000);
   c.known_enum("poet.child_ranking", poet.child_ranking(), pb::ChildRanking_IsValid);
   c.known_enum("poet.admission_proposal", poet.admission_proposal(), pb::ProposalKind_IsValid);
   c.known_enum("poet.transfer_proposal", poet.transfer_proposal(), pb::ProposalKind_IsValid);
@@ -157,16 +173,50 @@ void check_poet(Checks& c, const pb::PoetConfig& poet, pb::RunConfig::Mode mode)
   if (evolves && !m.roughness() && !m.pits() && !m.stumps() && !m.stairs())
     c.fail("poet.mutation", "no gene type enabled (roughness, pits, stumps and stairs are all false) in mode " +
                                 pb::RunConfig::Mode_Name(mode));
-  c.real("poet.solved_score", poet.solved_score(), kAny);
+  c.real("poet.solved_score", poet.solved_score(), kScore);
   if (poet.keep_admission_selection() && mode != pb::RunConfig::POET_WITHOUT_TRANSFER)
     c.fail("poet.keep_admission_selection", "true contradicts mode " + pb::RunConfig::Mode_Name(mode) +
                                                 " (it applies to mode POET_WITHOUT_TRANSFER only)");
 }
 
+// The tasks of one batch are held in memory together (poet/rollout_batch.h), so the largest batch an iteration
+// builds is bounded; the bounds of the single fields alone would allow 2·10^5·10^3 rollouts in one ES batch.
+constexpr int64_t kMaxBatchRollouts = 10'000'000;
+
+// Only the POET modes run several pairs at once; ES alone and the direct path run one.
+void check_batch_size(Checks& c, const pb::RunConfig& config) {
+  const pb::RunConfig::Mode mode = config.mode();
+  if (c.failed() || (mode != pb::RunConfig::POET && mode != pb::RunConfig::POET_WITHOUT_TRANSFER)) return;
+  const int64_t n = config.es().perturbations();  // both within their bounds here, so no product overflows
+  const int64_t pairs = config.poet().active_cap();
+  const std::string too_many = " rollouts in one batch, more than " + number(kMaxBatchRollouts);
+  // step 2: one ES step of 2n rollouts for every active pair
+  const int64_t es_batch = 2 * n * pairs;
+  if (es_batch > kMaxBatchRollouts) {
+    c.fail("es.perturbations", "2 · es.perturbations · poet.active_cap = 2 · " + number(n) + " · " + number(pairs) +
+                                   " = " + number(es_batch) + too_many);
+    return;
+  }
+  // step 3 (mode POET only): every ordered pair of active pairs gets a proposal's ES step and a direct
+  // evaluation, all in the round's first batch (spec §3: N(N−1) ES steps and N(N−1) evaluations)
+  if (mode != pb::RunConfig::POET) return;
+  const int64_t episodes = config.walker().stochastic_envs() ? config.walker().eval_episodes() : 1;
+  const int64_t transfer_batch = pairs * (pairs - 1) * (2 * n + episodes);
+  if (transfer_batch > kMaxBatchRollouts)
+    c.fail("poet.active_cap",
+           "a transfer round of poet.active_cap · (poet.active_cap − 1) · (2 · es.perturbations + evaluation "
+           "episodes) = " +
+               number(pairs) + " · " + number(pairs - 1) + " · (2 · " + number(n) + " + " + number(episodes) +
+               ") = " + number(transfer_batch) + too_many);
+}
+
 void check_walker(Checks& c, const pb::WalkerConfig& walker) {
+  // the initial push U[−S, S) N on the hull (reference 5); far beyond 1000 N the walker is thrown, not pushed
   c.real("walker.push_scale", walker.push_scale(), Range{0, 1000});
   c.known_enum("walker.lidar", walker.lidar(), pb::WalkerConfig::LidarRule_IsValid);
+  // 50× the reference's 2000-step episode
   c.integer("walker.max_steps", walker.max_steps(), 1, 100'000);
+  // episodes per evaluation with stochastic courses (reference 5)
   c.integer("walker.eval_episodes", walker.eval_episodes(), 1, 1000);
 }
 
@@ -185,10 +235,23 @@ void check_mode(Checks& c, const pb::RunConfig& config) {
     const pb::DirectPathConfig& direct = config.direct_path();
     if (!direct.has_target()) c.fail("direct_path.target", "required in mode DIRECT_PATH");
     check_target(c, "direct_path.target", direct.target());
-    c.real("direct_path.advance_threshold", direct.advance_threshold(), kAny);
+    c.real("direct_path.advance_threshold", direct.advance_threshold(), kScore);
     if (!direct.has_budget_es_steps()) c.fail("direct_path.budget_es_steps", "required in mode DIRECT_PATH");
-    c.integer("direct_path.budget_es_steps", direct.budget_es_steps(), 1);
+    // POET's spend along a lineage: at most iterations (10^7) × active pairs (10^3) ES steps
+    c.integer("direct_path.budget_es_steps", direct.budget_es_steps(), 1, 10'000'000'000);
   }
+}
+
+// Whether the text set any value: an empty section (`es { }`) sets nothing, as it changes no default.
+bool sets_any_value(const protobuf::Message& message) {
+  const protobuf::Reflection* reflection = message.GetReflection();
+  std::vector<const protobuf::FieldDescriptor*> fields;
+  reflection->ListFields(message, &fields);  // the fields that are set
+  for (const protobuf::FieldDescriptor* field : fields) {
+    if (field->cpp_type() != protobuf::FieldDescriptor::CPPTYPE_MESSAGE || field->is_repeated()) return true;
+    if (sets_any_value(reflection->GetMessage(message, field))) return true;
+  }
+  return false;
 }
 
 }  // namespace
@@ -197,12 +260,16 @@ std::optional<std::string> validate(const pb::RunConfig& config) {
   Checks c;
   c.known_enum("mode", config.mode(), pb::RunConfig::Mode_IsValid);
   if (c.failed()) return std::move(c).result();  // the mode rules below need a known mode
-  c.integer("iterations", config.iterations(), 0);
-  c.integer("checkpoint_interval", config.checkpoint_interval(), 1);
+  // 400× the paper's 25,200 (10 days on 256 cores) and 200× the reference's 50,000
+  c.integer("iterations", config.iterations(), 0, 10'000'000);
+  // at least one checkpoint every 10^6 iterations, so a crash never loses more
+  c.integer("checkpoint_interval", config.checkpoint_interval(), 1, 1'000'000);
+  // θ₀ ~ N(0, init_stddev²) for a tanh network (reference 0.1); beyond 10 every unit starts saturated
   c.real("init_stddev", config.init_stddev(), Range{0, 10});
   check_es(c, config.es());
   check_poet(c, config.poet(), config.mode());
   check_walker(c, config.walker());
+  check_batch_size(c, config);
   check_mode(c, config);
   return std::move(c).result();
 }
@@ -218,6 +285,15 @@ Expected<pb::RunConfig> parse_run_config(std::string_view text) {
   pb::RunConfig config;
   if (!parser.Parse(&input, &config)) return Unexpected{errors.error().value_or("not a valid RunConfig text")};
   if (auto problem = validate(config)) return Unexpected{std::move(*problem)};
+  // A file that came out empty (a wrong path to a blank file, a truncated copy) would otherwise start the longest
+  // run there is; an explicit `mode:` says the defaults are meant.
+  if (!sets_any_value(config)) {
+    const pb::RunConfig defaults;
+    const std::string mode = pb::RunConfig::Mode_Name(defaults.mode());
+    return Unexpected{"sets no field; an empty config would run every default (mode " + mode + ", " +
+                      std::to_string(defaults.iterations()) +
+                      " iterations of the reference's settings) — write `mode: " + mode + "` to mean that"};
+  }
   return config;
 }
 

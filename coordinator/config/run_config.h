@@ -21,15 +21,18 @@ inline constexpr std::uintmax_t kMaxRunConfigBytes = 1u << 20;
 
 // Text format in, a validated config out. Syntax errors, unknown fields, wrong types and repeated singular
 // fields come back as "line L:C: <parser's message>" (1-based); a parsed config that validate() refuses comes
-// back with validate()'s message.
+// back with validate()'s message. A text that sets no value at all (empty, only comments, only empty sections)
+// is refused: it must say `mode:` to mean a run of every default.
 Expected<pb::RunConfig> parse_run_config(std::string_view text);
 
 // read_text_file (at most kMaxRunConfigBytes) then parse_run_config; every error starts with "<path>: ".
 Expected<pb::RunConfig> load_run_config(const std::string& path);
 
-// Checks every field (set or defaulted) and the fields' agreement with the mode. Returns a message naming the
-// first bad field by its dotted path, with the value ("es.init_sigma: must be > 0 (got -1)"; a contradiction
-// names both fields), or nothing when the config is runnable.
+// Checks every field (set or defaulted) against its range, the fields' agreement with each other and with the
+// mode, and the size of the largest rollout batch. Every number has an upper bound taken from its meaning in the
+// spec (a typo such as `l2_coeff: 1e300` or `max_children: 2000000000` is refused, not run). Returns a message
+// naming the first bad field by its dotted path, with the value ("es.l2_coeff: must be in [0, 1] (got 1e+300)";
+// a contradiction names both fields), or nothing when the config is runnable.
 std::optional<std::string> validate(const pb::RunConfig& config);
 
 // The parts of a config, for a config that validate() accepts. WalkerOptions carries the physics options only;

@@ -1,14 +1,20 @@
 #include "config/run_config.h"
 
+#include <fcntl.h>
 #include <google/protobuf/util/message_differencer.h>
 #include <gtest/gtest.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <algorithm>
+#include <cerrno>
+#include <chrono>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <future>
 #include <limits>
 #include <string>
 #include <vector>
@@ -24,12 +30,13 @@ using google::protobuf::util::MessageDifferencer;
 bool contains(const std::string& text, std::string_view part) { return text.find(part) != std::string::npos; }
 
 // The presets live in the source tree; this file's own path locates it (no compile definition needed).
-fs::path configs_dir() {
+fs::path source_dir() {
   const std::string self = __FILE__;
   const size_t tests = self.rfind("/tests/unit/");
   EXPECT_NE(tests, std::string::npos) << self;
-  return fs::path(self.substr(0, tests)) / "deploy" / "configs";
+  return fs::path(self.substr(0, tests));
 }
+fs::path configs_dir() { return source_dir() / "deploy" / "configs"; }
 
 pb::RunConfig load_preset(const std::string& name) {
   const Expected<pb::RunConfig> config = load_run_config((configs_dir() / name).string());
@@ -57,6 +64,14 @@ TEST(RunConfig, EveryPresetParsesAndValidates) {
   for (const char* expected :
        {"paper.textproto", "quick.textproto", "es_alone.textproto", "direct_path.textproto", "no_transfer.textproto"})
     EXPECT_NE(std::find(names.begin(), names.end(), expected), names.end()) << expected << " missing";
+}
+
+// The benchmark's workload (bench/run_es_workload.sh) is a config too.
+TEST(RunConfig, BenchWorkloadParsesAndValidates) {
+  const std::string path = (source_dir() / "bench" / "es_workload.textproto").string();
+  const Expected<pb::RunConfig> config = load_run_config(path);
+  ASSERT_TRUE(config) << config.error();
+  EXPECT_EQ(config->es().perturbations(), 1024);
 }
 
 TEST(RunConfig, PaperPresetHasThePapersNumbers) {
@@ -115,7 +130,7 @@ TEST(RunConfig, ControlPresetsHaveTheirModes) {
 // ------------------------------------------------------------------------------------------------ defaults
 
 TEST(RunConfig, DefaultsAreTheReferenceValues) {
-  const Expected<pb::RunConfig> parsed = parse_run_config("");
+  const Expected<pb::RunConfig> parsed = parse_run_config("mode: POET");
   ASSERT_TRUE(parsed) << parsed.error();
   const pb::RunConfig& c = *parsed;
   EXPECT_EQ(c.mode(), pb::RunConfig::POET);
@@ -266,8 +281,8 @@ TEST(RunConfig, CommentsAndNonAsciiInCommentsAreFine) {
 // ------------------------------------------------------------------------------------------------ validation
 
 TEST(RunConfig, OutOfRangeNamesTheFieldAndValue) {
-  EXPECT_EQ(error_of("es { init_sigma: -1 }"), "es.init_sigma: must be > 0 (got -1)");
-  EXPECT_EQ(error_of("es { perturbations: 0 }"), "es.perturbations: must be in [1, 1000000] (got 0)");
+  EXPECT_EQ(error_of("es { init_sigma: -1 }"), "es.init_sigma: must be in (0, 10] (got -1)");
+  EXPECT_EQ(error_of("es { perturbations: 0 }"), "es.perturbations: must be in [1, 100000] (got 0)");
   EXPECT_EQ(error_of("walker { push_scale: 1000.5 }"), "walker.push_scale: must be in [0, 1000] (got 1000.5)");
   EXPECT_EQ(error_of("es { adam_beta1: 1 }"), "es.adam_beta1: must be in [0, 1) (got 1)");
   EXPECT_EQ(error_of("es { lr_decay: 0 }"), "es.lr_decay: must be in (0, 1] (got 0)");
@@ -277,7 +292,7 @@ TEST(RunConfig, OutOfRangeNamesTheFieldAndValue) {
     const char* text;
     const char* path;
   } cases[] = {
-      {"es { perturbations: 1000001 }", "es.perturbations:"},
+      {"es { perturbations: 100001 }", "es.perturbations:"},
       {"es { init_sigma: 0 }", "es.init_sigma:"},
       {"es { init_sigma: inf }", "es.init_sigma:"},
       {"es { sigma_decay: 0 }", "es.sigma_decay:"},
@@ -318,7 +333,8 @@ TEST(RunConfig, OutOfRangeNamesTheFieldAndValue) {
 
 TEST(RunConfig, BoundaryValuesAreAccepted) {
   for (const char* text :
-       {"es { perturbations: 1 }", "es { perturbations: 1000000 }", "es { sigma_decay: 1 lr_decay: 1 }",
+       {"es { perturbations: 1 }", "es { perturbations: 100000 } poet { active_cap: 7 }",
+        "es { sigma_decay: 1 lr_decay: 1 }",
         "es { sigma_floor: 0 lr_floor: 0 l2_coeff: 0 adam_beta1: 0 adam_beta2: 0 }",
         "es { sigma_floor: 0.1 lr_floor: 0.01 }", "poet { max_children: 0 max_admitted: 0 }",
         "poet { mc_low: 100 mc_high: 100 }", "poet { active_cap: 1 novelty_k: 1 mutation_interval: 1 }",
@@ -328,6 +344,126 @@ TEST(RunConfig, BoundaryValuesAreAccepted) {
     const Expected<pb::RunConfig> c = parse_run_config(text);
     EXPECT_TRUE(c) << text << " -> " << c.error();
   }
+}
+
+// Every numeric field has an upper bound from its meaning (and scores a lower one): the bound itself is accepted,
+// the next value beyond it refused with the field's path and the value. `$` in a text stands for the value.
+TEST(RunConfig, EveryBoundIsExact) {
+  const struct {
+    const char* text;
+    const char* path;
+    const char* rule;
+    const char* bound;   // accepted
+    const char* beyond;  // refused, printed as in the message
+  } cases[] = {
+      {"iterations: $", "iterations", "must be in [0, 10000000]", "10000000", "10000001"},
+      {"checkpoint_interval: $", "checkpoint_interval", "must be in [1, 1000000]", "1000000", "1000001"},
+      {"init_stddev: $", "init_stddev", "must be in [0, 10]", "10", "10.000000000000002"},
+      {"mode: ES_ALONE es_alone { target { } } es { perturbations: $ }", "es.perturbations", "must be in [1, 100000]",
+       "100000", "100001"},
+      {"es { init_sigma: $ }", "es.init_sigma", "must be in (0, 10]", "10", "10.000000000000002"},
+      {"es { sigma_decay: $ }", "es.sigma_decay", "must be in (0, 1]", "1", "1.0000000000000002"},
+      {"es { init_lr: $ }", "es.init_lr", "must be in (0, 1]", "1", "1.0000000000000002"},
+      {"es { lr_decay: $ }", "es.lr_decay", "must be in (0, 1]", "1", "1.0000000000000002"},
+      {"es { l2_coeff: $ }", "es.l2_coeff", "must be in [0, 1]", "1", "1.0000000000000002"},
+      {"es { adam_beta1: $ }", "es.adam_beta1", "must be in [0, 1)", "0.9999999999999999", "1"},
+      {"es { adam_beta2: $ }", "es.adam_beta2", "must be in [0, 1)", "0.9999999999999999", "1"},
+      {"es { adam_epsilon: $ }", "es.adam_epsilon", "must be in (0, 1]", "1", "1.0000000000000002"},
+      {"poet { mutation_interval: $ }", "poet.mutation_interval", "must be in [1, 1000000]", "1000000", "1000001"},
+      {"poet { transfer_interval: $ }", "poet.transfer_interval", "must be in [1, 1000000]", "1000000", "1000001"},
+      {"poet { max_children: $ }", "poet.max_children", "must be in [0, 10000]", "10000", "10001"},
+      {"poet { max_admitted: $ }", "poet.max_admitted", "must be in [0, 10000]", "10000", "10001"},
+      // one perturbation keeps a transfer round among 1000 pairs within the batch bound
+      {"es { perturbations: 1 } poet { active_cap: $ }", "poet.active_cap", "must be in [1, 100]", "100", "101"},
+      {"poet { novelty_k: $ }", "poet.novelty_k", "must be in [1, 1000]", "1000", "1001"},
+      {"poet { repro_threshold: $ }", "poet.repro_threshold", "must be in [-10000, 10000]", "10000",
+       "10000.000000000002"},
+      {"poet { repro_threshold: $ }", "poet.repro_threshold", "must be in [-10000, 10000]", "-10000",
+       "-10000.000000000002"},
+      {"poet { mc_low: $ mc_high: 10000 }", "poet.mc_low", "must be in [-10000, 10000]", "10000", "10000.000000000002"},
+      {"poet { mc_low: $ }", "poet.mc_low", "must be in [-10000, 10000]", "-10000", "-10000.000000000002"},
+      {"poet { mc_high: $ }", "poet.mc_high", "must be in [-10000, 10000]", "10000", "10000.000000000002"},
+      {"poet { mc_low: -10000 mc_high: $ }", "poet.mc_high", "must be in [-10000, 10000]", "-10000",
+       "-10000.000000000002"},
+      {"poet { solved_score: $ }", "poet.solved_score", "must be in [-10000, 10000]", "10000", "10000.000000000002"},
+      {"poet { solved_score: $ }", "poet.solved_score", "must be in [-10000, 10000]", "-10000", "-10000.000000000002"},
+      {"walker { push_scale: $ }", "walker.push_scale", "must be in [0, 1000]", "1000", "1000.0000000000001"},
+      {"walker { max_steps: $ }", "walker.max_steps", "must be in [1, 100000]", "100000", "100001"},
+      {"walker { eval_episodes: $ }", "walker.eval_episodes", "must be in [1, 1000]", "1000", "1001"},
+      {"mode: DIRECT_PATH direct_path { target { } budget_es_steps: $ }", "direct_path.budget_es_steps",
+       "must be in [1, 10000000000]", "10000000000", "10000000001"},
+      {"mode: DIRECT_PATH direct_path { target { } budget_es_steps: 1 advance_threshold: $ }",
+       "direct_path.advance_threshold", "must be in [-10000, 10000]", "10000", "10000.000000000002"},
+      {"mode: DIRECT_PATH direct_path { target { } budget_es_steps: 1 advance_threshold: $ }",
+       "direct_path.advance_threshold", "must be in [-10000, 10000]", "-10000", "-10000.000000000002"},
+  };
+  const auto with = [](std::string text, const std::string& value) { return text.replace(text.find('$'), 1, value); };
+  for (const auto& c : cases) {
+    const std::string at_bound = with(c.text, c.bound);
+    const Expected<pb::RunConfig> accepted = parse_run_config(at_bound);
+    EXPECT_TRUE(accepted) << at_bound << " -> " << accepted.error();
+    EXPECT_EQ(error_of(with(c.text, c.beyond)), std::string(c.path) + ": " + c.rule + " (got " + c.beyond + ")");
+  }
+}
+
+// The values of the report that passed validation and made θ non-finite or memory run out.
+TEST(RunConfig, ReportedHostileValuesAreRefused) {
+  EXPECT_EQ(error_of("es { l2_coeff: 1e300 }"), "es.l2_coeff: must be in [0, 1] (got 1e+300)");
+  EXPECT_EQ(error_of("es { init_lr: 1e300 }"), "es.init_lr: must be in (0, 1] (got 1e+300)");
+  EXPECT_EQ(error_of("es { init_sigma: 1e308 }"), "es.init_sigma: must be in (0, 10] (got 1e+308)");
+  EXPECT_EQ(error_of("poet { max_children: 2000000000 }"), "poet.max_children: must be in [0, 10000] (got 2000000000)");
+}
+
+TEST(RunConfig, EsBatchOfAllPairsIsBounded) {
+  // 2 · n · N rollouts in one batch: exactly 10^7 is accepted, one pair more is not
+  const char* fits = "mode: POET_WITHOUT_TRANSFER es { perturbations: 100000 } poet { active_cap: 50 }";
+  EXPECT_TRUE(parse_run_config(fits)) << parse_run_config(fits).error();
+  EXPECT_EQ(error_of("mode: POET_WITHOUT_TRANSFER es { perturbations: 100000 } poet { active_cap: 51 }"),
+            "es.perturbations: 2 · es.perturbations · poet.active_cap = 2 · 100000 · 51 = 10200000 rollouts in one "
+            "batch, more than 10000000");
+  // the same product in mode POET, named by the same rule before the transfer round's
+  EXPECT_TRUE(error_of("es { perturbations: 100000 } poet { active_cap: 51 }").starts_with("es.perturbations: 2 ·"));
+  // ES alone and the direct path run one pair: active_cap does not size their batches
+  const char* one_pair = "mode: ES_ALONE es_alone { target { } } es { perturbations: 100000 } poet { active_cap: 100 }";
+  EXPECT_TRUE(parse_run_config(one_pair)) << parse_run_config(one_pair).error();
+}
+
+TEST(RunConfig, TransferRoundBatchIsBounded) {
+  // N · (N − 1) · (2n + e) rollouts in a transfer round's first batch (spec §3's job sizes)
+  const char* fits = "es { perturbations: 504 } poet { active_cap: 100 }";  // 9989100
+  EXPECT_TRUE(parse_run_config(fits)) << parse_run_config(fits).error();
+  EXPECT_EQ(error_of("es { perturbations: 505 } poet { active_cap: 100 }"),
+            "poet.active_cap: a transfer round of poet.active_cap · (poet.active_cap − 1) · (2 · es.perturbations + "
+            "evaluation episodes) = 100 · 99 · (2 · 505 + 1) = 10008900 rollouts in one batch, more than 10000000");
+  // stochastic courses evaluate each transfer over eval_episodes episodes
+  EXPECT_TRUE(contains(error_of("es { perturbations: 504 } poet { active_cap: 100 } "
+                                "walker { stochastic_envs: true eval_episodes: 5 }"),
+                       "= 100 · 99 · (2 · 504 + 5) = 10028700 rollouts"));
+  // no transfer, no transfer round
+  const char* without = "mode: POET_WITHOUT_TRANSFER es { perturbations: 505 } poet { active_cap: 100 }";
+  EXPECT_TRUE(parse_run_config(without)) << parse_run_config(without).error();
+}
+
+TEST(RunConfig, EmptyConfigMustSayMode) {
+  const std::string message =
+      "sets no field; an empty config would run every default (mode POET, 50000 iterations of the reference's "
+      "settings) — write `mode: POET` to mean that";
+  for (const char* text :
+       {"", " \n\t\n", "# nothing but a comment\n", "# one\n\n  # two\n", "es { }", "poet { mutation { } } walker { }"})
+    EXPECT_EQ(error_of(text), message) << "text: \"" << text << "\"";
+
+  const Expected<pb::RunConfig> mode_only = parse_run_config("# the defaults, on purpose\nmode: POET\n");
+  ASSERT_TRUE(mode_only) << mode_only.error();
+  EXPECT_EQ(mode_only->iterations(), 50000);
+  EXPECT_TRUE(parse_run_config("mode: POET_WITHOUT_TRANSFER"));
+  const Expected<pb::RunConfig> seed_only = parse_run_config("seed: 3");
+  ASSERT_TRUE(seed_only) << seed_only.error();
+  EXPECT_EQ(seed_only->seed(), 3u);
+  EXPECT_EQ(seed_only->mode(), pb::RunConfig::POET);
+  // a value equal to its default is still a value the file sets
+  EXPECT_TRUE(parse_run_config("es { init_lr: 0.01 }"));
+  // a section of another mode is named as such, not as an empty config
+  EXPECT_TRUE(error_of("direct_path { }").starts_with("direct_path:"));
 }
 
 TEST(RunConfig, FloorAboveItsInitialValueIsAContradiction) {
@@ -383,7 +519,7 @@ TEST(RunConfig, ModeRequirements) {
   EXPECT_EQ(error_of("mode: DIRECT_PATH direct_path { target { } }"),
             "direct_path.budget_es_steps: required in mode DIRECT_PATH");
   EXPECT_EQ(error_of("mode: DIRECT_PATH direct_path { target { } budget_es_steps: 0 }"),
-            "direct_path.budget_es_steps: must be >= 1 (got 0)");
+            "direct_path.budget_es_steps: must be in [1, 10000000000] (got 0)");
   EXPECT_TRUE(error_of("mode: DIRECT_PATH direct_path { target { } budget_es_steps: 5 advance_threshold: nan }")
                   .starts_with("direct_path.advance_threshold:"));
   EXPECT_TRUE(parse_run_config("mode: ES_ALONE es_alone { target { seed: 3 } }"));
@@ -405,7 +541,7 @@ TEST(RunConfig, ValidateReportsTheFirstBadField) {
   pb::RunConfig c;
   c.mutable_es()->set_init_sigma(-1);
   c.mutable_walker()->set_max_steps(0);
-  EXPECT_EQ(validate(c).value_or(""), "es.init_sigma: must be > 0 (got -1)");
+  EXPECT_EQ(validate(c).value_or(""), "es.init_sigma: must be in (0, 10] (got -1)");
   c.mutable_es()->set_init_sigma(std::numeric_limits<double>::quiet_NaN());
   EXPECT_TRUE(validate(c).value_or("").starts_with("es.init_sigma: must be a finite number"));
   c.mutable_es()->clear_init_sigma();
@@ -444,9 +580,9 @@ TEST(RunConfig, TextRoundTripIsBitExact) {
   c.mutable_es()->set_l2_coeff(5e-324);  // the smallest subnormal
   c.mutable_es()->set_adam_epsilon(std::numeric_limits<double>::min());
   c.mutable_es()->set_sigma_decay(std::nextafter(1.0, 0.0));
-  c.mutable_es()->set_init_lr(0.01);  // explicitly set to the default: must stay set
-  c.mutable_poet()->set_mc_low(-1e300);
-  c.mutable_poet()->set_mc_high(std::numeric_limits<double>::max());
+  c.mutable_es()->set_init_lr(0.01);                        // explicitly set to the default: must stay set
+  c.mutable_poet()->set_mc_low(-1e4);                       // the bound itself
+  c.mutable_poet()->set_mc_high(std::nextafter(1e4, 0.0));  // just inside it
   c.mutable_poet()->set_repro_threshold(-0.0);
   c.mutable_walker()->set_push_scale(2.0 / 3.0);
   c.mutable_walker()->set_lidar(pb::WalkerConfig::FIRST);
@@ -505,10 +641,34 @@ TEST_F(RunConfigFile, ErrorsStartWithThePath) {
   EXPECT_TRUE(syntax.error().starts_with(bad + ": line 2:")) << syntax.error();
 
   const std::string invalid = write("invalid.textproto", "es { init_sigma: -1 }\n");
-  EXPECT_EQ(load_run_config(invalid).error(), invalid + ": es.init_sigma: must be > 0 (got -1)");
+  EXPECT_EQ(load_run_config(invalid).error(), invalid + ": es.init_sigma: must be in (0, 10] (got -1)");
 
   const std::string dir = dir_.string();
   EXPECT_TRUE(load_run_config(dir).error().starts_with(dir + ": ")) << load_run_config(dir).error();
+}
+
+TEST_F(RunConfigFile, RefusesAnEmptyFile) {
+  const std::string empty = write("empty.textproto", "");
+  const Expected<pb::RunConfig> c = load_run_config(empty);
+  ASSERT_FALSE(c);
+  EXPECT_TRUE(c.error().starts_with(empty + ": sets no field;")) << c.error();
+}
+
+TEST_F(RunConfigFile, RefusesAFifoWithoutWaiting) {
+  const std::string fifo = (dir_ / "fifo.textproto").string();
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0) << std::strerror(errno);
+  // no writer is opened unless the read is still blocked after 10 s, and then only to end the test
+  auto read = std::async(std::launch::async, [&] { return load_run_config(fifo); });
+  if (read.wait_for(std::chrono::seconds(10)) == std::future_status::timeout) {
+    ADD_FAILURE() << "load_run_config blocked on a FIFO";
+    while (read.wait_for(std::chrono::milliseconds(100)) == std::future_status::timeout) {
+      const int fd = ::open(fifo.c_str(), O_WRONLY | O_NONBLOCK | O_CLOEXEC);
+      if (fd >= 0) ::close(fd);
+    }
+  }
+  const Expected<pb::RunConfig> c = read.get();
+  ASSERT_FALSE(c);
+  EXPECT_EQ(c.error(), fifo + ": is not a regular file (a FIFO)");
 }
 
 TEST_F(RunConfigFile, RefusesAHugeFile) {
