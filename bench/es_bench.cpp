@@ -97,5 +97,3 @@ BENCHMARK(BM_EsStepRatios)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterat
 
 }  // namespace
 }  // namespace poet
-
-BENCHMARK_MAIN();

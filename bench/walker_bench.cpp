@@ -153,5 +153,3 @@ BENCHMARK(BM_Policy);
 
 }  // namespace
 }  // namespace poet
-
-BENCHMARK_MAIN();

@@ -11,7 +11,13 @@ RolloutResult rollout(const Mlp& policy, const Terrain& terrain, const WalkerOpt
     result.trajectory.reserve(static_cast<size_t>(limits.max_steps) + 1);
     result.trajectory.push_back(env.pose());
   }
+  // checked every 64 steps (a few milliseconds), so a stop lands well within a second even in long episodes
+  constexpr int kStopCheckSteps = 64;
   while (result.steps < limits.max_steps) {
+    if (result.steps % kStopCheckSteps == 0 && limits.stop.stop_requested()) {
+      result.stopped = true;
+      break;
+    }
     const StepOutcome out = env.step(policy.act(*obs));
     obs = &env.observation();
     result.total_reward += out.reward;

@@ -3,19 +3,21 @@
 // A rollout is a pure function of (policy parameters, course, options, limits).
 
 #include <span>
+#include <stop_token>
 #include <vector>
 
 #include "envgen/env_encoding.h"
 #include "policy/mlp.h"
 #include "walker/terrain.h"
-#include "walker/walker_env.h"
 #include "walker/walker_constants.h"
+#include "walker/walker_env.h"
 
 namespace poet {
 
 struct RolloutLimits {
   int max_steps = walker::kDefaultTimeLimit;  // steps after the reset step
   bool record_trajectory = false;             // keep the walker's pose after reset and after every step
+  std::stop_token stop{};                     // a stop request ends the episode early (result.stopped)
 };
 
 struct RolloutResult {
@@ -23,7 +25,8 @@ struct RolloutResult {
   int steps = 0;            // steps taken after the reset step (the reference logs steps − 1)
   bool finished = false;
   bool fell = false;
-  double final_x = 0;                 // hull origin x at the end, metres
+  double final_x = 0;                  // hull origin x at the end, metres
+  bool stopped = false;                // cut short by limits.stop: not a whole episode, its numbers mean nothing
   std::vector<WalkerPose> trajectory;  // reset pose, then one per step, when recorded
   bool timed_out() const { return !finished && !fell; }
 };

@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <memory>
 #include <optional>
+#include <stop_token>
 #include <vector>
 
 #include "envgen/env_encoding.h"
@@ -31,7 +32,8 @@ struct RolloutTask {
 
 // Runs the task's episode (no trajectory). Deterministic in the task's contents. Throws std::invalid_argument
 // for a task that cannot run (no θ, wrong size, non-finite parameters, a sign other than ±1, an invalid course);
-// tasks from the network are validated before they get here.
-RolloutResult run_task(const RolloutTask& task);
+// tasks from the network are validated before they get here. A stop request on `stop` cuts the episode short
+// (result.stopped).
+RolloutResult run_task(const RolloutTask& task, std::stop_token stop = {});
 
 }  // namespace poet

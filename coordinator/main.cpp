@@ -1,54 +1,76 @@
 // poet-coordinator: runs POET (or one of the paper's controls) in a run directory, on threads of this process.
 //   poet-coordinator --config FILE --run-dir DIR [--threads N] [--iterations N]   a new run
 //   poet-coordinator --run-dir DIR --resume [--iterations N]                       continue it (N may extend it)
-// The state is checkpointed every checkpoint_interval iterations and at the end. SIGINT/SIGTERM finish the
-// current iteration, checkpoint and exit 130; a second signal exits at once (the last checkpoint stays valid).
-// Exit codes: 0 done, 1 runtime error, 2 bad command line, config or run directory, 130 interrupted.
+// The state is checkpointed every checkpoint_interval iterations and at the end. SIGINT/SIGTERM abandon the
+// iteration in flight (within a second) and exit 130, the last checkpoint being the state; a resume repeats that
+// iteration exactly. A signal during start-up (reading the config or checkpoint, opening the run) exits 130 at
+// once, and so does a second signal. Exit codes: 0 done, 1 runtime error (or a diverged run), 2 bad command line,
+// config or run directory (or one another process owns), 130 interrupted.
 
+#include <pthread.h>
 #include <spdlog/sinks/stdout_color_sinks.h>
 #include <spdlog/spdlog.h>
 #include <unistd.h>
 
 #include <CLI/CLI.hpp>
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <climits>
 #include <csignal>
 #include <cstdio>
 #include <exception>
 #include <optional>
+#include <stop_token>
 #include <string>
 #include <thread>
 #include <utility>
 
+#include "build_fingerprint.h"
 #include "config/run_config.h"
 #include "evaluator/local_evaluator.h"
 #include "poet/engine.h"
 #include "run/progress_display.h"
 #include "run/run_directory.h"
+#include "tool_flags.h"
 
 namespace poet {
 namespace {
 
 constexpr int kExitError = 1;
-constexpr int kExitUsage = 2;
 constexpr int kExitInterrupted = 130;
 
-volatile std::sig_atomic_t g_stop_requested = 0;
+// How SIGINT and SIGTERM are handled: they are blocked in every thread and taken by one watcher thread with
+// sigwait, so the reaction runs as ordinary code (a stop request is not async-signal-safe) and no rollout
+// thread is ever interrupted. Until the loop starts a signal ends the process at once; in the loop the first
+// asks the evaluator to stop, and a second ends the process at once (the last checkpoint stays valid).
+class StopSignals {
+ public:
+  StopSignals() {
+    sigemptyset(&set_);
+    sigaddset(&set_, SIGINT);
+    sigaddset(&set_, SIGTERM);
+    pthread_sigmask(SIG_BLOCK, &set_, nullptr);  // before any other thread exists, so all inherit it
+    std::thread([this] { watch(); }).detach();   // lives as long as the process
+  }
+  void loop_started() { in_loop_ = true; }
+  std::stop_token token() const { return source_.get_token(); }
+  bool stop_requested() const { return source_.stop_requested(); }
 
-extern "C" void on_stop_signal(int) {
-  if (g_stop_requested) ::_exit(kExitInterrupted);  // the second signal: the last checkpoint stays valid
-  g_stop_requested = 1;
-}
+ private:
+  [[noreturn]] void watch() {
+    for (;;) {
+      int signal = 0;
+      if (sigwait(&set_, &signal) != 0) continue;
+      if (!in_loop_ || source_.stop_requested()) ::_exit(kExitInterrupted);
+      source_.request_stop();
+    }
+  }
 
-void install_signal_handlers() {
-  struct sigaction action {};
-  action.sa_handler = on_stop_signal;
-  sigemptyset(&action.sa_mask);
-  action.sa_flags = SA_RESTART;  // the evaluator's threads keep running their rollouts undisturbed
-  sigaction(SIGINT, &action, nullptr);
-  sigaction(SIGTERM, &action, nullptr);
-}
+  sigset_t set_{};
+  std::atomic<bool> in_loop_{false};
+  std::stop_source source_;
+};
 
 struct Options {
   std::string config_path;
@@ -146,14 +168,14 @@ std::optional<std::pair<RunDirectory, RunState>> resume_run(const Options& optio
   return std::move(*resumed);
 }
 
-int run(const Options& options) {
+int run(const Options& options, StopSignals& signals) {
   const auto started = std::chrono::steady_clock::now();
-  install_signal_handlers();
+  spdlog::debug("build fingerprint {:016x}", build_fingerprint_digest());
   std::optional<std::pair<RunDirectory, RunState>> opened = options.resume ? resume_run(options) : start_run(options);
   if (!opened) return kExitUsage;
   auto& [dir, state] = *opened;
 
-  LocalEvaluator evaluator(options.threads);
+  LocalEvaluator evaluator(options.threads, signals.token());
   ProgressDisplay progress(!options.quiet);
   const int interval = state.config.checkpoint_interval();
   int saved_iteration = state.next_iteration;
@@ -166,30 +188,46 @@ int run(const Options& options) {
     saved_iteration = state.next_iteration;
     return true;
   };
+  auto elapsed = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count(); };
 
-  while (!run_complete(state) && !g_stop_requested) {
-    IterationReport report = run_iteration(state, evaluator);
+  signals.loop_started();
+  while (!run_complete(state) && !signals.stop_requested()) {
+    IterationReport report;
+    try {
+      report = run_iteration(state, evaluator);
+    } catch (const EvaluationStopped&) {
+      // the iteration in flight is abandoned; the state in memory is part-way through it and is not saved
+      progress.finish();
+      spdlog::warn(
+          "stopped during iteration {}; the run's state is its checkpoint at iteration {}, and a resume "
+          "repeats the iterations since: poet-coordinator --run-dir {} --resume",
+          state.next_iteration, saved_iteration, options.run_dir);
+      return kExitInterrupted;
+    } catch (const RunDiverged& e) {
+      progress.finish();
+      spdlog::error("{} (the checkpoint at iteration {} precedes the divergence)", e.what(), saved_iteration);
+      return kExitError;
+    }
     dir.append(report);
     if (!report.events.empty() && spdlog::should_log(spdlog::level::info)) progress.clear();
     for (const auto& event : report.events) spdlog::info("{}", describe_event(event));
-    if (state.next_iteration % interval == 0 || run_complete(state) || g_stop_requested) {
+    if (state.next_iteration % interval == 0 || run_complete(state) || signals.stop_requested()) {
       if (!save()) return kExitError;
     }
     progress.update(state, report);
   }
-  // a signal between an iteration's save check and the loop test leaves that iteration unsaved
+  // a stop between an iteration's save check and the loop test leaves that iteration unsaved
   if (state.next_iteration != saved_iteration && !save()) return kExitError;
   progress.finish();
 
-  const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
   if (!run_complete(state)) {
     spdlog::warn("interrupted at iteration {}; continue with: poet-coordinator --run-dir {} --resume",
                  state.next_iteration, options.run_dir);
-    print_summary(state, wall);
+    print_summary(state, elapsed());
     return kExitInterrupted;
   }
   spdlog::info("run finished at iteration {}", state.next_iteration);
-  print_summary(state, wall);
+  print_summary(state, elapsed());
   return 0;
 }
 
@@ -197,6 +235,9 @@ int run(const Options& options) {
 }  // namespace poet
 
 int main(int argc, char** argv) {
+  // first of all, so that a signal at any later point of start-up ends the process with 130
+  static poet::StopSignals signals;
+
   poet::Options options;
   CLI::App app{"Run POET (or a control) in a run directory; resume it after an interruption"};
   auto* config = app.add_option("--config", options.config_path, "Run config (protobuf text format): a new run");
@@ -211,12 +252,8 @@ int main(int argc, char** argv) {
   app.add_flag("--quiet", options.quiet, "No progress line");
   app.add_option("--log-level", options.log_level, "trace, debug, info (default), warn, error or off")
       ->check(CLI::IsMember({"trace", "debug", "info", "warn", "error", "off"}));
-  try {
-    app.parse(argc, argv);
-  } catch (const CLI::ParseError& e) {
-    const int code = app.exit(e);
-    return code == 0 ? 0 : poet::kExitUsage;
-  }
+  poet::add_fingerprint_flag(app);
+  if (const std::optional<int> code = poet::parse_command_line(app, argc, argv)) return *code;
   if (iterations_option->count() > 0) options.iterations = iterations;
 
   spdlog::set_default_logger(spdlog::stderr_color_mt("poet-coordinator"));
@@ -226,7 +263,7 @@ int main(int argc, char** argv) {
     return poet::kExitUsage;
   }
   try {
-    return poet::run(options);
+    return poet::run(options, signals);
   } catch (const std::exception& e) {
     spdlog::error("{}; the last checkpoint in {} stays valid (continue with --resume)", e.what(), options.run_dir);
     return poet::kExitError;

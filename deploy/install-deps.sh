@@ -6,7 +6,7 @@ set -euo pipefail
 packages=(
   build-essential cmake pkg-config
   libbox2d-dev libeigen3-dev
-  libprotobuf-dev protobuf-compiler
+  libprotobuf-dev protobuf-compiler zlib1g-dev
   libzmq3-dev cppzmq-dev
   libspdlog-dev libfmt-dev
   nlohmann-json3-dev libcli11-dev libcairo2-dev

@@ -11,6 +11,7 @@
 
 #include "config/env_proto.h"
 #include "config/run_config.h"
+#include "poet/state_consistency.h"
 #include "policy/mlp.h"
 
 namespace poet {
@@ -321,6 +322,7 @@ Expected<RunState> from_checkpoint(const pb::Checkpoint& checkpoint) {
     if (error) return Unexpected{*error};
     state.stages.push_back({std::move(*env), message.started_iteration(), message.solved_iteration()});
   }
+  if (Error error = check_state_consistency(state)) return Unexpected{*error};
   return state;
 }
 

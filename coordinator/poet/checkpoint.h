@@ -13,8 +13,9 @@ pb::Checkpoint to_checkpoint(const RunState& state);
 
 // A checkpoint comes from disk, so it is checked as hostile input: the config validates, every environment is
 // valid, θ, best θ and Adam's moments hold kParamCount finite values, pair ids are unique and increasing and
-// below next_pair_id, every referenced pair exists, counters and iterations are in range. The error names the
-// field by its path ("pairs[3].theta: 12 values, expected 2804").
+// below next_pair_id, every referenced pair exists, counters and iterations are in range, and the state is one
+// the engine could have produced in its mode (check_state_consistency). The error names the field by its path
+// ("pairs[3].theta: 12 values, expected 2804").
 Expected<RunState> from_checkpoint(const pb::Checkpoint& checkpoint);
 
 }  // namespace poet

@@ -1,5 +1,8 @@
 #include "poet/engine.h"
 
+#include <cmath>
+#include <string>
+
 #include "config/env_proto.h"
 #include "config/run_config.h"
 #include "envgen/named_courses.h"
@@ -33,6 +36,18 @@ void record_evaluation(IterationContext& ctx, Pair& pair, const std::vector<doub
                          {"env", pair.env.encoding.name},
                          {"score", eval.score},
                          {"iterations_to_solve", ctx.t - pair.created_iteration}});
+  }
+}
+
+void require_finite(const IterationContext& ctx, const Pair& pair, std::span<const double> values,
+                    std::string_view what) {
+  for (size_t i = 0; i < values.size(); ++i) {
+    if (std::isfinite(values[i])) continue;
+    throw RunDiverged("the run diverged at iteration " + std::to_string(ctx.t) + ": pair " + std::to_string(pair.id) +
+                      " (" + pair.env.encoding.name + "), " + std::string(what) + ": element " + std::to_string(i) +
+                      " is " + std::to_string(values[i]) +
+                      ". A run is a function of its config, so resuming from the last checkpoint will repeat this; "
+                      "start a new run with smaller es.init_lr, es.init_sigma or es.l2_coeff");
   }
 }
 

@@ -3,11 +3,21 @@
 // logic: every random number is drawn by address from the run seed, and all rollouts go through the
 // evaluator in whole batches, so the same config gives the same state whatever runs the batches.
 
+#include <stdexcept>
+
 #include "evaluator/evaluator.h"
 #include "poet/iteration_report.h"
 #include "poet/run_state.h"
 
 namespace poet {
+
+// Thrown by run_iteration at the step where θ, an ES gradient, a proposal or Adam's moments stop being finite.
+// A run is a function of its config, so resuming from the last checkpoint repeats the divergence: the message
+// says what diverged, where, and that the config must change.
+class RunDiverged : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
 
 // The state before iteration 0: one pair on the mode's first environment (flat with seed = run seed mod 10^6
 // for POET; the target for ES alone; flat with the target's seed for the direct path), θ from the run's init
@@ -18,7 +28,8 @@ RunState initial_state(const pb::RunConfig& config);
 bool run_complete(const RunState& state);
 
 // Runs iteration state.next_iteration (reproduce, optimise, transfer, or the control's steps) and advances
-// next_iteration. Throws what the evaluator throws; the state is then unspecified (resume from a checkpoint).
+// next_iteration. Throws RunDiverged, or what the evaluator throws (EvaluationStopped after a stop request); the
+// state is then unspecified, and the run continues from its last checkpoint.
 IterationReport run_iteration(RunState& state, Evaluator& evaluator);
 
 }  // namespace poet

@@ -2,6 +2,7 @@
 // What the steps of one iteration share (internal to the engine): the state, the evaluator, the settings read
 // once from the config, and the report being filled.
 
+#include <span>
 #include <string_view>
 
 #include "es/es_settings.h"
@@ -31,6 +32,10 @@ struct IterationContext {
 // Records an evaluation of θ on the pair's own environment: latest score, best score and θ, and the first solve
 // (finished and score ≥ solved_score), with a "solved" event.
 void record_evaluation(IterationContext& ctx, Pair& pair, const std::vector<double>& theta, const Evaluation& eval);
+
+// Throws RunDiverged unless every value is finite: `what` ("θ after the ES step") of pair, at iteration ctx.t.
+void require_finite(const IterationContext& ctx, const Pair& pair, std::span<const double> values,
+                    std::string_view what);
 
 // A one-step proposal from θ with gradient g: Adam's next update from `optimizer` with learning rate lr, or SGD.
 std::vector<double> propose(pb::ProposalKind kind, const std::vector<double>& theta, const std::vector<double>& g,

@@ -45,7 +45,11 @@ void optimise(IterationContext& ctx) {
     row.perturbation_mean = out.mean_return;
     row.perturbation_max = out.max_return;
     row.grad_norm = norm(out.gradient);
+    require_finite(ctx, p, out.gradient, "the ES gradient");
     adam_step(p.theta, out.gradient, p.optimizer, ctx.es);
+    require_finite(ctx, p, p.theta, "θ after the ES step");
+    require_finite(ctx, p, p.optimizer.m, "Adam's first moment after the ES step");
+    require_finite(ctx, p, p.optimizer.v, "Adam's second moment after the ES step");
     decay(p.optimizer, ctx.es);
     p.es_steps += 1;
     row.lr = p.optimizer.lr;

@@ -65,6 +65,8 @@ Start best_start(IterationContext& ctx, const Child& child) {
     const Pair& source = ctx.state.pairs[active[s]];
     const EsOutcome out = first.es_outcome(steps[s], ctx.es);
     proposals.push_back(propose(kind, source.theta, out.gradient, fresh, fresh.lr, ctx.es));
+    require_finite(ctx, source, proposals.back(),
+                   "its admission proposal for child attempt " + std::to_string(child.attempt));
     proposal_evals.push_back(second.add_evaluation(
         share(proposals.back()), child.env, ctx.key("admission-eval", {u(ctx.t), u(child.attempt), u(source.id), 1})));
   }

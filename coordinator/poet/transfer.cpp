@@ -52,6 +52,7 @@ void transfer(IterationContext& ctx) {
       const EsOutcome out = first.es_outcome(es_handles[a][s], ctx.es);
       std::vector<double> theta = propose(ctx.config.poet().transfer_proposal(), d.theta, out.gradient,
                                           target.optimizer, target.optimizer.lr, ctx.es);
+      require_finite(ctx, target, theta, "the transfer proposal from pair " + std::to_string(d.source));
       const uint64_t eval_key = ctx.key("transfer-eval", {u(ctx.t), u(target.id), u(d.source), 1});
       const size_t handle = second.add_evaluation(share(theta), target.env, eval_key);
       proposals[a].push_back({d.source, true, std::move(theta), handle});

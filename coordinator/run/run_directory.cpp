@@ -70,6 +70,29 @@ std::optional<std::string> write_named(const fs::path& path, std::string_view te
 
 std::string pair_file(int id, const char* suffix) { return "pair-" + std::to_string(id) + suffix; }
 
+// True when path holds exactly text (a file that cannot be read counts as different).
+bool same_content(const fs::path& path, const std::string& text) {
+  Expected<std::string> current = read_text_file(path, text.size());
+  return current && *current == text;
+}
+
+// Removes "<name>.tmp.<pid>.<n>" files that write_file_atomically leaves when its process dies mid-write. Only
+// the lock's holder calls this, so no other writer's temporary can be in flight.
+void remove_temporaries(const fs::path& dir) {
+  std::error_code ec;
+  for (const fs::directory_entry& entry : fs::directory_iterator(dir, ec)) {
+    const std::string name = entry.path().filename().string();
+    if (name.find(".tmp.") != std::string::npos && entry.is_regular_file(ec)) fs::remove(entry.path(), ec);
+  }
+}
+
+pb::Checkpoint checkpoint_with_logs(const RunState& state, int64_t events_bytes, int64_t stats_bytes) {
+  pb::Checkpoint checkpoint = to_checkpoint(state);
+  checkpoint.set_events_bytes(events_bytes);
+  checkpoint.set_stats_bytes(stats_bytes);
+  return checkpoint;
+}
+
 }  // namespace
 
 std::string pair_stats_header() {
@@ -86,11 +109,11 @@ std::string pair_stats_row(const PairStatsRow& row) {
   return line;
 }
 
-RunDirectory::RunDirectory(fs::path dir, int events_fd, int stats_fd)
-    : dir_(std::move(dir)), events_fd_(events_fd), stats_fd_(stats_fd) {}
+RunDirectory::RunDirectory(fs::path dir, RunLock lock) : dir_(std::move(dir)), lock_(std::move(lock)) {}
 
 RunDirectory::RunDirectory(RunDirectory&& other) noexcept
     : dir_(std::move(other.dir_)),
+      lock_(std::move(other.lock_)),
       events_fd_(std::exchange(other.events_fd_, -1)),
       stats_fd_(std::exchange(other.stats_fd_, -1)),
       append_error_(std::move(other.append_error_)),
@@ -101,6 +124,7 @@ RunDirectory& RunDirectory::operator=(RunDirectory&& other) noexcept {
   if (this == &other) return *this;
   close_logs();
   dir_ = std::move(other.dir_);
+  lock_ = std::move(other.lock_);
   events_fd_ = std::exchange(other.events_fd_, -1);
   stats_fd_ = std::exchange(other.stats_fd_, -1);
   append_error_ = std::move(other.append_error_);
@@ -122,6 +146,8 @@ Expected<RunDirectory> RunDirectory::create(const fs::path& dir, const pb::RunCo
   fs::create_directories(dir, ec);
   if (ec) return Unexpected{dir.string() + ": cannot create directory: " + ec.message()};
   if (!fs::is_directory(dir, ec)) return Unexpected{dir.string() + ": not a directory"};
+  Expected<RunLock> lock = RunLock::acquire(dir);
+  if (!lock) return Unexpected{lock.error()};
   const bool has_checkpoint = fs::exists(dir / kCheckpointFile, ec);
   if (ec) return Unexpected{(dir / kCheckpointFile).string() + ": cannot access: " + ec.message()};
   if (has_checkpoint) return Unexpected{dir.string() + " already holds a run; resume it or choose another directory"};
@@ -132,9 +158,10 @@ Expected<RunDirectory> RunDirectory::create(const fs::path& dir, const pb::RunCo
   if (auto error = write_named(dir / kConfigFile, run_config_text(config))) return Unexpected{*error};
 
   // A directory without a checkpoint holds no run, so logs left by an earlier attempt are started over.
+  RunDirectory run(dir, std::move(*lock));
   Expected<int> events = open_log(dir / kEventsFile, O_CREAT | O_TRUNC);
   if (!events) return Unexpected{events.error()};
-  RunDirectory run(dir, *events, -1);
+  run.events_fd_ = *events;
   Expected<int> stats = open_log(dir / kStatsFile, O_CREAT | O_TRUNC);
   if (!stats) return Unexpected{stats.error()};
   run.stats_fd_ = *stats;
@@ -147,42 +174,45 @@ Expected<RunDirectory> RunDirectory::create(const fs::path& dir, const pb::RunCo
 Expected<std::pair<RunDirectory, RunState>> RunDirectory::resume(const fs::path& dir) {
   std::error_code ec;
   if (!fs::is_directory(dir, ec)) return Unexpected{dir.string() + ": no such directory (nothing to resume)"};
+  Expected<RunLock> lock = RunLock::acquire(dir);
+  if (!lock) return Unexpected{lock.error()};
   const fs::path checkpoint_path = dir / kCheckpointFile;
   if (!fs::exists(checkpoint_path, ec))
     return Unexpected{checkpoint_path.string() + ": does not exist (" + dir.string() + " holds no run to resume)"};
 
-  // the checkpoint: bounded read, parse, the directory's own fields, then the state's checks
-  Expected<std::string> bytes = read_text_file(checkpoint_path, kMaxCheckpointBytes);
-  if (!bytes) return Unexpected{checkpoint_path.string() + ": " + bytes.error()};
-  pb::Checkpoint checkpoint;
-  if (!checkpoint.ParseFromString(*bytes))
-    return Unexpected{checkpoint_path.string() + ": not a valid checkpoint (corrupt or truncated)"};
+  // the checkpoint: the file's integrity, the directory's own fields, then the state's checks
+  Expected<pb::Checkpoint> checkpoint = read_checkpoint_file(checkpoint_path);
+  if (!checkpoint) return Unexpected{checkpoint.error()};
   for (const auto& [name, present, value] :
-       {std::tuple{"events_bytes", checkpoint.has_events_bytes(), checkpoint.events_bytes()},
-        std::tuple{"stats_bytes", checkpoint.has_stats_bytes(), checkpoint.stats_bytes()}}) {
-    if (!present) return Unexpected{checkpoint_path.string() + ": " + name + ": missing (corrupt or truncated)"};
+       {std::tuple{"events_bytes", checkpoint->has_events_bytes(), checkpoint->events_bytes()},
+        std::tuple{"stats_bytes", checkpoint->has_stats_bytes(), checkpoint->stats_bytes()}}) {
+    if (!present) return Unexpected{checkpoint_path.string() + ": " + name + ": missing"};
     if (value < 0)
       return Unexpected{checkpoint_path.string() + ": " + name + ": must be >= 0 (got " + std::to_string(value) + ")"};
   }
-  Expected<RunState> state = from_checkpoint(checkpoint);
+  Expected<RunState> state = from_checkpoint(*checkpoint);
   if (!state) return Unexpected{checkpoint_path.string() + ": " + state.error()};
 
   // the logs, cut back to what the state has seen
-  Expected<int> events = open_log(dir / kEventsFile, checkpoint.events_bytes() == 0 ? O_CREAT : 0);
+  RunDirectory run(dir, std::move(*lock));
+  Expected<int> events = open_log(dir / kEventsFile, checkpoint->events_bytes() == 0 ? O_CREAT : 0);
   if (!events) return Unexpected{events.error()};
-  RunDirectory run(dir, *events, -1);
+  run.events_fd_ = *events;
   Expected<int> stats = open_log(dir / kStatsFile, 0);
   if (!stats) return Unexpected{stats.error()};
   run.stats_fd_ = *stats;
-  if (auto error = truncate_log(run.events_fd_, dir / kEventsFile, checkpoint.events_bytes()))
+  if (auto error = truncate_log(run.events_fd_, dir / kEventsFile, checkpoint->events_bytes()))
     return Unexpected{*error};
-  if (auto error = truncate_log(run.stats_fd_, dir / kStatsFile, checkpoint.stats_bytes())) return Unexpected{*error};
+  if (auto error = truncate_log(run.stats_fd_, dir / kStatsFile, checkpoint->stats_bytes())) return Unexpected{*error};
   for (const char* sub : {kEnvsDir, kPoliciesDir}) {
     fs::create_directories(dir / sub, ec);
     if (ec) return Unexpected{(dir / sub).string() + ": cannot create directory: " + ec.message()};
+    remove_temporaries(dir / sub);
   }
+  remove_temporaries(dir);
 
-  // the pair files the checkpoint's save wrote
+  // the pair files, up to the checkpoint's state (a crash after the checkpoint's write may have left them behind)
+  if (auto error = run.write_pair_files(*state, 0, /*only_changed=*/true)) return Unexpected{*error};
   run.pairs_with_env_files_ = state->pairs.size();
   for (const Pair& pair : state->pairs)
     if (pair.active()) run.active_at_last_save_.insert(pair.id);
@@ -202,21 +232,28 @@ void RunDirectory::append(const IterationReport& report) {
     append_error_ = (dir_ / kStatsFile).string() + ": " + errno_text(err2);
 }
 
-std::optional<std::string> RunDirectory::write_pair_files(const RunState& state) {
+std::optional<std::string> RunDirectory::write_pair_files(const RunState& state, size_t first_new, bool only_changed) {
   fs::path current;  // the file being written, for an exception's message
+  auto write = [&](const fs::path& path, const std::string& text) -> std::optional<std::string> {
+    current = path;
+    if (only_changed && same_content(path, text)) return std::nullopt;
+    return write_named(path, text);
+  };
   try {
-    for (size_t i = pairs_with_env_files_; i < state.pairs.size(); ++i) {
+    for (size_t i = first_new; i < state.pairs.size(); ++i) {
       const Pair& pair = state.pairs[i];
-      current = dir_ / kEnvsDir / pair_file(pair.id, ".env.json");
-      if (auto error = write_named(current, env_def_json_text(pair.env))) return error;
+      if (auto error = write(dir_ / kEnvsDir / pair_file(pair.id, ".env.json"), env_def_json_text(pair.env)))
+        return error;
     }
     for (const Pair& pair : state.pairs) {
-      if (!pair.active() && !active_at_last_save_.contains(pair.id)) continue;
-      current = dir_ / kPoliciesDir / pair_file(pair.id, ".json");
-      if (auto error = write_named(current, policy_json_text(pair.theta, pair.latest_score))) return error;
+      if (!only_changed && !pair.active() && !active_at_last_save_.contains(pair.id)) continue;
+      if (auto error =
+              write(dir_ / kPoliciesDir / pair_file(pair.id, ".json"), policy_json_text(pair.theta, pair.latest_score)))
+        return error;
       if (pair.best_theta.empty()) continue;  // no evaluation yet
-      current = dir_ / kPoliciesDir / pair_file(pair.id, ".best.json");
-      if (auto error = write_named(current, policy_json_text(pair.best_theta, pair.best_score))) return error;
+      if (auto error = write(dir_ / kPoliciesDir / pair_file(pair.id, ".best.json"),
+                             policy_json_text(pair.best_theta, pair.best_score)))
+        return error;
     }
   } catch (const std::bad_alloc&) {
     throw;
@@ -240,21 +277,17 @@ std::optional<std::string> RunDirectory::save(const RunState& state) {
     sizes[i] = *size;
   }
 
-  if (auto error = write_pair_files(state)) return error;
-
-  pb::Checkpoint checkpoint = to_checkpoint(state);
-  checkpoint.set_events_bytes(sizes[0]);
-  checkpoint.set_stats_bytes(sizes[1]);
-  std::string bytes;
-  if (!checkpoint.SerializeToString(&bytes))
-    return (dir_ / kCheckpointFile).string() + ": cannot serialise the checkpoint";
+  const std::string bytes = encode_checkpoint_file(checkpoint_with_logs(state, sizes[0], sizes[1]));
   if (auto error = write_named(dir_ / kCheckpointFile, bytes)) return error;
 
+  // then the pair files: a failure here leaves them behind the checkpoint, never ahead of it
+  const size_t first_new = pairs_with_env_files_;
+  std::optional<std::string> error = write_pair_files(state, first_new, /*only_changed=*/false);
   pairs_with_env_files_ = state.pairs.size();
   active_at_last_save_.clear();
   for (const Pair& pair : state.pairs)
     if (pair.active()) active_at_last_save_.insert(pair.id);
-  return std::nullopt;
+  return error;
 }
 
 std::optional<std::string> RunDirectory::write_config(const pb::RunConfig& config) {

@@ -1,7 +1,9 @@
 #pragma once
 // The files of one run, in one directory:
 //   config.textproto        the run's config (run_config_text), rewritten when a resume changes the limit
-//   checkpoint.pb           pb::Checkpoint, replaced atomically (temporary file, fsync, rename, fsync of the dir)
+//   run.lock                the owner's advisory lock (run_lock.h): one process per run directory
+//   checkpoint.pb           the state (checkpoint_file.h), replaced atomically (temporary file, fsync, rename,
+//                           fsync of the directory)
 //   events.jsonl            one JSON object per line: every event of every iteration
 //   pair_stats.csv          a header, then one row per ES step (PairStatsRow)
 //   envs/pair-<id>.env.json          each pair's environment, written once when the pair first appears
@@ -9,8 +11,11 @@
 //   policies/pair-<id>.best.json     its best θ with its best score        } active, and once after it retires
 // The checkpoint records the sizes of the two logs; resume truncates them back, so after a crash the logs hold
 // exactly the iterations the restored state has seen and a resumed run writes the same bytes as an
-// uninterrupted one. Errors come back as messages naming the file; nothing throws except std::bad_alloc.
-// Not thread-safe: one owner (the coordinator's main loop).
+// uninterrupted one. The pair files are written after the checkpoint, so they never run ahead of it (a failure
+// or crash between the two leaves them behind), and resume brings them up to the checkpoint's state.
+// Errors come back as messages naming the file; nothing throws except std::bad_alloc.
+// Not thread-safe: one owner (the coordinator's main loop), and one RunDirectory per directory across processes
+// (the lock).
 
 #include <cstdint>
 #include <filesystem>
@@ -23,6 +28,8 @@
 #include "poet.pb.h"
 #include "poet/iteration_report.h"
 #include "poet/run_state.h"
+#include "run/checkpoint_file.h"
+#include "run/run_lock.h"
 
 namespace poet {
 
@@ -33,9 +40,6 @@ inline constexpr char kStatsFile[] = "pair_stats.csv";
 inline constexpr char kEnvsDir[] = "envs";
 inline constexpr char kPoliciesDir[] = "policies";
 
-// A checkpoint larger than this is refused unread: a pair takes about 90 KB, so this is some ten thousand pairs.
-inline constexpr std::uintmax_t kMaxCheckpointBytes = std::uintmax_t{1} << 30;
-
 // The header line of pair_stats.csv, and one row (both with their newline). Doubles are written in the shortest
 // form that reads back to the same bits; an environment name with a comma, quote or newline is quoted.
 std::string pair_stats_header();
@@ -43,13 +47,16 @@ std::string pair_stats_row(const PairStatsRow& row);
 
 class RunDirectory {
  public:
-  // Makes dir (and its parents) and starts a run in it: config.textproto, empty logs (the stats header only),
-  // envs/ and policies/. Refuses a directory that already holds checkpoint.pb. The caller saves the initial
+  // Makes dir (and its parents), takes its lock and starts a run in it: config.textproto, empty logs (the stats
+  // header only), envs/ and policies/. Refuses a directory that another process owns or that already holds
+  // checkpoint.pb. The caller saves the initial
   // state next; until then the directory holds no run (a later create may start over in it).
   static Expected<RunDirectory> create(const std::filesystem::path& dir, const pb::RunConfig& config);
 
-  // Reads and checks checkpoint.pb (at most kMaxCheckpointBytes), restores the state and truncates the logs to
-  // the sizes the checkpoint records. A missing, corrupt or inconsistent run is an error, and nothing is changed.
+  // Takes the lock, reads and checks checkpoint.pb (read_checkpoint_file, from_checkpoint), restores the state,
+  // truncates the logs to the sizes the checkpoint records, removes temporary files an interrupted write left
+  // and rewrites the pair files that differ from the state's. A directory another process owns, or a missing,
+  // corrupt or inconsistent run is an error, and then nothing is changed.
   static Expected<std::pair<RunDirectory, RunState>> resume(const std::filesystem::path& dir);
 
   RunDirectory(RunDirectory&& other) noexcept;
@@ -62,8 +69,8 @@ class RunDirectory {
   // error is kept and returned by the next save(), which then writes no checkpoint: the last one stays valid.
   void append(const IterationReport& report);
 
-  // Makes the logs durable (fsync), writes the environment files of new pairs and the policy files, then the
-  // checkpoint of state with the logs' sizes. Returns an error message naming the file, or nothing.
+  // Makes the logs durable (fsync), writes the checkpoint of state with the logs' sizes, then the environment
+  // files of new pairs and the policy files. Returns an error message naming the file, or nothing.
   std::optional<std::string> save(const RunState& state);
 
   // Rewrites config.textproto (after a resume changed the iteration limit).
@@ -72,11 +79,14 @@ class RunDirectory {
   const std::filesystem::path& path() const { return dir_; }
 
  private:
-  RunDirectory(std::filesystem::path dir, int events_fd, int stats_fd);
+  RunDirectory(std::filesystem::path dir, RunLock lock);
   void close_logs();
-  std::optional<std::string> write_pair_files(const RunState& state);
+  // Writes the env files of pairs [first_new, n) and the policy files of active pairs and of those active at the
+  // last save; with only_changed, every pair's files, each written only when its content differs.
+  std::optional<std::string> write_pair_files(const RunState& state, size_t first_new, bool only_changed);
 
   std::filesystem::path dir_;
+  RunLock lock_;
   int events_fd_ = -1;  // opened O_APPEND
   int stats_fd_ = -1;
   std::optional<std::string> append_error_;  // the first failed append, sticky

@@ -15,25 +15,23 @@
 #include "envgen/named_courses.h"
 #include "policy/policy_file.h"
 #include "text_file.h"
+#include "tool_flags.h"
 
 int main(int argc, char** argv) {
   CLI::App app{"Evaluate a policy on courses over a range of terrain seeds"};
-  std::string policy_path, seeds = "0:49", lidar = "nearest", json_path;
+  std::string policy_path, seeds = "0:49", json_path;
   std::vector<std::string> courses, env_paths;
-  double push_scale = poet::walker::kDefaultPushScale;
-  int max_steps = poet::walker::kDefaultTimeLimit;
+  poet::WalkerFlags walker;
   int threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
   app.add_option("--policy", policy_path, "Policy file, JSON [[p0..p2803], score]")->required();
   app.add_option("--course", courses, "Named course (repeatable): flat, r1, r3, hard, hardcore-like");
   app.add_option("--env", env_paths, "Environment definition file (repeatable); its seed is replaced by the sweep's");
   app.add_option("--seeds", seeds, "Terrain seeds FIRST:LAST, inclusive (default 0:49)");
-  app.add_option("--push-scale", push_scale, "Initial push F ~ U[-s, s) N (0: none)")->check(CLI::Range(0.0, 1e4));
-  app.add_option("--lidar", lidar, "Lidar rule: nearest (default) or first (the reference's)")
-      ->check(CLI::IsMember({"nearest", "first"}));
-  app.add_option("--max-steps", max_steps, "Time limit in steps")->check(CLI::Range(1, 1'000'000));
+  poet::add_walker_flags(app, walker);
   app.add_option("--threads", threads, "Worker threads")->check(CLI::Range(1, 256));
   app.add_option("--json", json_path, "Also write the results as JSON to this file ('-' for stdout)");
-  CLI11_PARSE(app, argc, argv);
+  poet::add_fingerprint_flag(app);
+  if (auto code = poet::parse_command_line(app, argc, argv)) return *code;
 
   unsigned first = 0, last = 0;
   char tail = 0;
@@ -67,7 +65,7 @@ int main(int argc, char** argv) {
   if (targets.empty()) targets.emplace_back("flat", *poet::named_course("flat"));
 
   const poet::Mlp mlp(policy->params);
-  const poet::WalkerOptions options{push_scale, lidar == "first" ? poet::LidarRule::kFirst : poet::LidarRule::kNearest};
+  const poet::WalkerOptions options = walker.options();
   const bool json_to_stdout = json_path == "-";
   FILE* table = json_to_stdout ? stderr : stdout;
   std::fprintf(table, "%-16s %6s %9s %9s %9s %8s %5s %9s %10s\n", "course", "seeds", "mean", "min", "max", "finished",
@@ -75,7 +73,7 @@ int main(int argc, char** argv) {
   nlohmann::json results = nlohmann::json::array();
   for (const auto& [label, encoding] : targets) {
     const poet::CourseSweep s =
-        poet::sweep_course(mlp, label, encoding, first, int(last - first + 1), options, max_steps, threads);
+        poet::sweep_course(mlp, label, encoding, first, int(last - first + 1), options, walker.max_steps, threads);
     std::fprintf(table, "%-16s %6zu %9.2f %9.2f %9.2f %8d %5d %9d %10.1f\n", label.c_str(), s.episodes.size(),
                  s.mean_return(), s.min_return(), s.max_return(), s.finished(), s.fell(), s.timed_out(),
                  s.mean_steps());
@@ -84,9 +82,9 @@ int main(int argc, char** argv) {
 
   if (!json_path.empty()) {
     const nlohmann::json doc = {{"policy", policy_path},
-                                {"push_scale", push_scale},
-                                {"lidar", lidar},
-                                {"max_steps", max_steps},
+                                {"push_scale", walker.push_scale},
+                                {"lidar", walker.lidar},
+                                {"max_steps", walker.max_steps},
                                 {"courses", results}};
     if (json_to_stdout) {
       std::cout << doc.dump(2) << "\n";

@@ -12,7 +12,7 @@
 #include "poet/checkpoint.h"
 #include "poet/lineage.h"
 #include "run/run_directory.h"
-#include "text_file.h"
+#include "tool_flags.h"
 
 int main(int argc, char** argv) {
   using namespace poet;
@@ -23,17 +23,17 @@ int main(int argc, char** argv) {
   app.add_option("--run-dir", run_dir, "Run directory")->required();
   app.add_option("--pair", pair_id, "Pair id")->required();
   app.add_flag("--direct-path-config", emit_config, "Print a DIRECT_PATH run config for this pair's environment");
-  CLI11_PARSE(app, argc, argv);
+  add_fingerprint_flag(app);
+  if (auto code = parse_command_line(app, argc, argv)) return *code;
 
-  // read the checkpoint without touching the run's files (resume would truncate its logs)
+  // read the checkpoint without touching the run's files (resume would truncate its logs, and take the lock)
   const std::string path = run_dir + "/" + std::string(kCheckpointFile);
-  Expected<std::string> bytes = read_text_file(path, kMaxCheckpointBytes);
-  pb::Checkpoint checkpoint;
-  if (!bytes || !checkpoint.ParseFromString(*bytes)) {
-    std::cerr << path << ": " << (bytes ? std::string("not a checkpoint") : bytes.error()) << "\n";
+  const Expected<pb::Checkpoint> checkpoint = read_checkpoint_file(path);
+  if (!checkpoint) {
+    std::cerr << checkpoint.error() << "\n";
     return 2;
   }
-  Expected<RunState> state = from_checkpoint(checkpoint);
+  Expected<RunState> state = from_checkpoint(*checkpoint);
   if (!state) {
     std::cerr << path << ": " << state.error() << "\n";
     return 2;

@@ -1,5 +1,5 @@
-// poet-rollout: one episode of a policy on one course. Prints the walk (hull position every few steps), the
-// return, the steps and the outcome, and draws the course with the walker's path.
+// poet-rollout: one episode of a policy on one course. Prints the policy it runs, the walk (hull position every few
+// steps), the return, the steps and the outcome, and draws the course with the walker's path.
 
 #include <CLI/CLI.hpp>
 #include <cstdio>
@@ -13,6 +13,7 @@
 #include "policy/policy_file.h"
 #include "rng.h"
 #include "rollout.h"
+#include "tool_flags.h"
 
 namespace {
 
@@ -27,25 +28,23 @@ std::string outcome(const poet::RolloutResult& r) {
 
 int main(int argc, char** argv) {
   CLI::App app{"Run one walker episode and draw it"};
-  std::string policy_path, env_path, course = "flat", picture = "rollout.svg", lidar = "nearest";
+  std::string policy_path, env_path, course = "flat", picture = "rollout.svg";
   std::optional<uint64_t> random_seed;
   std::optional<uint32_t> seed;
-  double push_scale = poet::walker::kDefaultPushScale;
-  int max_steps = poet::walker::kDefaultTimeLimit, print_every = 100;
+  poet::WalkerFlags walker;
+  int print_every = 100;
   auto* policy_opt = app.add_option("--policy", policy_path, "Policy file, JSON [[p0..p2803], score]");
   app.add_option("--random", random_seed, "Use random initial parameters θ ~ N(0, 0.1²) drawn with this seed")
       ->excludes(policy_opt);
   auto* env_opt = app.add_option("--env", env_path, "Environment definition, JSON {\"config\": ..., \"seed\": s}");
   app.add_option("--course", course, "Named course: flat, r1, r3, hard, hardcore-like")->excludes(env_opt);
   app.add_option("--seed", seed, "Terrain seed (overrides the env file's)")->check(CLI::Range(0u, 999999u));
-  app.add_option("--push-scale", push_scale, "Initial push F ~ U[-s, s) N (0: none)")->check(CLI::Range(0.0, 1e4));
-  app.add_option("--lidar", lidar, "Lidar rule: nearest (default) or first (the reference's)")
-      ->check(CLI::IsMember({"nearest", "first"}));
-  app.add_option("--max-steps", max_steps, "Time limit in steps")->check(CLI::Range(1, 1'000'000));
+  poet::add_walker_flags(app, walker);
   app.add_option("--print-every", print_every, "Print the walker's position every N steps (0: never)")
       ->check(CLI::Range(0, 1'000'000));
   app.add_option("--picture", picture, "Picture to write: .svg or .png (empty: none)");
-  CLI11_PARSE(app, argc, argv);
+  poet::add_fingerprint_flag(app);
+  if (auto code = poet::parse_command_line(app, argc, argv)) return *code;
 
   // the course
   poet::EnvDef env;
@@ -66,7 +65,7 @@ int main(int argc, char** argv) {
   }
   if (seed) env.seed = *seed;
 
-  // the policy
+  // the policy, named on stdout so that a walk is never taken for a trained walker's by mistake
   std::vector<double> params;
   if (!policy_path.empty()) {
     auto loaded = poet::load_policy(policy_path);
@@ -75,15 +74,18 @@ int main(int argc, char** argv) {
       return 2;
     }
     params = loaded->params;
+    std::printf("policy: %s\n", policy_path.c_str());
   } else {
-    poet::RandomStream rng(poet::stream_key(random_seed.value_or(0), "init"));
+    const uint64_t draw_seed = random_seed.value_or(0);
+    poet::RandomStream rng(poet::stream_key(draw_seed, "init"));
     params = poet::random_params(rng);
+    std::printf("policy: random θ ~ N(0, 0.1²) drawn with seed %llu (%s)\n", static_cast<unsigned long long>(draw_seed),
+                random_seed ? "--random" : "no --policy given");
   }
 
   const poet::Terrain terrain = poet::Terrain::generate(env);
-  const poet::WalkerOptions options{push_scale, lidar == "first" ? poet::LidarRule::kFirst : poet::LidarRule::kNearest};
-  const poet::RolloutResult r =
-      poet::rollout(poet::Mlp(params), terrain, options, {.max_steps = max_steps, .record_trajectory = true});
+  const poet::RolloutResult r = poet::rollout(poet::Mlp(params), terrain, walker.options(),
+                                              {.max_steps = walker.max_steps, .record_trajectory = true});
 
   std::printf("course %s, seed %u: %zu obstacles\n", poet::reference_name(env.encoding).c_str(), env.seed,
               terrain.features().size());

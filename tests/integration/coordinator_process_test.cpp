@@ -1,9 +1,13 @@
 // Tests the poet-coordinator process end to end: a run interrupted by a limit, by SIGINT or by SIGKILL and then
-// resumed writes byte for byte the files of an uninterrupted run; bad input exits with a clear error.
+// resumed writes byte for byte the files of an uninterrupted run; a stop abandons the iteration in flight at once;
+// one process owns a run directory; bad input (configs, corrupt checkpoints) exits with a clear error, and a
+// diverging run stops saying that a resume would repeat it. Tests that interrupt a run assert that the signal
+// arrived before the run's end.
 
 #include <fcntl.h>
 #include <gtest/gtest.h>
 #include <spawn.h>
+#include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -15,6 +19,8 @@
 #include <string>
 #include <thread>
 #include <vector>
+
+#include "run/checkpoint_file.h"
 
 extern char** environ;
 
@@ -54,7 +60,18 @@ bool contains(const std::string& text, std::string_view part) { return text.find
 struct Outcome {
   int code = -1;  // the exit status, or 128 + signal
   std::string err;
+  double seconds = 0;  // from the start of the wait
 };
+
+// The iteration a run directory's checkpoint resumes at, or -1 when there is no readable checkpoint.
+int checkpoint_iteration(const fs::path& dir) {
+  if (!fs::exists(dir / "checkpoint.pb")) return -1;
+  const auto checkpoint = poet::read_checkpoint_file(dir / "checkpoint.pb");
+  return checkpoint ? checkpoint->next_iteration() : -1;
+}
+
+// Long enough that no test run reaches it: a run given this limit is still running when it is signalled.
+constexpr char kEndless[] = "100000";
 
 int exit_code(int status) { return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status); }
 
@@ -79,8 +96,10 @@ class CoordinatorProcessTest : public ::testing::Test {
     fs::remove_all(root_);
   }
 
-  // Starts poet-coordinator with args; its stdout and stderr go to files named after `name`.
-  pid_t spawn(const std::vector<std::string>& args, const std::string& name) {
+  // Starts poet-coordinator with args; its stdout and stderr go to files named after `name`. With blocked_signal,
+  // the child starts with that signal blocked (as a parent's mask is inherited), so one sent at once is pending
+  // when the coordinator starts.
+  pid_t spawn(const std::vector<std::string>& args, const std::string& name, int blocked_signal = 0) {
     std::vector<std::string> all = {POET_COORDINATOR_BIN};
     all.insert(all.end(), args.begin(), args.end());
     std::vector<char*> argv;
@@ -92,9 +111,19 @@ class CoordinatorProcessTest : public ::testing::Test {
     posix_spawn_file_actions_init(&actions);
     posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, out.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
     posix_spawn_file_actions_addopen(&actions, STDERR_FILENO, err.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    posix_spawnattr_t attributes;
+    posix_spawnattr_init(&attributes);
+    if (blocked_signal != 0) {
+      sigset_t mask;
+      sigemptyset(&mask);
+      sigaddset(&mask, blocked_signal);
+      posix_spawnattr_setsigmask(&attributes, &mask);
+      posix_spawnattr_setflags(&attributes, POSIX_SPAWN_SETSIGMASK);
+    }
     pid_t pid = -1;
-    const int rc = posix_spawn(&pid, argv[0], &actions, nullptr, argv.data(), environ);
+    const int rc = posix_spawn(&pid, argv[0], &actions, &attributes, argv.data(), environ);
     posix_spawn_file_actions_destroy(&actions);
+    posix_spawnattr_destroy(&attributes);
     EXPECT_EQ(rc, 0) << "posix_spawn " << argv[0];
     if (rc == 0) children_.push_back(pid);
     return rc == 0 ? pid : -1;
@@ -103,7 +132,8 @@ class CoordinatorProcessTest : public ::testing::Test {
   // Waits for a child (at most a few minutes: a hung child fails the test rather than hanging it).
   Outcome wait(pid_t pid, const std::string& name) {
     Outcome outcome;
-    const auto deadline = std::chrono::steady_clock::now() + 300s;
+    const auto started = std::chrono::steady_clock::now();
+    const auto deadline = started + 300s;
     int status = 0;
     while (true) {
       const pid_t done = ::waitpid(pid, &status, WNOHANG);
@@ -117,6 +147,7 @@ class CoordinatorProcessTest : public ::testing::Test {
     std::erase(children_, pid);
     outcome.code = exit_code(status);
     outcome.err = read(root_ / (name + ".err"));
+    outcome.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
     return outcome;
   }
 
@@ -144,23 +175,34 @@ class CoordinatorProcessTest : public ::testing::Test {
     }
   }
 
-  // Starts a run in dir, and once it has checkpointed and logged an event, sends it `signal`.
-  Outcome interrupt_run(const fs::path& dir, int signal, const std::string& name) {
+  // Starts a run in dir with a limit it cannot reach; once it has checkpointed iteration `after`, returns its pid
+  // (or -1, failing the test, when it ended or never got there).
+  pid_t start_endless_run(const fs::path& dir, int after, const std::string& name, const fs::path& config) {
     const pid_t pid = spawn(
-        {"--config", config_.string(), "--run-dir", dir.string(), "--threads", "2", "--quiet", "--iterations", "6"},
+        {"--config", config.string(), "--run-dir", dir.string(), "--threads", "2", "--quiet", "--iterations", kEndless},
         name);
-    if (pid < 0) return {};
+    if (pid < 0) return -1;
     const auto deadline = std::chrono::steady_clock::now() + 300s;
     while (std::chrono::steady_clock::now() < deadline) {
-      if (fs::exists(dir / "checkpoint.pb") && contains(read(dir / "events.jsonl"), "\n")) break;
+      if (checkpoint_iteration(dir) >= after) return pid;
       int status = 0;
-      if (::waitpid(pid, &status, WNOHANG) == pid) {  // finished before the signal: nothing to interrupt
+      if (::waitpid(pid, &status, WNOHANG) == pid) {
         std::erase(children_, pid);
-        return {exit_code(status), read(root_ / (name + ".err"))};
+        ADD_FAILURE() << name << " ended (" << exit_code(status) << ") before the signal:\n"
+                      << read(root_ / (name + ".err"));
+        return -1;
       }
       std::this_thread::sleep_for(1ms);
     }
-    ::kill(pid, signal);
+    ADD_FAILURE() << name << ": no checkpoint of iteration " << after << " in time";
+    return -1;
+  }
+
+  // Sends `signal` to a run in the middle of its course and waits for it; the run cannot have finished.
+  Outcome interrupt_run(const fs::path& dir, int signal, const std::string& name) {
+    const pid_t pid = start_endless_run(dir, 2, name, config_);
+    if (pid < 0) return {};
+    EXPECT_EQ(::kill(pid, signal), 0);
     return wait(pid, name);
   }
 
@@ -181,28 +223,126 @@ TEST_F(CoordinatorProcessTest, ExtendedLimitContinuesExactly) {
   EXPECT_EQ(read(a / "config.textproto"), read(b / "config.textproto"));
 }
 
-TEST_F(CoordinatorProcessTest, SigintCheckpointsAndResumesExactly) {
+TEST_F(CoordinatorProcessTest, SigintStopsAndTheResumeRepeatsTheIterationExactly) {
   const fs::path a = reference_run();
   const fs::path c = root_ / "C";
   const Outcome interrupted = interrupt_run(c, SIGINT, "C1");
-  ASSERT_TRUE(interrupted.code == 130 || interrupted.code == 0) << interrupted.code << "\n" << interrupted.err;
-  if (interrupted.code == 130) {
-    EXPECT_TRUE(contains(interrupted.err, "interrupted at iteration")) << interrupted.err;
-    EXPECT_TRUE(contains(interrupted.err, "--run-dir " + c.string() + " --resume")) << interrupted.err;
-  }
-  const Outcome resumed = run({"--run-dir", c.string(), "--resume", "--threads", "2", "--quiet"}, "C2");
+  ASSERT_EQ(interrupted.code, 130) << interrupted.err;
+  EXPECT_TRUE(contains(interrupted.err, "--run-dir " + c.string() + " --resume")) << interrupted.err;
+  const int stopped_at = checkpoint_iteration(c);
+  ASSERT_GE(stopped_at, 2);
+  ASSERT_LT(stopped_at, 6) << "the signal came after the reference run's end: nothing left to compare";
+  const Outcome resumed =
+      run({"--run-dir", c.string(), "--resume", "--threads", "2", "--quiet", "--iterations", "6"}, "C2");
   ASSERT_EQ(resumed.code, 0) << resumed.err;
   expect_same_run_files(a, c);
 }
 
-TEST_F(CoordinatorProcessTest, SigkillLosesNothingOfTheCheckpoint) {
+TEST_F(CoordinatorProcessTest, SigkillLosesNothingOfTheCheckpointAndLeavesNoLockBehind) {
   const fs::path a = reference_run();
   const fs::path c = root_ / "C";
   const Outcome killed = interrupt_run(c, SIGKILL, "C1");
-  ASSERT_TRUE(killed.code == 128 + SIGKILL || killed.code == 0) << killed.code << "\n" << killed.err;
-  const Outcome resumed = run({"--run-dir", c.string(), "--resume", "--threads", "1", "--quiet"}, "C2");
+  ASSERT_EQ(killed.code, 128 + SIGKILL) << killed.err;
+  const int killed_at = checkpoint_iteration(c);
+  ASSERT_GE(killed_at, 2);
+  ASSERT_LT(killed_at, 6) << "the signal came after the reference run's end: nothing left to compare";
+  ASSERT_TRUE(fs::exists(c / "run.lock"));  // the dead process's lock file stays, and must not block
+  const Outcome resumed =
+      run({"--run-dir", c.string(), "--resume", "--threads", "1", "--quiet", "--iterations", "6"}, "C2");
   ASSERT_EQ(resumed.code, 0) << resumed.err;
   expect_same_run_files(a, c);
+}
+
+// The iteration in flight is abandoned at once, not finished: iteration 0 of this run takes some 25 s on two
+// threads (4096 episodes of about 120 steps; the zero policy falls after about 120 steps).
+TEST_F(CoordinatorProcessTest, SigtermAbandonsALongIterationAtOnce) {
+  const fs::path slow = root_ / "slow.textproto";
+  std::ofstream(slow)
+      << "mode: POET\nseed: 3\ninit_zero: true\nes { perturbations: 2048 init_sigma: 0.0001 sigma_floor: 0 }\n";
+  const fs::path dir = root_ / "S";
+  const pid_t pid = start_endless_run(dir, 0, "S", slow);
+  ASSERT_GT(pid, 0);
+  std::this_thread::sleep_for(1500ms);  // well into iteration 0
+  ASSERT_EQ(::kill(pid, SIGTERM), 0);
+  const Outcome stopped = wait(pid, "S");
+  EXPECT_EQ(stopped.code, 130) << stopped.err;
+  EXPECT_LT(stopped.seconds, 5.0) << "the stop waited for the iteration";
+  EXPECT_TRUE(contains(stopped.err, "stopped during iteration 0")) << stopped.err;
+  EXPECT_TRUE(contains(stopped.err, "checkpoint at iteration 0")) << stopped.err;
+  EXPECT_EQ(checkpoint_iteration(dir), 0);
+  EXPECT_EQ(read(dir / "events.jsonl"), "");
+}
+
+// A signal while the process starts (here pending before its first instruction) ends it at once with 130.
+TEST_F(CoordinatorProcessTest, ASignalDuringStartUpExitsAtOnce) {
+  const pid_t pid =
+      spawn({"--config", config_.string(), "--run-dir", (root_ / "U").string(), "--quiet", "--iterations", kEndless},
+            "U", SIGTERM);
+  ASSERT_GT(pid, 0);
+  ASSERT_EQ(::kill(pid, SIGTERM), 0);
+  const Outcome outcome = wait(pid, "U");
+  EXPECT_EQ(outcome.code, 130) << outcome.err;
+  EXPECT_LT(outcome.seconds, 5.0);
+  EXPECT_LE(checkpoint_iteration(root_ / "U"), 0);  // no iteration ran
+}
+
+TEST_F(CoordinatorProcessTest, ASecondCoordinatorOnTheSameDirectoryIsRefused) {
+  const fs::path a = reference_run();
+  const fs::path dir = root_ / "L";
+  const pid_t owner = start_endless_run(dir, 1, "L1", config_);
+  ASSERT_GT(owner, 0);
+  const std::string holder = "is in use by another process (pid " + std::to_string(owner) + ")";
+  const Outcome second = run({"--config", config_.string(), "--run-dir", dir.string(), "--quiet"}, "L2");
+  EXPECT_EQ(second.code, 2) << second.err;
+  EXPECT_TRUE(contains(second.err, holder)) << second.err;
+  const Outcome resume = run({"--run-dir", dir.string(), "--resume", "--quiet"}, "L3");
+  EXPECT_EQ(resume.code, 2) << resume.err;
+  EXPECT_TRUE(contains(resume.err, holder)) << resume.err;
+  ASSERT_EQ(::kill(owner, SIGINT), 0);
+  ASSERT_EQ(wait(owner, "L1").code, 130);
+  ASSERT_LT(checkpoint_iteration(dir), 6);
+  // the refused processes changed nothing: the owner's run continues into the reference run's files
+  const Outcome resumed = run({"--run-dir", dir.string(), "--resume", "--quiet", "--iterations", "6"}, "L4");
+  ASSERT_EQ(resumed.code, 0) << resumed.err;
+  expect_same_run_files(a, dir);
+}
+
+TEST_F(CoordinatorProcessTest, CorruptCheckpointsAreRefusedNamingTheFile) {
+  const fs::path a = reference_run();
+  const fs::path checkpoint = a / "checkpoint.pb";
+  const std::string good = read(checkpoint);
+  ASSERT_GT(good.size(), 1000u);
+  for (int k = 0; k < 12; ++k) {
+    std::string bad = good;
+    const size_t at = k < 4 ? static_cast<size_t>(8 + 4 * k) : good.size() * static_cast<size_t>(k) / 12;
+    bad[at] = static_cast<char>(bad[at] ^ 0x20);
+    std::ofstream(checkpoint, std::ios::binary | std::ios::trunc) << bad;
+    const Outcome outcome = run({"--run-dir", a.string(), "--resume", "--quiet"}, "R" + std::to_string(k));
+    EXPECT_EQ(outcome.code, 2) << "byte " << at << ": " << outcome.err;
+    EXPECT_TRUE(contains(outcome.err, checkpoint.string() + ": ")) << outcome.err;
+  }
+  std::ofstream(checkpoint, std::ios::binary | std::ios::trunc) << good;
+  const Outcome intact = run({"--run-dir", a.string(), "--resume", "--quiet"}, "R");
+  EXPECT_EQ(intact.code, 0) << intact.err;
+}
+
+// σ decays to 1e-301 after the first step, so the second step's gradient (divided by σ) overflows Adam's second
+// moment: the run stops there, and a resume stops at the same place with the same message.
+TEST_F(CoordinatorProcessTest, ADivergingRunStopsAndSaysResumingWillRepeatIt) {
+  const fs::path diverging = root_ / "diverging.textproto";
+  std::ofstream(diverging) << "mode: POET\nseed: 7\niterations: 6\nes { perturbations: 4 sigma_decay: 1e-300 "
+                              "sigma_floor: 0 }\nwalker { max_steps: 120 }\n";
+  const fs::path dir = root_ / "V";
+  const Outcome first = run({"--config", diverging.string(), "--run-dir", dir.string(), "--quiet"}, "V1");
+  EXPECT_EQ(first.code, 1) << first.err;
+  EXPECT_TRUE(contains(first.err, "the run diverged at iteration 1: pair 0")) << first.err;
+  EXPECT_TRUE(contains(first.err, "Adam's second moment")) << first.err;
+  EXPECT_TRUE(contains(first.err, "resuming from the last checkpoint will repeat this")) << first.err;
+  EXPECT_FALSE(contains(first.err, "continue with --resume")) << first.err;
+  EXPECT_EQ(checkpoint_iteration(dir), 1);
+  const Outcome again = run({"--run-dir", dir.string(), "--resume", "--quiet"}, "V2");
+  EXPECT_EQ(again.code, 1) << again.err;
+  EXPECT_TRUE(contains(again.err, "the run diverged at iteration 1: pair 0")) << again.err;
 }
 
 TEST_F(CoordinatorProcessTest, BadConfigNamesTheField) {
@@ -218,6 +358,33 @@ TEST_F(CoordinatorProcessTest, BadConfigNamesTheField) {
   const Outcome invalid = run({"--config", bad.string(), "--run-dir", (root_ / "D").string(), "--quiet"}, "D2");
   EXPECT_EQ(invalid.code, 2);
   EXPECT_TRUE(contains(invalid.err, "es.init_sigma")) << invalid.err;
+}
+
+TEST_F(CoordinatorProcessTest, HostileConfigsAreRefusedAtOnce) {
+  const fs::path fifo = root_ / "fifo.textproto";
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  const Outcome from_fifo = run({"--config", fifo.string(), "--run-dir", (root_ / "F").string(), "--quiet"}, "F1");
+  EXPECT_EQ(from_fifo.code, 2) << from_fifo.err;
+  EXPECT_TRUE(contains(from_fifo.err, "not a regular file")) << from_fifo.err;
+
+  const fs::path bad = root_ / "bad.textproto";
+  const std::pair<const char*, const char*> cases[] = {
+      {"", "mode:"},
+      {"# only a comment\n", "mode:"},
+      {"es { l2_coeff: 1e300 }\n", "es.l2_coeff"},
+      {"es { init_lr: 1e300 }\n", "es.init_lr"},
+      {"es { init_sigma: 1e308 }\n", "es.init_sigma"},
+      {"poet { max_children: 2000000000 }\n", "poet.max_children"},
+  };
+  int k = 0;
+  for (const auto& [text, field] : cases) {
+    std::ofstream(bad, std::ios::trunc) << text;
+    const std::string name = "F" + std::to_string(2 + k++);
+    const Outcome outcome = run({"--config", bad.string(), "--run-dir", (root_ / name).string(), "--quiet"}, name);
+    EXPECT_EQ(outcome.code, 2) << text << outcome.err;
+    EXPECT_TRUE(contains(outcome.err, field)) << text << outcome.err;
+    EXPECT_FALSE(fs::exists(root_ / name / "checkpoint.pb")) << text;
+  }
 }
 
 TEST_F(CoordinatorProcessTest, ResumeWithoutARunIsAClearError) {
@@ -264,8 +431,8 @@ TEST_F(CoordinatorProcessTest, QuickPresetAdmitsChildrenAndAcceptsTransfers) {
 TEST_F(CoordinatorProcessTest, ControlPresetsRun) {
   for (const std::string name : {"es_alone", "direct_path", "no_transfer"}) {
     const fs::path dir = root_ / name;
-    const Outcome outcome = run({"--config", preset(name + ".textproto"), "--run-dir", dir.string(), "--threads",
-                                 "2", "--quiet", "--iterations", "2"},
+    const Outcome outcome = run({"--config", preset(name + ".textproto"), "--run-dir", dir.string(), "--threads", "2",
+                                 "--quiet", "--iterations", "2"},
                                 name);
     EXPECT_EQ(outcome.code, 0) << name << ": " << outcome.err;
     EXPECT_TRUE(contains(read(dir / "pair_stats.csv"), "\n1,0,")) << name;  // iteration 1 of pair 0 logged

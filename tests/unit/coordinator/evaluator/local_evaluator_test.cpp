@@ -1,9 +1,13 @@
-// LocalEvaluator: results in task order, equal to running each task alone, whatever the thread count; and
-// run_task's perturbed episode is the plain rollout of θ + sign·σ·ε.
+// LocalEvaluator: results in task order, equal to running each task alone, whatever the thread count; a stop
+// request abandons a batch, cutting its episodes short; and run_task's perturbed episode is the plain rollout of
+// θ + sign·σ·ε.
 
 #include "evaluator/local_evaluator.h"
 
 #include <gtest/gtest.h>
+
+#include <chrono>
+#include <thread>
 
 #include "envgen/named_courses.h"
 #include "es/perturbation.h"
@@ -40,6 +44,38 @@ TEST(LocalEvaluator, ResultsComeInTaskOrderWhateverTheThreadCount) {
     EXPECT_EQ(two[i].steps, alone.steps) << i;
   }
   EXPECT_NE(one[1].total_reward, one[2].total_reward);
+}
+
+TEST(LocalEvaluator, AStopRequestAbandonsTheBatch) {
+  std::stop_source stop;
+  stop.request_stop();
+  EXPECT_THROW(LocalEvaluator(2, stop.get_token()).evaluate(tasks()), EvaluationStopped);
+
+  // requested while episodes run: a batch of 200 episodes (well over the 50 ms the stop waits on two threads) is
+  // abandoned rather than finished
+  std::vector<RolloutTask> many;
+  for (int i = 0; i < 200; ++i) {
+    RolloutTask t = tasks()[0];
+    t.env = EnvDef{*named_course("flat"), static_cast<uint32_t>(i)};
+    t.max_steps = 2000;
+    many.push_back(t);
+  }
+  std::stop_source later;
+  std::jthread stopper([&] {
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    later.request_stop();
+  });
+  EXPECT_THROW(LocalEvaluator(2, later.get_token()).evaluate(many), EvaluationStopped);
+}
+
+TEST(Rollout, AStopRequestCutsTheEpisodeShort) {
+  const RolloutTask task = tasks()[0];
+  std::stop_source stop;
+  stop.request_stop();
+  const RolloutResult r = run_task(task, stop.get_token());
+  EXPECT_TRUE(r.stopped);
+  EXPECT_EQ(r.steps, 0);
+  EXPECT_FALSE(run_task(task).stopped);
 }
 
 TEST(RunTask, APerturbedTaskIsTheRolloutOfThePerturbedParameters) {

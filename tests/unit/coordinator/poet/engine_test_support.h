@@ -29,6 +29,26 @@ inline pb::RunConfig tiny_config() {
   return c;
 }
 
+// Real rollouts, short: 3 perturbations, 100-step episodes, 7 iterations; reproduction and transfer every other
+// iteration with criteria every child passes, at most 3 active pairs, so every part of the loop runs.
+inline pb::RunConfig small_real_run() {
+  pb::RunConfig c;
+  c.set_seed(5);
+  c.set_iterations(7);
+  c.mutable_es()->set_perturbations(3);
+  c.mutable_walker()->set_max_steps(100);
+  pb::PoetConfig* p = c.mutable_poet();
+  p->set_mutation_interval(2);
+  p->set_transfer_interval(2);
+  p->set_repro_threshold(-1000);
+  p->set_mc_low(-1000);
+  p->set_mc_high(1000);
+  p->set_max_children(3);
+  p->set_max_admitted(1);
+  p->set_active_cap(3);
+  return c;
+}
+
 inline EnvDef rough(double roughness, uint32_t seed = 11) {
   EnvDef def{named_course("flat").value(), seed};
   def.encoding.roughness = roughness;

@@ -1,11 +1,15 @@
 // Tests coordinator/run/run_directory.cpp: the files a run writes and their contents, refusing to start over an
-// existing run, resume cutting the logs back to the last checkpoint, and damaged checkpoints giving errors.
+// existing run or to share a directory with another owner, resume cutting the logs back to the last checkpoint
+// and bringing the pair files up to it, pair files that never run ahead of the checkpoint, and damaged
+// checkpoints giving errors.
 
 #include "run/run_directory.h"
 
 #include <gtest/gtest.h>
+#include <sys/resource.h>
 #include <unistd.h>
 
+#include <csignal>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -39,6 +43,7 @@ pb::RunConfig small_config() {
   config.set_seed(7);
   config.set_iterations(6);
   config.mutable_es()->set_perturbations(4);
+  config.mutable_poet()->set_mutation_interval(1);
   return config;
 }
 
@@ -59,12 +64,24 @@ Pair make_pair(int id) {
   return p;
 }
 
+// The first pair and a child admitted at iteration 1: a state the engine could have written.
 RunState two_pair_state() {
   RunState state;
   state.config = small_config();
   state.pairs = {make_pair(0), make_pair(1)};
+  state.pairs[1].parent_id = 0;
+  state.pairs[1].created_iteration = 1;
+  state.pairs[1].best_iteration = 1;
   state.next_pair_id = 2;
+  state.next_iteration = 1;
+  state.counters.children_tried = state.counters.children_passed_mc = state.counters.children_admitted = 1;
   return state;
+}
+
+pb::Checkpoint read_checkpoint(const fs::path& path) {
+  Expected<pb::Checkpoint> checkpoint = read_checkpoint_file(path);
+  EXPECT_TRUE(checkpoint) << checkpoint.error();
+  return checkpoint ? *checkpoint : pb::Checkpoint();
 }
 
 // A report for iteration t with one event and one stats row per pair of the state.
@@ -135,8 +152,7 @@ TEST_F(RunDirectoryTest, CreateAndSaveWriteTheFiles) {
   EXPECT_EQ(config->SerializeAsString(), state.config.SerializeAsString());
 
   ASSERT_FALSE(dir->save(state));
-  pb::Checkpoint checkpoint;
-  ASSERT_TRUE(checkpoint.ParseFromString(read(dir_ / kCheckpointFile)));
+  pb::Checkpoint checkpoint = read_checkpoint(dir_ / kCheckpointFile);
   EXPECT_EQ(checkpoint.events_bytes(), 0);
   EXPECT_EQ(checkpoint.stats_bytes(), static_cast<int64_t>(pair_stats_header().size()));
   checkpoint.clear_events_bytes();
@@ -181,30 +197,29 @@ TEST_F(RunDirectoryTest, ResumeTruncatesTheLogsToTheLastCheckpoint) {
   {
     RunDirectory dir = create_and_save(state);
     dir.append(first);
-    state.next_iteration = 1;
+    state.next_iteration = 2;
     ASSERT_FALSE(dir.save(state));
     dir.append(second);  // a crash before the next checkpoint
-    state.next_iteration = 2;
+    state.next_iteration = 3;
   }
   ASSERT_EQ(read(dir_ / kEventsFile), events_text(first) + events_text(second));
 
   Expected<std::pair<RunDirectory, RunState>> resumed = RunDirectory::resume(dir_);
   ASSERT_TRUE(resumed) << resumed.error();
   auto& [dir, restored] = *resumed;
-  EXPECT_EQ(restored.next_iteration, 1);
+  EXPECT_EQ(restored.next_iteration, 2);
   EXPECT_EQ(read(dir_ / kEventsFile), events_text(first));
   EXPECT_EQ(read(dir_ / kStatsFile), pair_stats_header() + stats_text(first));
 
   // the resumed run writes the iteration again, and the logs read as if nothing had happened
   dir.append(second);
-  restored.next_iteration = 2;
+  restored.next_iteration = 3;
   ASSERT_FALSE(dir.save(restored));
   EXPECT_EQ(read(dir_ / kEventsFile), events_text(first) + events_text(second));
   EXPECT_EQ(read(dir_ / kStatsFile), pair_stats_header() + stats_text(first) + stats_text(second));
-  pb::Checkpoint checkpoint;
-  ASSERT_TRUE(checkpoint.ParseFromString(read(dir_ / kCheckpointFile)));
+  const pb::Checkpoint checkpoint = read_checkpoint(dir_ / kCheckpointFile);
   EXPECT_EQ(checkpoint.events_bytes(), static_cast<int64_t>(read(dir_ / kEventsFile).size()));
-  EXPECT_EQ(checkpoint.next_iteration(), 2);
+  EXPECT_EQ(checkpoint.next_iteration(), 3);
 }
 
 TEST_F(RunDirectoryTest, StatsRowsRoundTripAndQuote) {
@@ -228,7 +243,7 @@ TEST_F(RunDirectoryTest, RetiredPairPoliciesAreWrittenOnceMore) {
   RunDirectory dir = create_and_save(state);
   const fs::path policy = dir_ / kPoliciesDir / "pair-1.json";
 
-  state.pairs[1].retired_iteration = 0;
+  state.pairs[1].retired_iteration = 1;
   state.pairs[1].latest_score = 5;
   ASSERT_FALSE(dir.save(state));
   EXPECT_EQ(read(policy), policy_json_text(state.pairs[1].theta, 5.0));
@@ -242,6 +257,8 @@ TEST_F(RunDirectoryTest, NewPairsGetTheirEnvironmentFile) {
   RunState state = two_pair_state();
   RunDirectory dir = create_and_save(state);
   state.pairs.push_back(make_pair(2));
+  state.pairs[2].parent_id = 0;
+  state.pairs[2].created_iteration = 1;
   state.next_pair_id = 3;
   ASSERT_FALSE(dir.save(state));
   EXPECT_EQ(read(dir_ / kEnvsDir / "pair-2.env.json"), env_def_json_text(state.pairs[2].env));
@@ -260,7 +277,7 @@ TEST_F(RunDirectoryTest, DamagedRunsGiveErrorsNotCrashes) {
     return resumed.error();
   };
 
-  write(checkpoint, "this is not a checkpoint \xff\xff\xff\xff\xff");
+  write(checkpoint, "this is not a checkpoint at all \xff\xff\xff\xff\xff");
   std::string error = resume_error();
   EXPECT_TRUE(contains(error, checkpoint.string())) << error;
   EXPECT_TRUE(contains(error, "corrupt")) << error;
@@ -273,18 +290,24 @@ TEST_F(RunDirectoryTest, DamagedRunsGiveErrorsNotCrashes) {
   error = resume_error();
   EXPECT_TRUE(contains(error, checkpoint.string())) << error;
 
+  // a byte flipped inside the body
+  std::string flipped = good;
+  flipped[flipped.size() / 2] ^= 0x10;
+  write(checkpoint, flipped);
+  error = resume_error();
+  EXPECT_TRUE(contains(error, checkpoint.string() + ": checksum mismatch")) << error;
+
   // a valid message whose state is not: a pair with a short θ
-  pb::Checkpoint message;
-  ASSERT_TRUE(message.ParseFromString(good));
+  pb::Checkpoint message = *decode_checkpoint_file(good);
   message.mutable_pairs(1)->mutable_theta()->Truncate(3);
-  write(checkpoint, message.SerializeAsString());
+  write(checkpoint, encode_checkpoint_file(message));
   error = resume_error();
   EXPECT_TRUE(contains(error, "pairs[1].theta: 3 values, expected 2804")) << error;
 
   // a log that lost lines the checkpoint counts
-  message.ParseFromString(good);
+  message = *decode_checkpoint_file(good);
   message.set_stats_bytes(message.stats_bytes() + 10);
-  write(checkpoint, message.SerializeAsString());
+  write(checkpoint, encode_checkpoint_file(message));
   error = resume_error();
   EXPECT_TRUE(contains(error, kStatsFile)) << error;
   EXPECT_EQ(read(dir_ / kStatsFile), pair_stats_header());
@@ -296,6 +319,97 @@ TEST_F(RunDirectoryTest, DamagedRunsGiveErrorsNotCrashes) {
   const auto missing = RunDirectory::resume(root_ / "nowhere");
   ASSERT_FALSE(missing);
   EXPECT_TRUE(contains(missing.error(), "nowhere")) << missing.error();
+}
+
+TEST_F(RunDirectoryTest, OneOwnerAtATime) {
+  const RunState state = two_pair_state();
+  RunDirectory owner = create_and_save(state);
+  const std::string in_use = "is in use by another process (pid " + std::to_string(::getpid()) + ")";
+
+  const Expected<RunDirectory> second = RunDirectory::create(dir_, state.config);
+  ASSERT_FALSE(second);
+  EXPECT_TRUE(contains(second.error(), in_use)) << second.error();
+  const auto resumed = RunDirectory::resume(dir_);
+  ASSERT_FALSE(resumed);
+  EXPECT_TRUE(contains(resumed.error(), in_use)) << resumed.error();
+
+  // the owner's files are untouched, and once it is gone the directory can be resumed
+  const std::string events = read(dir_ / kEventsFile);
+  { RunDirectory gone = std::move(owner); }
+  EXPECT_EQ(read(dir_ / kEventsFile), events);
+  const auto after = RunDirectory::resume(dir_);
+  EXPECT_TRUE(after) << after.error();
+}
+
+TEST_F(RunDirectoryTest, ALockFileLeftByADeadProcessDoesNotBlock) {
+  fs::create_directories(dir_);
+  write(dir_ / kLockFile, "999999999\n");  // a pid no process has: the kernel holds no lock for it
+  const Expected<RunDirectory> dir = RunDirectory::create(dir_, small_config());
+  ASSERT_TRUE(dir) << dir.error();
+  EXPECT_EQ(read(dir_ / kLockFile), std::to_string(::getpid()) + "\n");
+}
+
+// A file-size limit below the checkpoint's size and above a policy file's makes the checkpoint's write fail the
+// way a full disk does (EFBIG instead of ENOSPC).
+class FileSizeLimit {
+ public:
+  explicit FileSizeLimit(rlim_t bytes) {
+    previous_handler_ = std::signal(SIGXFSZ, SIG_IGN);
+    ::getrlimit(RLIMIT_FSIZE, &previous_);
+    rlimit limit = previous_;
+    limit.rlim_cur = bytes;
+    ::setrlimit(RLIMIT_FSIZE, &limit);
+  }
+  ~FileSizeLimit() {
+    ::setrlimit(RLIMIT_FSIZE, &previous_);
+    std::signal(SIGXFSZ, previous_handler_);
+  }
+
+ private:
+  rlimit previous_{};
+  void (*previous_handler_)(int) = nullptr;
+};
+
+TEST_F(RunDirectoryTest, PairFilesNeverRunAheadOfTheCheckpoint) {
+  RunState state = two_pair_state();
+  RunDirectory dir = create_and_save(state);
+  const std::string checkpoint = read(dir_ / kCheckpointFile);
+  const fs::path policy = dir_ / kPoliciesDir / "pair-0.json";
+  const std::string saved_policy = read(policy);
+  ASSERT_GT(checkpoint.size(), 150'000u);
+  ASSERT_LT(saved_policy.size(), 100'000u);
+
+  state.pairs[0].theta[0] += 1;
+  state.pairs[0].latest_score += 1;
+  state.next_iteration = 2;
+  {
+    const FileSizeLimit limit(100'000);
+    const std::optional<std::string> error = dir.save(state);
+    ASSERT_TRUE(error) << "the save succeeded despite the file-size limit";
+    EXPECT_TRUE(contains(*error, kCheckpointFile)) << *error;
+  }
+  EXPECT_EQ(read(dir_ / kCheckpointFile), checkpoint);
+  EXPECT_EQ(read(policy), saved_policy);
+  for (const auto& entry : fs::recursive_directory_iterator(dir_))
+    EXPECT_FALSE(contains(entry.path().filename().string(), ".tmp")) << entry.path();
+}
+
+TEST_F(RunDirectoryTest, ResumeBringsPairFilesUpToTheCheckpoint) {
+  const RunState state = two_pair_state();
+  { RunDirectory dir = create_and_save(state); }
+  // as a crash right after the checkpoint's rename leaves them: an old policy, a missing env file, a temporary
+  const fs::path policy = dir_ / kPoliciesDir / "pair-1.json";
+  const fs::path env = dir_ / kEnvsDir / "pair-1.env.json";
+  const fs::path temporary = dir_ / kPoliciesDir / "pair-1.json.tmp.12345.0";
+  write(policy, policy_json_text(make_pair(5).theta, 0.0));
+  fs::remove(env);
+  write(temporary, "[[0.1");
+
+  const auto resumed = RunDirectory::resume(dir_);
+  ASSERT_TRUE(resumed) << resumed.error();
+  EXPECT_EQ(read(policy), policy_json_text(state.pairs[1].theta, state.pairs[1].latest_score));
+  EXPECT_EQ(read(env), env_def_json_text(state.pairs[1].env));
+  EXPECT_FALSE(fs::exists(temporary));
 }
 
 }  // namespace

@@ -1,0 +1,37 @@
+#pragma once
+// What every command-line binary shares: the walker's options, --fingerprint, and the parse that turns every bad
+// command line into exit code 2. Exit codes, as README.md says: 0 done, 1 runtime error, 2 bad command line,
+// config or run directory, 130 interrupted.
+
+#include <CLI/CLI.hpp>
+#include <optional>
+#include <string>
+
+#include "walker/walker_constants.h"
+#include "walker/walker_env.h"
+
+namespace poet {
+
+// Exit code of a process given a bad command line (never CLI11's own codes 101..).
+inline constexpr int kExitUsage = 2;
+
+// The environment options of the tools that run episodes (poet-rollout, poet-eval).
+struct WalkerFlags {
+  double push_scale = walker::kDefaultPushScale;  // --push-scale, in [0, 1e4] N
+  std::string lidar = "nearest";                  // --lidar: "nearest" or "first"
+  int max_steps = walker::kDefaultTimeLimit;      // --max-steps, in [1, 1e6]; a rollout setting, not in options()
+
+  WalkerOptions options() const;
+};
+
+// Adds --push-scale, --lidar and --max-steps bound to `flags`, which must outlive the parse.
+void add_walker_flags(CLI::App& app, WalkerFlags& flags);
+
+// Adds --fingerprint: prints build_fingerprint() to stdout, and parse_command_line() then returns 0.
+void add_fingerprint_flag(CLI::App& app);
+
+// Parses argv into `app`. nullopt: go on. 0: --help or --fingerprint printed what was asked, exit 0.
+// kExitUsage (2): a bad command line, CLI11's message printed to stderr. Use: if (auto c = ...) return *c;
+std::optional<int> parse_command_line(CLI::App& app, int argc, char** argv);
+
+}  // namespace poet

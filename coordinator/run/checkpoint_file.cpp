@@ -1,0 +1,93 @@
+#include "run/checkpoint_file.h"
+
+#include <google/protobuf/io/coded_stream.h>
+#include <google/protobuf/io/zero_copy_stream_impl_lite.h>
+#include <zlib.h>
+
+#include <cstdio>
+
+#include "text_file.h"
+
+namespace poet {
+namespace {
+
+void put_le(std::string& out, uint64_t value, int bytes) {
+  for (int i = 0; i < bytes; ++i) out.push_back(static_cast<char>((value >> (8 * i)) & 0xff));
+}
+
+uint64_t get_le(std::string_view in, size_t offset, int bytes) {
+  uint64_t value = 0;
+  for (int i = bytes - 1; i >= 0; --i) value = (value << 8) | static_cast<unsigned char>(in[offset + i]);
+  return value;
+}
+
+uint32_t crc32_of(std::string_view bytes) {
+  // zlib takes a uInt length; a checkpoint is at most kMaxCheckpointBytes (1 GiB), which fits
+  uLong crc = ::crc32(0L, Z_NULL, 0);
+  return static_cast<uint32_t>(
+      ::crc32(crc, reinterpret_cast<const Bytef*>(bytes.data()), static_cast<uInt>(bytes.size())));
+}
+
+std::string hex32(uint32_t value) {
+  char buffer[16];
+  std::snprintf(buffer, sizeof buffer, "%08x", value);
+  return buffer;
+}
+
+}  // namespace
+
+std::string encode_checkpoint_file(const pb::Checkpoint& checkpoint) {
+  std::string body;
+  {
+    // deterministic: map fields (none today) and unknown fields would otherwise make equal states differ
+    google::protobuf::io::StringOutputStream stream(&body);
+    google::protobuf::io::CodedOutputStream coded(&stream);
+    coded.SetSerializationDeterministic(true);
+    checkpoint.SerializeToCodedStream(&coded);
+  }
+  std::string out;
+  out.reserve(kCheckpointHeaderBytes + body.size());
+  out.append(kCheckpointMagic);
+  put_le(out, kCheckpointFormatVersion, 4);
+  put_le(out, body.size(), 8);
+  put_le(out, crc32_of(body), 4);
+  out.append(body);
+  return out;
+}
+
+Expected<pb::Checkpoint> decode_checkpoint_file(std::string_view bytes) {
+  if (bytes.size() < kCheckpointHeaderBytes)
+    return Unexpected{"not a checkpoint: " + std::to_string(bytes.size()) + " bytes, shorter than the " +
+                      std::to_string(kCheckpointHeaderBytes) + "-byte header (truncated?)"};
+  if (bytes.substr(0, kCheckpointMagic.size()) != kCheckpointMagic)
+    return Unexpected{"not a checkpoint: the file does not start with \"POETCKPT\" (corrupt, or not a checkpoint)"};
+  const uint64_t version = get_le(bytes, 8, 4);
+  if (version != kCheckpointFormatVersion)
+    return Unexpected{"checkpoint format version " + std::to_string(version) + "; this build reads version " +
+                      std::to_string(kCheckpointFormatVersion)};
+  const uint64_t length = get_le(bytes, 12, 8);
+  const uint64_t present = bytes.size() - kCheckpointHeaderBytes;
+  if (length != present)
+    return Unexpected{"the header gives a body of " + std::to_string(length) + " bytes, the file holds " +
+                      std::to_string(present) + (length > present ? " (truncated)" : " (corrupt)")};
+  const std::string_view body = bytes.substr(kCheckpointHeaderBytes);
+  const uint32_t expected = static_cast<uint32_t>(get_le(bytes, 20, 4));
+  const uint32_t actual = crc32_of(body);
+  if (expected != actual)
+    return Unexpected{"checksum mismatch: the header records CRC-32 " + hex32(expected) + ", the body has " +
+                      hex32(actual) + " (the file is corrupt)"};
+  pb::Checkpoint checkpoint;
+  if (!checkpoint.ParseFromArray(body.data(), static_cast<int>(body.size())))
+    return Unexpected{"the body is not a valid checkpoint message"};
+  return checkpoint;
+}
+
+Expected<pb::Checkpoint> read_checkpoint_file(const std::filesystem::path& path) {
+  Expected<std::string> bytes = read_text_file(path, kMaxCheckpointBytes);
+  if (!bytes) return Unexpected{path.string() + ": " + bytes.error()};
+  Expected<pb::Checkpoint> checkpoint = decode_checkpoint_file(*bytes);
+  if (!checkpoint) return Unexpected{path.string() + ": " + checkpoint.error()};
+  return checkpoint;
+}
+
+}  // namespace poet

@@ -1,0 +1,88 @@
+// Golden numbers: a fixed small POET run and a set of single rollouts, pinned by digest. Box2D's determinism
+// test pins a hash the same way. These fail when the simulation or the ES changes behaviour — on purpose or
+// not — and say so: a run's numbers are a function of its config only while they pass, and a checkpoint written
+// before such a change would resume differently after it.
+
+#include <gtest/gtest.h>
+
+#include <bit>
+#include <cstdio>
+#include <string>
+
+#include "build_fingerprint.h"
+#include "engine_test_support.h"
+#include "envgen/named_courses.h"
+#include "evaluator/local_evaluator.h"
+#include "poet/checkpoint.h"
+#include "poet/engine.h"
+#include "policy/mlp.h"
+#include "rng.h"
+#include "rollout.h"
+#include "run/checkpoint_file.h"
+
+namespace poet {
+namespace {
+
+// Update only for an intended change of behaviour, with the reason in the commit message.
+constexpr uint64_t kRolloutsDigest = 0x7d7a3dd85d8d55a2;
+constexpr uint64_t kCheckpointDigest = 0x4bdcea0404d83a03;
+
+// FNV-1a: a fixed, documented function of the bytes, whatever the platform's std::hash does.
+uint64_t fnv1a(std::string_view bytes) {
+  uint64_t h = 0xcbf29ce484222325ull;
+  for (char c : bytes) h = (h ^ static_cast<unsigned char>(c)) * 0x100000001b3ull;
+  return h;
+}
+
+std::string hex(uint64_t value) {
+  char buffer[32];
+  std::snprintf(buffer, sizeof buffer, "0x%016llx", static_cast<unsigned long long>(value));
+  return buffer;
+}
+
+std::string changed(const char* what, uint64_t got, uint64_t pinned) {
+  return std::string(what) + " changed behaviour: digest " + hex(got) + ", pinned " + hex(pinned) +
+         ". Every run's numbers now differ from earlier builds' (and a checkpoint from one would resume "
+         "differently). If the change is intended, pin the new digest and say why in the commit.\nThis build:\n" +
+         build_fingerprint();
+}
+
+TEST(Golden, SingleRolloutReturns) {
+  std::string bits;
+  std::string table;
+  for (const char* course : {"flat", "r1", "hard", "hardcore-like"}) {
+    for (uint32_t seed : {0u, 17u}) {
+      for (uint64_t policy : {1u, 2u}) {
+        RandomStream init(stream_key(policy, "golden"));
+        const RolloutResult r = rollout(random_params(init), EnvDef{named_course(course).value(), seed});
+        const uint64_t reward = std::bit_cast<uint64_t>(r.total_reward);
+        bits.append(reinterpret_cast<const char*>(&reward), sizeof reward);
+        bits += std::to_string(r.steps) + (r.finished ? "F" : "") + (r.fell ? "X" : "");
+        char line[128];
+        std::snprintf(line, sizeof line, "  %-14s seed %-3u policy %llu: %.17g over %d steps\n", course, seed,
+                      static_cast<unsigned long long>(policy), r.total_reward, r.steps);
+        table += line;
+      }
+    }
+  }
+  const uint64_t digest = fnv1a(bits);
+  EXPECT_EQ(digest, kRolloutsDigest) << changed("the walker simulation", digest, kRolloutsDigest) << table;
+}
+
+TEST(Golden, SmallRunCheckpoint) {
+  pb::RunConfig c = testing::small_real_run();
+  c.set_iterations(5);
+  RunState s = initial_state(c);
+  LocalEvaluator evaluator(2);
+  while (!run_complete(s)) run_iteration(s, evaluator);
+  ASSERT_GE(s.pairs.size(), 3u);  // reproduction and transfer ran
+  ASSERT_GT(s.counters.transfer_attempts, 0);
+  const uint64_t digest = fnv1a(encode_checkpoint_file(to_checkpoint(s)));
+  EXPECT_EQ(digest, kCheckpointDigest) << changed("the ES or the POET loop (or the simulation under it)", digest,
+                                                  kCheckpointDigest)
+                                       << "pairs " << s.pairs.size() << ", rollouts " << s.counters.rollouts
+                                       << ", env steps " << s.counters.env_steps;
+}
+
+}  // namespace
+}  // namespace poet
