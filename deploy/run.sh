@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Sets up a fresh Debian machine (dependencies, build) and runs the main job: POET with the `quick` preset on
-# this machine's cores, into out/quick. Interrupted (Ctrl-C), it saves its state; run this again to resume.
+# this machine's cores, into out/quick. Interrupted (Ctrl-C), it stops at once with its last checkpoint as the
+# state; run this again to resume.
 # Extra arguments go to poet-coordinator (see --help), e.g. --threads 2 or --iterations 60.
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
