@@ -31,7 +31,9 @@ struct Tool {
   const char* path;
 };
 
-const Tool kTools[] = {{"poet-rollout", POET_ROLLOUT_BIN},
+// Every binary of the project, poet-coordinator included: the same rules for all.
+const Tool kTools[] = {{"poet-coordinator", POET_COORDINATOR_BIN},
+                       {"poet-rollout", POET_ROLLOUT_BIN},
                        {"poet-eval", POET_EVAL_BIN},
                        {"poet-fidelity", POET_FIDELITY_BIN},
                        {"poet-lineage", POET_LINEAGE_BIN}};
@@ -124,6 +126,8 @@ TEST_F(ToolsProcessTest, BadValueExitsTwo) {
       {POET_EVAL_BIN, {"--policy", "none.json", "--push-scale", "-1"}},
       {POET_FIDELITY_BIN, {"--threads", "0"}},
       {POET_LINEAGE_BIN, {"--run-dir", "none", "--pair", "seventeen"}},
+      {POET_COORDINATOR_BIN, {"--run-dir", "none", "--threads", "0"}},
+      {POET_COORDINATOR_BIN, {"--run-dir", "none", "--log-level", "loud"}},
   };
   int n = 0;
   for (const auto& [path, args] : cases) {
