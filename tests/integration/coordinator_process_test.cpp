@@ -70,6 +70,8 @@ int checkpoint_iteration(const fs::path& dir) {
   return checkpoint ? checkpoint->next_iteration() : -1;
 }
 
+std::string preset(const std::string& name) { return std::string(POET_SOURCE_DIR) + "/deploy/configs/" + name; }
+
 // Long enough that no test run reaches it: a run given this limit is still running when it is signalled.
 constexpr char kEndless[] = "100000";
 
@@ -326,6 +328,25 @@ TEST_F(CoordinatorProcessTest, CorruptCheckpointsAreRefusedNamingTheFile) {
   EXPECT_EQ(intact.code, 0) << intact.err;
 }
 
+// A checkpoint whose mode and state disagree is refused before anything runs: the DIRECT_PATH run without its
+// curriculum once crashed at the pair's first solve.
+TEST_F(CoordinatorProcessTest, CheckpointsWhoseModeAndStateDisagreeAreRefused) {
+  const fs::path dir = root_ / "M";
+  const Outcome made = run({"--config", preset("direct_path.textproto"), "--run-dir", dir.string(), "--threads", "2",
+                            "--quiet", "--iterations", "1"},
+                           "M1");
+  ASSERT_EQ(made.code, 0) << made.err;
+  const fs::path file = dir / "checkpoint.pb";
+  auto checkpoint = poet::read_checkpoint_file(file);
+  ASSERT_TRUE(checkpoint) << checkpoint.error();
+  ASSERT_GT(checkpoint->stages_size(), 0);
+  checkpoint->clear_stages();
+  std::ofstream(file, std::ios::binary | std::ios::trunc) << poet::encode_checkpoint_file(*checkpoint);
+  const Outcome resumed = run({"--run-dir", dir.string(), "--resume", "--quiet", "--iterations", "5"}, "M2");
+  EXPECT_EQ(resumed.code, 2) << resumed.err;
+  EXPECT_TRUE(contains(resumed.err, file.string() + ": stages: none in mode DIRECT_PATH")) << resumed.err;
+}
+
 // σ decays to 1e-301 after the first step, so the second step's gradient (divided by σ) overflows Adam's second
 // moment: the run stops there, and a resume stops at the same place with the same message.
 TEST_F(CoordinatorProcessTest, ADivergingRunStopsAndSaysResumingWillRepeatIt) {
@@ -409,8 +430,6 @@ TEST_F(CoordinatorProcessTest, RefusesToStartOverAnExistingRun) {
 }
 
 }  // namespace
-
-std::string preset(const std::string& name) { return std::string(POET_SOURCE_DIR) + "/deploy/configs/" + name; }
 
 // The README's main job, cut short: the quick preset admits children (iteration 6) and accepts a transfer
 // (iteration 8) within its first nine iterations.
