@@ -95,5 +95,44 @@ void BM_EsStepRatios(benchmark::State& state) {
 }
 BENCHMARK(BM_EsStepRatios)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(4);
 
+// An evaluator that returns at once (returns from a hash of the task), so only the coordinator's work is timed.
+class InstantEvaluator final : public Evaluator {
+ public:
+  std::vector<RolloutResult> evaluate(std::span<const RolloutTask> tasks) override {
+    std::vector<RolloutResult> out(tasks.size());
+    for (size_t i = 0; i < tasks.size(); ++i) {
+      const uint64_t h = mix64(tasks[i].perturbation ? tasks[i].perturbation->key + 3 * i : i);
+      out[i].total_reward = static_cast<double>(h >> 40) / 1e5;
+      out[i].steps = 100;
+    }
+    return out;
+  }
+};
+
+// The gradients of one target's transfer round at the paper's sizes: 19 source pairs, 256 mirrored perturbations
+// (512 rollouts) each. Arg 0: one after another (es_outcome); arg 1: es_outcomes, spread over the cores. The
+// numbers are the same either way (golden_test pins them); this measures the coordinator's serial time.
+void BM_TransferGradients(benchmark::State& state) {
+  Fixture f;
+  InstantEvaluator evaluator;
+  RunCounters counters;
+  RolloutBatch batch(f.episodes);
+  std::vector<size_t> handles;
+  for (uint64_t source = 0; source < 19; ++source)
+    handles.push_back(
+        batch.add_es_step({share(f.theta), f.env, 0.1, stream_key(2024, "bench-transfer", {source})}, 256));
+  batch.run(evaluator, counters);
+  for (auto _ : state) {
+    if (state.range(0) == 0) {
+      for (size_t h : handles) benchmark::DoNotOptimize(batch.es_outcome(h, f.es).gradient.data());
+    } else {
+      benchmark::DoNotOptimize(batch.es_outcomes(handles, f.es).data());
+    }
+  }
+  state.counters["gradients_per_s"] =
+      benchmark::Counter(static_cast<double>(handles.size()), benchmark::Counter::kIsIterationInvariantRate);
+}
+BENCHMARK(BM_TransferGradients)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->UseRealTime();
+
 }  // namespace
 }  // namespace poet

@@ -34,9 +34,10 @@ void optimise(IterationContext& ctx) {
   std::vector<PairStatsRow> rows;
   RolloutBatch evals = ctx.batch();
   std::vector<size_t> eval_handles;
+  const std::vector<EsOutcome> outcomes = steps.es_outcomes(handles, ctx.es);
   for (size_t a = 0; a < active.size(); ++a) {
     Pair& p = ctx.state.pairs[active[a]];
-    const EsOutcome out = steps.es_outcome(handles[a], ctx.es);
+    const EsOutcome& out = outcomes[a];
     PairStatsRow row;
     row.iteration = ctx.t;
     row.pair = p.id;

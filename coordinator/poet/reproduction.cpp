@@ -61,9 +61,10 @@ Start best_start(IterationContext& ctx, const Child& child) {
   RolloutBatch second = ctx.batch();
   std::vector<std::vector<double>> proposals;
   std::vector<size_t> proposal_evals;
+  const std::vector<EsOutcome> outcomes = first.es_outcomes(steps, ctx.es);
   for (size_t s = 0; s < active.size(); ++s) {
     const Pair& source = ctx.state.pairs[active[s]];
-    const EsOutcome out = first.es_outcome(steps[s], ctx.es);
+    const EsOutcome& out = outcomes[s];
     proposals.push_back(propose(kind, source.theta, out.gradient, fresh, fresh.lr, ctx.es));
     require_finite(ctx, source, proposals.back(),
                    "its admission proposal for child attempt " + std::to_string(child.attempt));

@@ -3,9 +3,11 @@
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
+#include <thread>
 
 #include "config/run_config.h"
 #include "es/es_gradient.h"
+#include "parallel_for.h"
 #include "rng.h"
 
 namespace poet {
@@ -95,6 +97,14 @@ EsOutcome RolloutBatch::es_outcome(size_t handle, const EsSettings& settings) co
   out.mean_return /= static_cast<double>(2 * n);
   const size_t dim = tasks_.at(slot.offset).theta->size();
   out.gradient = es_gradient(slot.keys, plus, minus, slot.sigma, settings.normalize_grads_by_sigma, dim);
+  return out;
+}
+
+std::vector<EsOutcome> RolloutBatch::es_outcomes(std::span<const size_t> handles, const EsSettings& settings) const {
+  std::vector<EsOutcome> out(handles.size());
+  const int threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  parallel_for(static_cast<int>(handles.size()), threads,
+               [&](int i) { out[static_cast<size_t>(i)] = es_outcome(handles[static_cast<size_t>(i)], settings); });
   return out;
 }
 

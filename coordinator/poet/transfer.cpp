@@ -47,9 +47,10 @@ void transfer(IterationContext& ctx) {
   RolloutBatch second = ctx.batch();
   for (size_t a = 0; a < active.size(); ++a) {
     const Pair& target = ctx.state.pairs[active[a]];
+    const std::vector<EsOutcome> outcomes = first.es_outcomes(es_handles[a], ctx.es);  // one target at a time
     for (size_t s = 0; s < direct[a].size(); ++s) {
       const Candidate& d = direct[a][s];
-      const EsOutcome out = first.es_outcome(es_handles[a][s], ctx.es);
+      const EsOutcome& out = outcomes[s];
       std::vector<double> theta = propose(ctx.config.poet().transfer_proposal(), d.theta, out.gradient,
                                           target.optimizer, target.optimizer.lr, ctx.es);
       require_finite(ctx, target, theta, "the transfer proposal from pair " + std::to_string(d.source));

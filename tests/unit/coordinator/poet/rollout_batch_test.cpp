@@ -61,6 +61,26 @@ TEST(RolloutBatch, AnEsStepIsMirroredPairsOnTheEnvironmentsCourse) {
   EXPECT_EQ(out.max_return, 6);
 }
 
+TEST(RolloutBatch, OutcomesOnAllCoresAreTheSerialOnesBitForBit) {
+  RolloutBatch batch(settings(false));
+  std::vector<size_t> handles;
+  for (int s = 0; s < 7; ++s)
+    handles.push_back(batch.add_es_step({share(std::vector<double>(kParamCount, 0.1 * s)), rough(1.0 + s, 7),
+                                         0.02 + 0.01 * s, static_cast<uint64_t>(100 + s)},
+                                        5));
+  ScriptedEvaluator ev([](int, size_t i, const RolloutTask&) { return scored(double((i * 7919) % 101)); });
+  RunCounters counters;
+  batch.run(ev, counters);
+  const std::vector<EsOutcome> all = batch.es_outcomes(handles, EsSettings{});
+  ASSERT_EQ(all.size(), handles.size());
+  for (size_t k = 0; k < handles.size(); ++k) {
+    const EsOutcome one = batch.es_outcome(handles[k], EsSettings{});
+    EXPECT_EQ(all[k].gradient, one.gradient) << k;
+    EXPECT_EQ(all[k].mean_return, one.mean_return) << k;
+    EXPECT_EQ(all[k].max_return, one.max_return) << k;
+  }
+}
+
 TEST(RolloutBatch, StochasticEnvironmentsDrawCoursesPerMirroredPairAndPerEpisode) {
   RolloutBatch batch(settings(true));
   const SharedParams theta = share(std::vector<double>(kParamCount, 0.5));
