@@ -20,6 +20,7 @@
 #include <csignal>
 #include <cstdio>
 #include <exception>
+#include <filesystem>
 #include <optional>
 #include <stop_token>
 #include <string>
@@ -28,10 +29,13 @@
 
 #include "build_fingerprint.h"
 #include "config/run_config.h"
+#include "dispatch/local_workers.h"
 #include "evaluator/local_evaluator.h"
+#include "evaluator/remote_evaluator.h"
 #include "poet/engine.h"
 #include "run/progress_display.h"
 #include "run/run_directory.h"
+#include "status/status_server.h"
 #include "tool_flags.h"
 
 namespace poet {
@@ -80,6 +84,12 @@ struct Options {
   bool resume = false;
   bool quiet = false;
   std::string log_level = "info";
+  std::string listen;     // workers connect here; empty: rollouts on threads of this process
+  int local_workers = 0;  // worker processes to start and supervise on this machine
+  int liveness_ms = 5000;
+  std::string worker_binary;
+  std::vector<std::string> worker_args;           // passed to every local worker (tests' fault switches)
+  std::string status_address = "127.0.0.1:8580";  // the HTTP status socket; empty: none
 };
 
 // "iteration 12: pair_created pair=3 env=r0.4 ..." from {"iteration": 12, "event": "pair_created", ...}.
@@ -114,7 +124,40 @@ void print_summary(const RunState& state, double wall_seconds) {
   std::fflush(stdout);
 }
 
-// A new run: the config (with --iterations applied), a fresh directory and its first checkpoint.
+// A resumed run: the checkpoint's state, with --iterations applied (and recorded in the directory).
+std::optional<std::pair<RunDirectory, RunState>> continue_run(Expected<std::pair<RunDirectory, RunState>> resumed,
+                                                              const Options& options, std::optional<int> iterations) {
+  if (!resumed) {
+    spdlog::error("{}", resumed.error());
+    return std::nullopt;
+  }
+  auto& [dir, state] = *resumed;
+  if (iterations && (!state.config.has_iterations() || state.config.iterations() != *iterations)) {
+    state.config.set_iterations(*iterations);
+    if (auto error = validate(state.config)) {
+      spdlog::error("--iterations: {}", *error);
+      return std::nullopt;
+    }
+    std::optional<std::string> error = dir.write_config(state.config);
+    if (!error) error = dir.save(state);
+    if (error) {
+      spdlog::error("{}", *error);
+      return std::nullopt;
+    }
+  }
+  spdlog::info("resumed {} at iteration {} of {}", options.run_dir, state.next_iteration, state.config.iterations());
+  return std::move(*resumed);
+}
+
+// The configs of one run: equal but for the iteration limit, which a resume may change.
+bool same_run(pb::RunConfig a, pb::RunConfig b) {
+  a.clear_iterations();
+  b.clear_iterations();
+  return a.SerializeAsString() == b.SerializeAsString();
+}
+
+// A new run: the config (with --iterations applied), a fresh directory and its first checkpoint. A directory
+// that already holds a run of the same config is resumed (a restarted daemon runs the same command line).
 std::optional<std::pair<RunDirectory, RunState>> start_run(const Options& options) {
   Expected<pb::RunConfig> config = load_run_config(options.config_path);
   if (!config) {
@@ -127,6 +170,16 @@ std::optional<std::pair<RunDirectory, RunState>> start_run(const Options& option
       spdlog::error("--iterations: {}", *error);
       return std::nullopt;
     }
+  }
+  std::error_code ec;
+  if (std::filesystem::exists(std::filesystem::path(options.run_dir) / kCheckpointFile, ec)) {
+    Expected<std::pair<RunDirectory, RunState>> resumed = RunDirectory::resume(options.run_dir);
+    if (resumed && !same_run(resumed->second.config, *config)) {
+      spdlog::error("{} already holds a run of another config; resume it with --resume, or choose another directory",
+                    options.run_dir);
+      return std::nullopt;
+    }
+    return continue_run(std::move(resumed), options, config->iterations());
   }
   Expected<RunDirectory> dir = RunDirectory::create(options.run_dir, *config);
   if (!dir) {
@@ -143,29 +196,50 @@ std::optional<std::pair<RunDirectory, RunState>> start_run(const Options& option
   return std::pair<RunDirectory, RunState>(std::move(*dir), std::move(state));
 }
 
-// A resumed run: the checkpoint's state, with --iterations applied (and recorded in the directory).
 std::optional<std::pair<RunDirectory, RunState>> resume_run(const Options& options) {
-  Expected<std::pair<RunDirectory, RunState>> resumed = RunDirectory::resume(options.run_dir);
-  if (!resumed) {
-    spdlog::error("{}", resumed.error());
+  return continue_run(RunDirectory::resume(options.run_dir), options, options.iterations);
+}
+
+// Where rollouts run: threads of this process, or workers over ZeroMQ (with local ones started here).
+struct Rollouts {
+  std::unique_ptr<Evaluator> evaluator;
+  RemoteEvaluator* remote = nullptr;
+  std::unique_ptr<LocalWorkers> local_workers;
+};
+
+std::optional<Rollouts> make_rollouts(const Options& options, StopSignals& signals) {
+  Rollouts r;
+  if (options.listen.empty() && options.local_workers == 0) {
+    r.evaluator = std::make_unique<LocalEvaluator>(options.threads, signals.token());
+    return r;
+  }
+  DispatchSettings settings;
+  settings.liveness_ms = options.liveness_ms;
+  settings.heartbeat_ms = std::max(options.liveness_ms / 5, 1);
+  settings.fingerprint_digest = build_fingerprint_digest();
+  const std::string endpoint = options.listen.empty() ? "tcp://127.0.0.1:*" : options.listen;
+  Expected<std::unique_ptr<RemoteEvaluator>> remote = RemoteEvaluator::bind(endpoint, settings, signals.token());
+  if (!remote) {
+    spdlog::error("{}", remote.error());
     return std::nullopt;
   }
-  auto& [dir, state] = *resumed;
-  if (options.iterations && (!state.config.has_iterations() || state.config.iterations() != *options.iterations)) {
-    state.config.set_iterations(*options.iterations);
-    if (auto error = validate(state.config)) {
-      spdlog::error("--iterations: {}", *error);
+  r.remote = remote->get();
+  r.evaluator = std::move(*remote);
+  spdlog::info("workers connect to {}", r.remote->endpoint());
+  if (options.local_workers > 0) {
+    const int hardware = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+    const int threads = std::max(1, hardware / options.local_workers);
+    const std::string binary = options.worker_binary.empty() ? LocalWorkers::default_binary() : options.worker_binary;
+    Expected<std::unique_ptr<LocalWorkers>> workers =
+        LocalWorkers::start(binary, r.remote->endpoint(), options.local_workers, threads, options.worker_args);
+    if (!workers) {
+      spdlog::error("{}", workers.error());
       return std::nullopt;
     }
-    std::optional<std::string> error = dir.write_config(state.config);
-    if (!error) error = dir.save(state);
-    if (error) {
-      spdlog::error("{}", *error);
-      return std::nullopt;
-    }
+    r.local_workers = std::move(*workers);
+    spdlog::info("started {} local workers ({}) with {} threads each", options.local_workers, binary, threads);
   }
-  spdlog::info("resumed {} at iteration {} of {}", options.run_dir, state.next_iteration, state.config.iterations());
-  return std::move(*resumed);
+  return r;
 }
 
 int run(const Options& options, StopSignals& signals) {
@@ -175,7 +249,46 @@ int run(const Options& options, StopSignals& signals) {
   if (!opened) return kExitUsage;
   auto& [dir, state] = *opened;
 
-  LocalEvaluator evaluator(options.threads, signals.token());
+  // the status socket: a snapshot published after each iteration, read by the server's own threads
+  StatusBoard board(options.run_dir);
+  StatusServer server(board);
+  board.publish_run(state, state.next_iteration);
+  board.set_state(RunPhase::kRunning);
+  if (!options.status_address.empty()) {
+    const Expected<int> port = server.start(options.status_address);
+    if (port) {
+      const std::string host = options.status_address.substr(0, options.status_address.rfind(':'));
+      spdlog::info("status: http://{}:{}/status", host, *port);
+    } else {
+      spdlog::warn("no status socket: {}", port.error());  // the run goes on without it
+    }
+  }
+  // declared after the board, so the socket thread that publishes to it stops first
+  std::optional<Rollouts> rollouts = make_rollouts(options, signals);
+  if (!rollouts) return kExitUsage;
+  Evaluator& evaluator = *rollouts->evaluator;
+  if (rollouts->remote) {
+    rollouts->remote->on_snapshot([&board](const Dispatcher& d) {
+      DispatchSnapshot snapshot;
+      for (const WorkerView& w : d.workers()) {
+        WorkerSnapshot ws;
+        ws.id = w.id;
+        ws.address = w.name;
+        ws.threads = w.threads;
+        ws.jobs_done = w.jobs_done;
+        ws.results_done = w.results_done;
+        ws.fingerprint_digest = w.fingerprint_digest;
+        snapshot.workers.push_back(std::move(ws));
+      }
+      snapshot.queue_depth = d.queue_depth();
+      snapshot.in_flight_jobs = d.in_flight();
+      snapshot.dropped_frames = d.dropped();
+      const bool waiting = d.worker_count() == 0 && d.queue_depth() > 0;
+      board.publish_dispatch(std::move(snapshot));
+      board.set_state(waiting ? RunPhase::kWaitingForWorkers : RunPhase::kRunning,
+                      waiting ? "no worker is connected" : "");
+    });
+  }
   ProgressDisplay progress(!options.quiet);
   const int interval = state.config.checkpoint_interval();
   int saved_iteration = state.next_iteration;
@@ -215,6 +328,7 @@ int run(const Options& options, StopSignals& signals) {
       if (!save()) return kExitError;
     }
     progress.update(state, report);
+    board.publish_run(state, saved_iteration);
   }
   // a stop between an iteration's save check and the loop test leaves that iteration unsaved
   if (state.next_iteration != saved_iteration && !save()) return kExitError;
@@ -227,6 +341,11 @@ int run(const Options& options, StopSignals& signals) {
     return kExitInterrupted;
   }
   spdlog::info("run finished at iteration {}", state.next_iteration);
+  board.set_state(RunPhase::kFinished);
+  if (rollouts->remote) {
+    rollouts->remote->on_snapshot(nullptr);
+    rollouts->remote->shutdown_workers("the run is finished");
+  }
   print_summary(state, elapsed());
   return 0;
 }
@@ -250,6 +369,18 @@ int main(int argc, char** argv) {
           ->check(CLI::Range(0, INT_MAX));
   app.add_flag("--resume", options.resume, "Continue the run in --run-dir")->excludes(config);
   app.add_flag("--quiet", options.quiet, "No progress line");
+  app.add_option("--listen", options.listen,
+                 "Run rollouts on workers that connect here (e.g. tcp://0.0.0.0:5555); default with "
+                 "--local-workers: a free loopback port");
+  app.add_option("--local-workers", options.local_workers, "Start and supervise N poet-worker processes here")
+      ->check(CLI::Range(0, 256));
+  app.add_option("--liveness-ms", options.liveness_ms, "A worker silent this long is dead (default 5000)")
+      ->check(CLI::Range(50, 600'000));
+  app.add_option("--worker-binary", options.worker_binary, "poet-worker for --local-workers (default: beside this)");
+  app.add_option("--worker-arg", options.worker_args, "An argument for every local worker (repeatable)")
+      ->group("");  // for tests: fault switches
+  app.add_option("--status-address", options.status_address,
+                 "HOST:PORT of the HTTP status socket (default 127.0.0.1:8580; port 0: any free port; empty: none)");
   app.add_option("--log-level", options.log_level, "trace, debug, info (default), warn, error or off")
       ->check(CLI::IsMember({"trace", "debug", "info", "warn", "error", "off"}));
   poet::add_fingerprint_flag(app);

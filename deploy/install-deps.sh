@@ -7,7 +7,7 @@ packages=(
   build-essential cmake pkg-config
   libbox2d-dev libeigen3-dev
   libprotobuf-dev protobuf-compiler zlib1g-dev
-  libzmq3-dev cppzmq-dev
+  libzmq3-dev cppzmq-dev libcpp-httplib-dev
   libspdlog-dev libfmt-dev
   nlohmann-json3-dev libcli11-dev libcairo2-dev
   libgtest-dev libgmock-dev libbenchmark-dev

@@ -8,8 +8,6 @@ root=$(cd "$(dirname "$0")/.." && pwd)
 bash "$root/deploy/build.sh"
 run_dir="${POET_RUN_DIR:-$root/out/quick}"
 mkdir -p "$(dirname "$run_dir")"
-if [[ -f "$run_dir/checkpoint.pb" ]]; then
-  exec "$root/build/coordinator/poet-coordinator" --run-dir "$run_dir" --resume "$@"
-fi
+# a directory that holds a run of this config is resumed; rollouts run on two local worker processes
 exec "$root/build/coordinator/poet-coordinator" --config "$root/deploy/configs/quick.textproto" \
-  --run-dir "$run_dir" "$@"
+  --run-dir "$run_dir" --local-workers 2 "$@"

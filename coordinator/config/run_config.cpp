@@ -14,7 +14,7 @@
 #include <utility>
 #include <vector>
 
-#include "config/env_proto.h"
+#include "envgen/env_proto.h"
 #include "text_file.h"
 
 namespace poet {

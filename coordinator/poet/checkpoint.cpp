@@ -9,8 +9,8 @@
 #include <utility>
 #include <vector>
 
-#include "config/env_proto.h"
 #include "config/run_config.h"
+#include "envgen/env_proto.h"
 #include "poet/state_consistency.h"
 #include "policy/mlp.h"
 

@@ -6,8 +6,8 @@
 #include <algorithm>
 #include <stdexcept>
 
-#include "config/env_proto.h"
 #include "envgen/env_distance.h"
+#include "envgen/env_proto.h"
 #include "envgen/mutation.h"
 #include "poet/iteration_context.h"
 

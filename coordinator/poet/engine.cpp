@@ -3,8 +3,8 @@
 #include <cmath>
 #include <string>
 
-#include "config/env_proto.h"
 #include "config/run_config.h"
+#include "envgen/env_proto.h"
 #include "envgen/named_courses.h"
 #include "poet/iteration_context.h"
 #include "policy/mlp.h"

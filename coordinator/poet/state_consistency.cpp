@@ -3,8 +3,8 @@
 #include <cstdint>
 #include <string>
 
-#include "config/env_proto.h"
 #include "config/run_config.h"
+#include "envgen/env_proto.h"
 #include "envgen/named_courses.h"
 
 namespace poet {

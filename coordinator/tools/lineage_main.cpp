@@ -7,8 +7,8 @@
 #include <cstdio>
 #include <iostream>
 
-#include "config/env_proto.h"
 #include "config/run_config.h"
+#include "envgen/env_proto.h"
 #include "poet/checkpoint.h"
 #include "poet/lineage.h"
 #include "run/run_directory.h"

@@ -420,12 +420,21 @@ TEST_F(CoordinatorProcessTest, ResumeWithoutARunIsAClearError) {
   EXPECT_EQ(both.code, 2) << both.err;
 }
 
-TEST_F(CoordinatorProcessTest, RefusesToStartOverAnExistingRun) {
+// Started again with its own config, a run directory's run is resumed (a restarted daemon runs the same command);
+// with another config it is refused and left alone.
+TEST_F(CoordinatorProcessTest, TheSameCommandResumesAnotherConfigIsRefused) {
   const fs::path a = reference_run();
   const std::string checkpoint = read(a / "checkpoint.pb");
-  const Outcome outcome = run({"--config", config_.string(), "--run-dir", a.string(), "--quiet"}, "A2");
-  EXPECT_EQ(outcome.code, 2);
-  EXPECT_TRUE(contains(outcome.err, "already holds a run")) << outcome.err;
+  const Outcome same = run({"--config", config_.string(), "--run-dir", a.string(), "--quiet"}, "A2");
+  EXPECT_EQ(same.code, 0) << same.err;
+  EXPECT_TRUE(contains(same.err, "resumed")) << same.err;
+  EXPECT_TRUE(read(a / "checkpoint.pb") == checkpoint);  // it was finished: nothing to add
+
+  const fs::path other = root_ / "other.textproto";
+  std::ofstream(other) << std::string(kTinyConfig) << "init_stddev: 0.2\n";
+  const Outcome refused = run({"--config", other.string(), "--run-dir", a.string(), "--quiet"}, "A3");
+  EXPECT_EQ(refused.code, 2);
+  EXPECT_TRUE(contains(refused.err, "already holds a run of another config")) << refused.err;
   EXPECT_TRUE(read(a / "checkpoint.pb") == checkpoint);
 }
 

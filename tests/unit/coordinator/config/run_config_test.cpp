@@ -19,7 +19,7 @@
 #include <string>
 #include <vector>
 
-#include "config/env_proto.h"
+#include "envgen/env_proto.h"
 
 namespace poet {
 namespace {

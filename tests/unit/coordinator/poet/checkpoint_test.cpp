@@ -13,7 +13,7 @@
 #include <string>
 #include <vector>
 
-#include "config/env_proto.h"
+#include "envgen/env_proto.h"
 #include "policy/mlp.h"
 #include "rng.h"
 

@@ -5,8 +5,8 @@
 
 #include <cmath>
 
-#include "config/env_proto.h"
 #include "engine_test_support.h"
+#include "envgen/env_proto.h"
 #include "es/perturbation.h"
 #include "poet/curriculum.h"
 #include "scripted_evaluator.h"

@@ -9,8 +9,8 @@
 #include <map>
 #include <string>
 
-#include "config/env_proto.h"
 #include "engine_test_support.h"
+#include "envgen/env_proto.h"
 #include "poet/checkpoint.h"
 #include "rng.h"
 #include "run/checkpoint_file.h"

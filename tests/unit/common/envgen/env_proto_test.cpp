@@ -1,4 +1,4 @@
-#include "config/env_proto.h"
+#include "envgen/env_proto.h"
 
 #include <google/protobuf/text_format.h>
 #include <google/protobuf/util/message_differencer.h>

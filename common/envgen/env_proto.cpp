@@ -1,4 +1,4 @@
-#include "config/env_proto.h"
+#include "envgen/env_proto.h"
 
 #include <charconv>
 #include <optional>

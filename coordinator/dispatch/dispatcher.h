@@ -1,0 +1,131 @@
+#pragma once
+// The scheduling logic of the remote evaluator, without sockets: a batch of rollout tasks cut into jobs, a queue,
+// leases held by workers, liveness by heartbeat (the zguide's Paranoid Pirate), re-queueing of the jobs of a dead
+// or departed worker, results matched by job id with duplicates and strangers dropped, and the poison-job rule.
+// Time is a parameter (milliseconds on any monotonic clock), so tests drive it with a fake clock. Not
+// thread-safe: the remote evaluator's socket thread owns it under its lock.
+
+#include <cstdint>
+#include <deque>
+#include <map>
+#include <optional>
+#include <set>
+#include <span>
+#include <string>
+#include <unordered_map>
+#include <vector>
+
+#include "rollout_task.h"
+#include "wire.pb.h"
+
+namespace poet {
+
+using Millis = int64_t;
+using WorkerId = std::string;  // the ROUTER's routing id of the worker's socket
+
+struct DispatchSettings {
+  Millis heartbeat_ms = 1000;       // send something to each worker at least this often (and ask the same of them)
+  Millis liveness_ms = 5000;        // a worker silent this long is dead; its jobs go back to the queue
+  int max_attempts = 3;             // a task whose worker died this many times stops the run (the first + 2 retries)
+  int jobs_ahead = 2;               // jobs a worker holds at once: one running, one arriving
+  int max_chunk = 64;               // tasks per job at most
+  uint64_t fingerprint_digest = 0;  // workers of another build are refused (0: accept any, for tests)
+};
+
+// A message for one worker.
+struct Outgoing {
+  WorkerId worker;
+  wire::CoordinatorMessage message;
+};
+
+// Why a frame was dropped, as counted for /metrics.
+inline constexpr const char* kDropReasons[] = {
+    "malformed", "oversized", "wrong_version", "wrong_fingerprint", "unknown_peer", "unexpected_result", "bad_result"};
+
+struct WorkerView {
+  WorkerId id;
+  std::string name;
+  int threads = 0;
+  uint64_t fingerprint_digest = 0;
+  int64_t jobs_done = 0;
+  int64_t results_done = 0;
+  Millis last_heard = 0;
+  size_t jobs_held = 0;
+};
+
+class Dispatcher {
+ public:
+  explicit Dispatcher(DispatchSettings settings) : settings_(settings) {}
+
+  // A Hello: the Welcome to send, or a Refused (wrong protocol version or build fingerprint; counted).
+  wire::CoordinatorMessage on_hello(const WorkerId& id, const wire::Hello& hello, Millis now);
+  // A Result from a worker: accepted when the worker holds the job; otherwise counted and dropped.
+  void on_result(const WorkerId& id, const wire::Result& result, Millis now);
+  // Any message from a known worker proves it alive; false for a stranger (the caller counts and drops it).
+  bool heard_from(const WorkerId& id, Millis now);
+  // A worker that left (Goodbye, or its socket is gone): its jobs go back to the front of the queue.
+  void remove_worker(const WorkerId& id, bool died);
+
+  // Workers silent for liveness_ms are removed (their jobs re-queued, counted as a death for each job).
+  std::vector<WorkerId> expire(Millis now);
+  // The jobs to send now (each worker filled up to jobs_ahead) and the heartbeats due.
+  std::vector<Outgoing> outgoing(Millis now);
+
+  // A new batch (the previous one must be done or abandoned). Tasks are copied; θ is shared, not copied.
+  void start_batch(std::span<const RolloutTask> tasks);
+  void abandon_batch();
+  bool batch_done() const { return batch_active_ && remaining_ == 0; }
+  // The results in task order; ends the batch.
+  std::vector<RolloutResult> take_results();
+  // Set when a task killed max_attempts workers, or a worker refused a task: the run must stop.
+  const std::optional<std::string>& failure() const { return failure_; }
+
+  size_t worker_count() const { return workers_.size(); }
+  int64_t queue_depth() const { return static_cast<int64_t>(queue_.size()); }
+  int64_t in_flight() const;
+  std::vector<WorkerView> workers() const;
+  const std::map<std::string, int64_t>& dropped() const { return dropped_; }
+  void count_drop(const std::string& reason) { dropped_[reason] += 1; }
+  const DispatchSettings& settings() const { return settings_; }
+
+ private:
+  struct Job {
+    uint64_t id = 0;
+    size_t begin = 0;  // tasks [begin, end) of the batch
+    size_t end = 0;
+    int deaths = 0;  // workers that died holding it
+    std::optional<WorkerId> holder;
+  };
+  struct Worker {
+    WorkerView view;
+    std::set<uint64_t> jobs;         // held
+    std::set<uint64_t> thetas_sent;  // this batch
+    Millis last_sent = 0;
+  };
+
+  void requeue(uint64_t job_id, bool died);
+  wire::Job job_message(const Job& job, Worker& worker) const;
+  std::string describe_task(size_t index) const;
+
+  DispatchSettings settings_;
+  std::unordered_map<WorkerId, Worker> workers_;
+  std::vector<WorkerId> arrival_;  // workers in the order they said Hello: jobs go out in this order
+
+  // the batch
+  bool batch_active_ = false;
+  uint64_t batch_id_ = 0;
+  std::vector<RolloutTask> tasks_;
+  std::vector<uint64_t> task_theta_hash_;
+  std::unordered_map<uint64_t, const std::vector<double>*> thetas_;  // by hash
+  std::vector<RolloutResult> results_;
+  std::vector<bool> have_result_;
+  size_t remaining_ = 0;
+  std::map<uint64_t, Job> jobs_;  // open jobs by id
+  std::deque<uint64_t> queue_;
+  uint64_t next_job_id_ = 1;
+
+  std::optional<std::string> failure_;
+  std::map<std::string, int64_t> dropped_;
+};
+
+}  // namespace poet

@@ -1,0 +1,48 @@
+#pragma once
+// Worker processes on this machine, started and supervised by the coordinator (--local-workers N): each is a
+// plain `poet-worker --connect ENDPOINT`, exactly what a user starts on another machine. A worker that dies is
+// started again after a pause (it may have been killed by a poison job; the dispatcher's rule bounds that). On
+// destruction every worker gets SIGTERM, then SIGKILL if it has not left within two seconds.
+
+#include <sys/types.h>
+
+#include <atomic>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "expected.h"
+
+namespace poet {
+
+class LocalWorkers {
+ public:
+  // Starts `count` workers of `binary` connecting to endpoint, each with `threads` threads. extra_args go to
+  // every worker (tests pass fault switches this way).
+  static Expected<std::unique_ptr<LocalWorkers>> start(const std::string& binary, const std::string& endpoint,
+                                                       int count, int threads,
+                                                       std::vector<std::string> extra_args = {});
+  ~LocalWorkers();
+
+  // The worker binary beside this executable: <dir>/poet-worker, then <dir>/../worker/poet-worker (the build
+  // tree), else "poet-worker" from PATH.
+  static std::string default_binary();
+
+  std::vector<pid_t> pids() const;
+
+ private:
+  LocalWorkers() = default;
+  pid_t spawn() const;
+  void supervise();
+
+  std::string binary_;
+  std::vector<std::string> args_;
+  mutable std::mutex mutex_;
+  std::vector<pid_t> pids_;
+  std::atomic<bool> stopping_{false};
+  std::thread supervisor_;
+};
+
+}  // namespace poet

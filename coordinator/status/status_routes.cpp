@@ -1,0 +1,104 @@
+#include "status/status_routes.h"
+
+#include <algorithm>
+#include <charconv>
+#include <exception>
+#include <optional>
+#include <string_view>
+
+namespace poet {
+namespace {
+
+constexpr char kEndpoints[] = "/status, /pairs, /pairs/{id}, /archive, /workers, /events?since=N, /metrics, /healthz";
+constexpr int64_t kMaxSince = int64_t{1} << 50;  // far beyond any events file; keeps since + limit exact
+
+StatusResponse json(const google::protobuf::Message& message) { return {200, kJsonType, status_json(message), ""}; }
+
+// "/pairs/17" → 17; nullopt for anything else (a sign, a leading zero, letters, more than 9 digits).
+std::optional<int> pair_id(std::string_view path) {
+  constexpr std::string_view kPrefix = "/pairs/";
+  if (!path.starts_with(kPrefix)) return std::nullopt;
+  const std::string_view digits = path.substr(kPrefix.size());
+  if (digits.empty() || digits.size() > 9 || (digits.size() > 1 && digits[0] == '0')) return std::nullopt;
+  if (!std::all_of(digits.begin(), digits.end(), [](char c) { return c >= '0' && c <= '9'; })) return std::nullopt;
+  int id = 0;
+  const auto [end, ec] = std::from_chars(digits.data(), digits.data() + digits.size(), id);
+  if (ec != std::errc() || end != digits.data() + digits.size()) return std::nullopt;
+  return id;
+}
+
+// A query parameter that must be a whole number in [lo, hi] when given: the value, the fallback when absent, or
+// the 400 to answer.
+struct Number {
+  int64_t value = 0;
+  std::optional<StatusResponse> error;
+};
+Number query_number(const QueryParams& query, const std::string& key, int64_t fallback, int64_t lo, int64_t hi) {
+  const size_t count = query.count(key);
+  if (count == 0) return {fallback, std::nullopt};
+  if (count > 1) return {0, error_response(400, key + ": given " + std::to_string(count) + " times")};
+  const std::string& text = query.find(key)->second;
+  int64_t value = 0;
+  const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
+  if (text.empty() || ec != std::errc() || end != text.data() + text.size() || value < lo || value > hi)
+    return {0, error_response(400, key + ": expected a whole number in [" + std::to_string(lo) + ", " +
+                                       std::to_string(hi) + "], got \"" + valid_utf8(text.substr(0, 40)) + "\"")};
+  return {value, std::nullopt};
+}
+
+StatusResponse get(const StatusBoard& board, const std::string& path, const QueryParams& query) {
+  if (path == "/status") return json(board.status());
+  if (path == "/pairs") return json(board.pairs());
+  if (path == "/archive") return json(board.archive());
+  if (path == "/workers") return json(board.workers());
+  if (path == "/metrics") return {200, kMetricsType, board.metrics_text(), ""};
+  if (path == "/healthz") return {200, kTextType, "ok\n", ""};
+  if (path == "/events") {
+    const Number since = query_number(query, "since", 0, 0, kMaxSince);
+    if (since.error) return *since.error;
+    const Number limit = query_number(query, "limit", kMaxEventsPerPage, 1, kMaxEventsPerPage);
+    if (limit.error) return *limit.error;
+    const Expected<status::EventList> events = board.events(since.value, limit.value);
+    if (!events) return error_response(500, events.error());
+    return json(*events);
+  }
+  const std::optional<int> id = pair_id(path);
+  const std::optional<status::PairDetail> detail = board.pair(*id);  // the caller checked the path is known
+  if (!detail) return error_response(404, "no pair " + std::to_string(*id));
+  return json(*detail);
+}
+
+}  // namespace
+
+StatusResponse error_response(int status, const std::string& message) {
+  status::Error error;
+  error.set_status(status);
+  error.set_error(valid_utf8(message));
+  StatusResponse response{status, kJsonType, status_json(error), ""};
+  return response;
+}
+
+StatusResponse status_response(const StatusBoard& board, const std::string& method, const std::string& path,
+                               const QueryParams& query) {
+  static constexpr std::string_view kPaths[] = {"/status", "/pairs",   "/archive", "/workers",
+                                                "/events", "/metrics", "/healthz"};
+  bool known = pair_id(path).has_value();
+  for (std::string_view p : kPaths) known = known || path == p;
+  if (!known) {
+    // the path is echoed only in part: it is the client's text
+    return error_response(404,
+                          "no such endpoint: " + valid_utf8(path.substr(0, 100)) + " (endpoints: " + kEndpoints + ")");
+  }
+  if (method != "GET" && method != "HEAD") {
+    StatusResponse response = error_response(405, valid_utf8(method.substr(0, 20)) + " is not allowed; use GET");
+    response.allow = kAllowedMethods;
+    return response;
+  }
+  try {
+    return get(board, path, query);
+  } catch (const std::exception& e) {
+    return error_response(500, e.what());
+  }
+}
+
+}  // namespace poet

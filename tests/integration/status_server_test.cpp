@@ -1,0 +1,552 @@
+// Tests coordinator/status/status_server.cpp over real loopback sockets: a StatusServer on an ephemeral port in
+// this process, fed a hand-made run, asked by a real HTTP client (every endpoint, the 404/405/400 rules), by raw
+// TCP (garbage request lines, oversized requests, slow clients that send half a request and sit), and by poetctl
+// run as a real process. Every wait is bounded; TearDown closes every socket, kills every child, stops the server
+// and removes the directory, even when a test fails.
+
+#include "status/status_server.h"
+
+#include <arpa/inet.h>
+#include <fcntl.h>
+#include <gtest/gtest.h>
+#include <httplib.h>
+#include <netinet/in.h>
+#include <poll.h>
+#include <spawn.h>
+#include <sys/socket.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <chrono>
+#include <csignal>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "build_fingerprint.h"
+#include "poet/run_state.h"
+#include "run/run_directory.h"
+#include "status/status_board.h"
+
+extern char** environ;
+
+namespace poet {
+namespace {
+
+namespace fs = std::filesystem;
+using namespace std::chrono_literals;
+using nlohmann::json;
+using Clock = std::chrono::steady_clock;
+
+constexpr auto kReadTimeout = 1000ms;  // the server's, in these tests
+constexpr auto kMargin = 3s;           // what a loaded machine may add to a bound
+
+// A run at iteration 5: pair 0 retired, pair 1 its child (solved), pair 2 child of 1 with a transfer from 0.
+RunState demo_state() {
+  // by hand: poet/engine.h brings Eigen, whose parameter names <resolv.h> (in httplib.h) defines as a macro
+  RunState state;
+  state.config.set_seed(7);
+  state.config.set_iterations(100);
+  state.pairs.emplace_back();
+  state.next_iteration = 5;
+  state.counters.rollouts = 1234;
+  state.counters.env_steps = 98765;
+  state.pairs[0].retired_iteration = 4;
+  for (int id : {1, 2}) {
+    Pair pair;
+    pair.id = id;
+    pair.env = state.pairs[0].env;
+    pair.env.encoding.roughness = id;
+    pair.env.encoding.name = "rough-" + std::to_string(id);
+    pair.parent_id = id - 1;
+    pair.created_iteration = id + 1;
+    pair.latest_score = 100.0 * id;
+    pair.best_score = 100.0 * id + 5;
+    state.pairs.push_back(pair);
+  }
+  state.pairs[1].first_solved_iteration = 3;
+  state.pairs[2].transfers = {{4, 0, true, 150.0}};
+  state.next_pair_id = 3;
+  return state;
+}
+
+// A TCP connection to 127.0.0.1:port, or -1.
+int connect_to(int port) {
+  const int fd = ::socket(AF_INET, SOCK_STREAM | SOCK_CLOEXEC, 0);
+  if (fd < 0) return -1;
+  sockaddr_in address{};
+  address.sin_family = AF_INET;
+  address.sin_port = htons(static_cast<uint16_t>(port));
+  address.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+  if (::connect(fd, reinterpret_cast<sockaddr*>(&address), sizeof address) != 0) {
+    ::close(fd);
+    return -1;
+  }
+  return fd;
+}
+
+bool send_all(int fd, std::string_view data) {
+  while (!data.empty()) {
+    const ssize_t sent = ::send(fd, data.data(), data.size(), MSG_NOSIGNAL);
+    if (sent < 0 && errno == EINTR) continue;
+    if (sent <= 0) return false;
+    data.remove_prefix(static_cast<size_t>(sent));
+  }
+  return true;
+}
+
+struct Received {
+  std::string data;
+  bool closed = false;  // the peer closed (or reset) the connection within the time
+};
+
+// True when text holds a whole HTTP response: the headers and Content-Length bytes of body.
+bool whole_response(const std::string& text) {
+  const size_t end = text.find("\r\n\r\n");
+  if (end == std::string::npos) return false;
+  const size_t field = text.find("Content-Length: ");
+  if (field == std::string::npos || field > end) return true;
+  return text.size() - (end + 4) >= std::stoul(text.substr(field + 16));
+}
+
+// What the peer sends until it closes the connection (or, with until_response, until one whole response came),
+// for at most `timeout`.
+Received receive(int fd, std::chrono::milliseconds timeout, bool until_response = false) {
+  Received r;
+  const auto deadline = Clock::now() + timeout;
+  while (Clock::now() < deadline && !(until_response && whole_response(r.data))) {
+    pollfd p{fd, POLLIN, 0};
+    const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - Clock::now()).count();
+    if (::poll(&p, 1, static_cast<int>(std::max<int64_t>(left, 1))) <= 0) continue;
+    char buffer[4096];
+    const ssize_t n = ::recv(fd, buffer, sizeof buffer, 0);
+    if (n > 0) {
+      r.data.append(buffer, static_cast<size_t>(n));
+    } else if (n == 0 || errno != EINTR) {
+      r.closed = true;
+      break;
+    }
+  }
+  return r;
+}
+
+std::string read_file(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  return std::string(std::istreambuf_iterator<char>(in), {});
+}
+
+bool contains(const std::string& text, std::string_view part) { return text.find(part) != std::string::npos; }
+
+struct Outcome {
+  int code = -1;  // the exit status, or 128 + signal; -1 when it could not be started or did not finish
+  std::string out, err;
+};
+
+class StatusServerTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    // an HTTP client writing to a server that hung up must fail, not kill the test binary
+    struct sigaction ignore {};
+    ignore.sa_handler = SIG_IGN;
+    sigemptyset(&ignore.sa_mask);
+    ::sigaction(SIGPIPE, &ignore, &old_sigpipe_);
+
+    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+    root_ = fs::temp_directory_path() / ("poet_status_server_test_" + std::to_string(::getpid()) + "_" + info->name());
+    fs::remove_all(root_);
+    fs::create_directories(root_ / "run");
+    std::ofstream(root_ / "run" / kEventsFile) << "{\"iteration\":0,\"event\":\"pair_created\",\"pair\":0}\n"
+                                               << "{\"iteration\":3,\"event\":\"solved\",\"pair\":1}\n"
+                                               << "{\"iteration\":4,\"event\":\"transfer\",\"target\":2}\n";
+    std::ofstream stats(root_ / "run" / kStatsFile);
+    stats << pair_stats_header();
+    for (int t = 0; t < 5; ++t) {
+      PairStatsRow row;
+      row.iteration = t;
+      row.pair = 2;
+      row.score = 10.0 * t;
+      row.best_score = 10.0 * t;
+      stats << pair_stats_row(row);
+    }
+    stats.close();
+
+    board_ = std::make_unique<StatusBoard>(root_ / "run");
+    board_->publish_run(demo_state(), 5);
+    board_->publish_dispatch({.workers = {{"w-1", "10.1.2.3", 2, 40, 38, 0.25, 0x1234}},
+                              .queue_depth = 6,
+                              .in_flight_jobs = 2,
+                              .dropped_frames = {{"malformed", 1}}});
+    board_->set_state(RunPhase::kRunning);
+    server_ = std::make_unique<StatusServer>(*board_, options());
+    const Expected<int> port = server_->start("127.0.0.1:0");
+    ASSERT_TRUE(port) << port.error();
+    port_ = *port;
+    ASSERT_GT(port_, 0);
+  }
+
+  void TearDown() override {
+    for (pid_t pid : children_) {
+      ::kill(pid, SIGKILL);
+      ::waitpid(pid, nullptr, 0);
+    }
+    for (int fd : sockets_) ::close(fd);
+    if (server_) server_->stop();
+    server_.reset();
+    board_.reset();
+    fs::remove_all(root_);
+    ::sigaction(SIGPIPE, &old_sigpipe_, nullptr);
+  }
+
+  static StatusServerOptions options() {
+    StatusServerOptions o;
+    o.threads = 2;
+    o.read_timeout = kReadTimeout;
+    o.write_timeout = kReadTimeout;
+    o.keep_alive_seconds = 1;
+    return o;
+  }
+
+  std::unique_ptr<httplib::Client> client() {
+    auto c = std::make_unique<httplib::Client>("127.0.0.1", port_);
+    c->set_connection_timeout(2, 0);
+    c->set_read_timeout(10, 0);
+    c->set_write_timeout(10, 0);
+    return c;
+  }
+
+  // A raw connection to the server, closed in TearDown.
+  int raw() {
+    const int fd = connect_to(port_);
+    EXPECT_GE(fd, 0) << "connect to 127.0.0.1:" << port_;
+    if (fd >= 0) sockets_.push_back(fd);
+    return fd;
+  }
+
+  // Sends bytes on a fresh connection and returns the response that comes back (bounded).
+  std::string exchange(std::string_view request) {
+    const int fd = raw();
+    if (fd < 0) return "";
+    EXPECT_TRUE(send_all(fd, request));
+    std::string response =
+        receive(fd, std::chrono::duration_cast<std::chrono::milliseconds>(kReadTimeout + kMargin), true).data;
+    std::erase(sockets_, fd);  // hang up, so that the server's thread is free for the next one
+    ::close(fd);
+    return response;
+  }
+
+  // Runs poetctl with args, stdout and stderr to files in root_, for at most 30 s; extra_env is added to this
+  // process's environment.
+  Outcome poetctl(const std::vector<std::string>& args, const std::string& name,
+                  const std::vector<std::string>& extra_env = {}) {
+    std::vector<std::string> all = {POETCTL_BIN};
+    all.insert(all.end(), args.begin(), args.end());
+    std::vector<char*> argv;
+    for (std::string& a : all) argv.push_back(a.data());
+    argv.push_back(nullptr);
+    std::vector<std::string> env_text(extra_env);
+    for (char** e = environ; *e; ++e)
+      if (!std::string_view(*e).starts_with("POET_STATUS=")) env_text.emplace_back(*e);
+    std::vector<char*> envp;
+    for (std::string& e : env_text) envp.push_back(e.data());
+    envp.push_back(nullptr);
+
+    const fs::path out = root_ / (name + ".out"), err = root_ / (name + ".err");
+    posix_spawn_file_actions_t actions;
+    posix_spawn_file_actions_init(&actions);
+    posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, out.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    posix_spawn_file_actions_addopen(&actions, STDERR_FILENO, err.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    // the child starts with default signal handling, whatever this process ignores or blocks
+    posix_spawnattr_t attributes;
+    posix_spawnattr_init(&attributes);
+    sigset_t none, pipe;
+    sigemptyset(&none);
+    sigemptyset(&pipe);
+    sigaddset(&pipe, SIGPIPE);
+    posix_spawnattr_setsigmask(&attributes, &none);
+    posix_spawnattr_setsigdefault(&attributes, &pipe);
+    posix_spawnattr_setflags(&attributes, POSIX_SPAWN_SETSIGMASK | POSIX_SPAWN_SETSIGDEF);
+    pid_t pid = -1;
+    const int rc = posix_spawn(&pid, argv[0], &actions, &attributes, argv.data(), envp.data());
+    posix_spawn_file_actions_destroy(&actions);
+    posix_spawnattr_destroy(&attributes);
+    if (rc != 0) {
+      ADD_FAILURE() << "posix_spawn " << POETCTL_BIN << ": " << std::strerror(rc);
+      return {};
+    }
+    children_.push_back(pid);
+    const auto deadline = Clock::now() + 30s;
+    int status = 0;
+    while (::waitpid(pid, &status, WNOHANG) != pid) {
+      if (Clock::now() > deadline) {
+        ADD_FAILURE() << "poetctl " << name << ": did not finish within 30 s";
+        return {};
+      }
+      std::this_thread::sleep_for(5ms);
+    }
+    std::erase(children_, pid);
+    return {WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status), read_file(out), read_file(err)};
+  }
+
+  std::string address() const { return "127.0.0.1:" + std::to_string(port_); }
+
+  fs::path root_;
+  std::unique_ptr<StatusBoard> board_;
+  std::unique_ptr<StatusServer> server_;
+  int port_ = 0;
+  std::vector<int> sockets_;
+  std::vector<pid_t> children_;
+  struct sigaction old_sigpipe_ {};
+};
+
+TEST_F(StatusServerTest, EveryEndpointAnswersWithJson) {
+  auto http = client();
+  for (const char* path :
+       {"/status", "/pairs", "/pairs/0", "/pairs/2", "/archive", "/workers", "/events", "/events?since=1&limit=1"}) {
+    const httplib::Result r = http->Get(path);
+    ASSERT_TRUE(r) << path << ": " << httplib::to_string(r.error());
+    EXPECT_EQ(r->status, 200) << path << " " << r->body;
+    EXPECT_EQ(r->get_header_value("Content-Type"), "application/json") << path;
+    EXPECT_TRUE(json::accept(r->body)) << path << ": " << r->body;
+  }
+  const json status = json::parse(http->Get("/status")->body);
+  EXPECT_EQ(status["iteration"], 5);
+  EXPECT_EQ(status["pairs_created"], 3);
+  EXPECT_EQ(status["pairs_active"], 2);
+  EXPECT_EQ(status["workers"], 1);
+  EXPECT_EQ(status["state"], "running");
+  EXPECT_EQ(status["rollouts"], "1234");
+  const json pair = json::parse(http->Get("/pairs/2")->body);
+  EXPECT_EQ(pair["lineage"]["ancestors"], json::array({1, 0}));
+  EXPECT_EQ(pair["scores"].size(), 5u);
+  const json events = json::parse(http->Get("/events?since=1&limit=1")->body);
+  EXPECT_EQ(events["events"][0]["event"], "solved");
+  EXPECT_EQ(events["next"], "2");
+  EXPECT_EQ(json::parse(http->Get("/workers")->body)["workers"][0]["address"], "10.1.2.3");
+
+  const httplib::Result metrics = http->Get("/metrics");
+  ASSERT_TRUE(metrics);
+  EXPECT_EQ(metrics->status, 200);
+  EXPECT_TRUE(metrics->get_header_value("Content-Type").starts_with("text/plain; version=0.0.4"));
+  EXPECT_TRUE(contains(metrics->body, "\npoet_iteration 5\n")) << metrics->body;
+  EXPECT_TRUE(contains(metrics->body, "poet_dropped_frames_total{reason=\"malformed\"} 1\n")) << metrics->body;
+  const httplib::Result health = http->Get("/healthz");
+  ASSERT_TRUE(health);
+  EXPECT_EQ(health->status, 200);
+  EXPECT_EQ(health->body, "ok\n");
+  EXPECT_TRUE(health->get_header_value("Content-Type").starts_with("text/plain"));
+  const httplib::Result head = http->Head("/status");
+  ASSERT_TRUE(head);
+  EXPECT_EQ(head->status, 200);
+  EXPECT_TRUE(head->body.empty());
+}
+
+TEST_F(StatusServerTest, ErrorsHaveTheirStatusAndAJsonBody) {
+  auto http = client();
+  auto check = [](const httplib::Result& r, int status, const std::string& what) {
+    ASSERT_TRUE(r) << what;
+    EXPECT_EQ(r->status, status) << what << ": " << r->body;
+    EXPECT_EQ(r->get_header_value("Content-Type"), "application/json") << what;
+    ASSERT_TRUE(json::accept(r->body)) << what << ": " << r->body;
+    EXPECT_EQ(json::parse(r->body)["status"], status) << what;
+  };
+  check(http->Get("/nope"), 404, "GET /nope");
+  check(http->Get("/pairs/99"), 404, "GET /pairs/99");
+  check(http->Get("/pairs/abc"), 404, "GET /pairs/abc");
+  check(http->Get("/events?since=abc"), 400, "since=abc");
+  check(http->Get("/events?since=-3"), 400, "since=-3");
+  const httplib::Result post = http->Post("/status", "{}", "application/json");
+  check(post, 405, "POST /status");
+  EXPECT_EQ(post->get_header_value("Allow"), "GET, HEAD");
+  const httplib::Result del = http->Delete("/pairs/1");
+  check(del, 405, "DELETE /pairs/1");
+  EXPECT_EQ(del->get_header_value("Allow"), "GET, HEAD");
+  check(http->Post("/nope", "", "text/plain"), 404, "POST /nope");
+  // a POST without a body (curl -X POST) is answered at once, not read to the end of the connection
+  const auto started = Clock::now();
+  const std::string bodyless = exchange("POST /status HTTP/1.1\r\nHost: x\r\n\r\n");
+  EXPECT_TRUE(bodyless.starts_with("HTTP/1.1 405")) << bodyless;
+  EXPECT_TRUE(contains(bodyless, "Allow: GET, HEAD")) << bodyless;
+  EXPECT_LT(Clock::now() - started, kReadTimeout);
+  EXPECT_TRUE(exchange("TRACE /status HTTP/1.1\r\nHost: x\r\n\r\n").starts_with("HTTP/1.1 405"));
+}
+
+TEST_F(StatusServerTest, MalformedRequestsGet400AndTheServerGoesOn) {
+  for (const std::string& garbage : {std::string("garbage\r\n\r\n"), std::string("\x01\x02\xff\xfe junk\r\n\r\n"),
+                                     std::string("GET\r\n\r\n"), std::string("GET /status\r\n\r\n")}) {
+    const std::string answer = exchange(garbage);
+    EXPECT_TRUE(answer.starts_with("HTTP/1.1 400")) << json(garbage).dump() << " -> " << answer;
+    EXPECT_TRUE(contains(answer, "application/json")) << answer;
+  }
+  // a URI beyond httplib's limit, a body beyond ours
+  EXPECT_TRUE(exchange("GET /" + std::string(20000, 'a') + " HTTP/1.1\r\nHost: x\r\n\r\n").starts_with("HTTP/1.1 414"));
+  EXPECT_TRUE(
+      exchange("POST /status HTTP/1.1\r\nHost: x\r\nContent-Length: 10000000\r\n\r\n").starts_with("HTTP/1.1 413"));
+  // and it still answers
+  const httplib::Result r = client()->Get("/healthz");
+  ASSERT_TRUE(r);
+  EXPECT_EQ(r->status, 200);
+}
+
+TEST_F(StatusServerTest, ASlowClientDoesNotStopOthers) {
+  // one client sends half a request and sits; the other pool thread answers at once
+  const int slow = raw();
+  ASSERT_GE(slow, 0);
+  ASSERT_TRUE(send_all(slow, "GET /status HTTP/1.1\r\nHost: x\r\n"));
+  std::this_thread::sleep_for(50ms);  // so that the server has taken it
+  const auto started = Clock::now();
+  const httplib::Result r = client()->Get("/status");
+  const auto took = Clock::now() - started;
+  ASSERT_TRUE(r);
+  EXPECT_EQ(r->status, 200);
+  EXPECT_LT(took, kReadTimeout) << "served only after the slow client timed out";
+
+  // the slow client is dropped after the read timeout
+  const Received rest = receive(slow, std::chrono::duration_cast<std::chrono::milliseconds>(kReadTimeout + kMargin));
+  EXPECT_TRUE(rest.closed);
+}
+
+TEST_F(StatusServerTest, MoreSlowClientsThanThreadsOnlyDelayOthersByTheTimeout) {
+  std::vector<int> slow;
+  for (int i = 0; i < options().threads + 1; ++i) {
+    slow.push_back(raw());
+    ASSERT_GE(slow.back(), 0);
+    ASSERT_TRUE(send_all(slow.back(), "GET /status HTTP/1.1\r\nHo"));
+  }
+  std::this_thread::sleep_for(50ms);
+  const auto started = Clock::now();
+  const httplib::Result r = client()->Get("/status");
+  ASSERT_TRUE(r) << httplib::to_string(r.error());
+  EXPECT_EQ(r->status, 200);
+  EXPECT_LT(Clock::now() - started, kReadTimeout + kMargin);
+  for (int fd : slow) EXPECT_TRUE(receive(fd, std::chrono::duration_cast<std::chrono::milliseconds>(kMargin)).closed);
+}
+
+TEST_F(StatusServerTest, StopIsBoundedAndTheServerStartsAgain) {
+  // a second server cannot take the same port, and says which address
+  StatusServer other(*board_);
+  const Expected<int> taken = other.start(address());
+  ASSERT_FALSE(taken);
+  EXPECT_TRUE(contains(taken.error(), address())) << taken.error();
+  EXPECT_FALSE(other.start("nonsense"));
+  EXPECT_FALSE(other.start("127.0.0.1:70000"));
+  const Expected<int> twice = server_->start("127.0.0.1:0");
+  EXPECT_FALSE(twice);
+
+  // stop with a slow client connected: bounded by the read timeout
+  const int slow = raw();
+  ASSERT_GE(slow, 0);
+  ASSERT_TRUE(send_all(slow, "GET /status HTTP/1.1\r\n"));
+  std::this_thread::sleep_for(50ms);
+  const auto started = Clock::now();
+  server_->stop();
+  EXPECT_LT(Clock::now() - started, kReadTimeout + kMargin);
+  EXPECT_EQ(server_->port(), 0);
+  EXPECT_EQ(connect_to(port_), -1) << "nothing listens after stop";
+
+  const Expected<int> again = server_->start("127.0.0.1:0");
+  ASSERT_TRUE(again) << again.error();
+  port_ = *again;
+  const httplib::Result r = client()->Get("/healthz");
+  ASSERT_TRUE(r);
+  EXPECT_EQ(r->status, 200);
+  server_->stop();
+  server_->stop();  // idempotent
+}
+
+TEST_F(StatusServerTest, PoetctlPrintsTheRun) {
+  const Outcome status = poetctl({"--address", address(), "status"}, "status");
+  EXPECT_EQ(status.code, 0) << status.err;
+  EXPECT_TRUE(contains(status.out, "iteration   5 of 100")) << status.out;
+  EXPECT_TRUE(contains(status.out, "3 created, 2 active, 1 solved")) << status.out;
+  EXPECT_TRUE(contains(status.out, "state       running")) << status.out;
+  EXPECT_TRUE(contains(status.out, "rollouts    1234")) << status.out;
+
+  const Outcome pairs = poetctl({"--address", address(), "pairs"}, "pairs");
+  EXPECT_EQ(pairs.code, 0) << pairs.err;
+  EXPECT_TRUE(contains(pairs.out, "rough-1")) << pairs.out;
+  EXPECT_TRUE(contains(pairs.out, "retired@4")) << pairs.out;
+  EXPECT_TRUE(contains(pairs.out, "3 pairs")) << pairs.out;
+
+  const Outcome workers = poetctl({"workers", "--json", "--address", address()}, "workers");
+  EXPECT_EQ(workers.code, 0) << workers.err;
+  ASSERT_TRUE(json::accept(workers.out)) << workers.out;
+  const json w = json::parse(workers.out);
+  ASSERT_EQ(w["workers"].size(), 1u);
+  EXPECT_EQ(w["workers"][0]["id"], "w-1");
+  EXPECT_EQ(w["queue_depth"], "6");
+
+  const Outcome pair = poetctl({"--address", address(), "pair", "2"}, "pair");
+  EXPECT_EQ(pair.code, 0) << pair.err;
+  EXPECT_TRUE(contains(pair.out, "ancestors   1 <- 0")) << pair.out;
+  EXPECT_TRUE(contains(pair.out, "iteration 4 from pair 0 (proposal)")) << pair.out;
+
+  const Outcome events = poetctl({"--address", address(), "events", "--since", "1"}, "events");
+  EXPECT_EQ(events.code, 0) << events.err;
+  EXPECT_TRUE(contains(events.out, "iteration 3: solved pair=1")) << events.out;
+  EXPECT_FALSE(contains(events.out, "pair_created")) << events.out;
+
+  const Outcome metrics = poetctl({"--address", address(), "metrics"}, "metrics");
+  EXPECT_EQ(metrics.code, 0) << metrics.err;
+  EXPECT_TRUE(contains(metrics.out, "poet_iteration 5\n")) << metrics.out;
+
+  // the address from the environment
+  const Outcome from_env = poetctl({"status"}, "env", {"POET_STATUS=" + address()});
+  EXPECT_EQ(from_env.code, 0) << from_env.err;
+  EXPECT_TRUE(contains(from_env.out, "iteration   5 of 100")) << from_env.out;
+}
+
+TEST_F(StatusServerTest, PoetctlFailuresHaveTheirExitCodes) {
+  // a port where nothing listens: bound (so nobody else takes it) but not listening
+  const int holder = ::socket(AF_INET, SOCK_STREAM | SOCK_CLOEXEC, 0);
+  ASSERT_GE(holder, 0);
+  sockets_.push_back(holder);
+  sockaddr_in bound{};
+  bound.sin_family = AF_INET;
+  bound.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+  ASSERT_EQ(::bind(holder, reinterpret_cast<sockaddr*>(&bound), sizeof bound), 0);
+  socklen_t length = sizeof bound;
+  ASSERT_EQ(::getsockname(holder, reinterpret_cast<sockaddr*>(&bound), &length), 0);
+  const std::string closed = "127.0.0.1:" + std::to_string(ntohs(bound.sin_port));
+
+  const Outcome unreachable = poetctl({"--address", closed, "status"}, "closed");
+  EXPECT_EQ(unreachable.code, 1) << unreachable.out << unreachable.err;
+  EXPECT_TRUE(contains(unreachable.err, closed)) << unreachable.err;
+  const Outcome unreachable_env = poetctl({"pairs"}, "closed_env", {"POET_STATUS=" + closed});
+  EXPECT_EQ(unreachable_env.code, 1);
+  EXPECT_TRUE(contains(unreachable_env.err, closed)) << unreachable_env.err;
+
+  const Outcome no_pair = poetctl({"--address", address(), "pair", "99"}, "no_pair");
+  EXPECT_EQ(no_pair.code, 1);
+  EXPECT_TRUE(contains(no_pair.err, "no pair 99")) << no_pair.err;
+
+  for (const auto& [args, name] : std::vector<std::pair<std::vector<std::string>, std::string>>{
+           {{}, "none"},
+           {{"frobnicate"}, "unknown"},
+           {{"pair"}, "no_id"},
+           {{"pair", "x"}, "bad_id"},
+           {{"events", "--since", "-1"}, "bad_since"},
+           {{"--address", "nonsense", "status"}, "bad_address"},
+           {{"--address", "127.0.0.1:99999", "status"}, "bad_port"}}) {
+    const Outcome o = poetctl(args, name);
+    EXPECT_EQ(o.code, 2) << name << ": " << o.err;
+    EXPECT_FALSE(o.err.empty()) << name;
+  }
+  const Outcome fingerprint = poetctl({"--fingerprint"}, "fingerprint");
+  EXPECT_EQ(fingerprint.code, 0);
+  EXPECT_EQ(fingerprint.out, build_fingerprint());  // the same text as every other binary of the build
+
+  const Outcome help = poetctl({"--help"}, "help");
+  EXPECT_EQ(help.code, 0);
+  EXPECT_TRUE(contains(help.out, "127.0.0.1:8580")) << help.out;
+  EXPECT_TRUE(contains(help.out, "POET_STATUS")) << help.out;
+}
+
+}  // namespace
+}  // namespace poet

@@ -1,0 +1,190 @@
+// Tests coordinator/dispatch/dispatcher.cpp with a fake clock and no sockets: hellos and refusals, a batch cut
+// into jobs spread over workers, θ sent once per worker and batch, results in task order, duplicates and
+// strangers dropped, re-queueing on departure and on silence, and the poison-job rule naming the task.
+
+#include "dispatch/dispatcher.h"
+
+#include <gtest/gtest.h>
+
+#include "envgen/named_courses.h"
+#include "policy/mlp.h"
+#include "rng.h"
+#include "rollout_task_proto.h"
+
+namespace poet {
+namespace {
+
+bool contains(const std::string& text, std::string_view part) { return text.find(part) != std::string::npos; }
+
+std::vector<RolloutTask> batch(size_t n) {
+  RandomStream init(stream_key(3, "dispatcher-test"));
+  auto theta = std::make_shared<const std::vector<double>>(random_params(init));
+  std::vector<RolloutTask> tasks;
+  for (size_t i = 0; i < n; ++i) {
+    RolloutTask t;
+    t.theta = theta;
+    t.env = EnvDef{named_course("flat").value(), static_cast<uint32_t>(i)};
+    t.perturbation = Perturbation{100 + i, i % 2 ? -1 : 1, 0.1};
+    tasks.push_back(t);
+  }
+  return tasks;
+}
+
+wire::Hello hello(uint32_t threads = 1, uint64_t fingerprint = 42) {
+  wire::Hello h;
+  h.set_protocol_version(wire::PROTOCOL_VERSION);
+  h.set_fingerprint_digest(fingerprint);
+  h.set_threads(threads);
+  h.set_name("test");
+  return h;
+}
+
+// The answer a worker gives to a job: reward = the task's course seed, so results show their task.
+wire::Result answer(const wire::Job& job) {
+  wire::Result r;
+  r.set_job_id(job.job_id());
+  for (const wire::Task& t : job.tasks()) {
+    wire::TaskResult* result = r.add_results();
+    result->set_total_reward(t.env().seed());
+    result->set_steps(10);
+  }
+  return r;
+}
+
+std::vector<Outgoing> jobs_in(const std::vector<Outgoing>& out) {
+  std::vector<Outgoing> jobs;
+  for (const Outgoing& o : out)
+    if (o.message.has_job()) jobs.push_back(o);
+  return jobs;
+}
+
+DispatchSettings settings() {
+  DispatchSettings s;
+  s.heartbeat_ms = 100;
+  s.liveness_ms = 500;
+  s.fingerprint_digest = 42;
+  return s;
+}
+
+TEST(Dispatcher, RefusesOtherVersionsAndBuilds) {
+  Dispatcher d(settings());
+  wire::Hello old = hello();
+  old.set_protocol_version(99);
+  EXPECT_TRUE(d.on_hello("a", old, 0).has_refused());
+  const wire::CoordinatorMessage other = d.on_hello("b", hello(1, 7), 0);
+  ASSERT_TRUE(other.has_refused());
+  EXPECT_TRUE(contains(other.refused().reason(), "fingerprint")) << other.refused().reason();
+  EXPECT_EQ(d.worker_count(), 0u);
+  EXPECT_EQ(d.dropped().at("wrong_version"), 1);
+  EXPECT_EQ(d.dropped().at("wrong_fingerprint"), 1);
+  const wire::CoordinatorMessage ok = d.on_hello("c", hello(), 0);
+  ASSERT_TRUE(ok.has_welcome());
+  EXPECT_EQ(ok.welcome().liveness_ms(), 500u);
+  EXPECT_EQ(d.worker_count(), 1u);
+}
+
+TEST(Dispatcher, ABatchSpreadsOverWorkersAndComesBackInTaskOrder) {
+  Dispatcher d(settings());
+  d.on_hello("a", hello(2), 0);
+  d.on_hello("b", hello(2), 0);
+  d.start_batch(batch(40));
+  std::vector<Outgoing> jobs = jobs_in(d.outgoing(1));
+  ASSERT_EQ(jobs.size(), 4u);  // two ahead for each worker
+  EXPECT_EQ(jobs[0].worker, "a");
+  EXPECT_EQ(jobs[1].worker, "b");
+  // θ goes once to each worker in the batch, then by hash only
+  EXPECT_EQ(jobs[0].message.job().thetas_size(), 1);
+  EXPECT_EQ(jobs[1].message.job().thetas_size(), 1);
+  EXPECT_EQ(jobs[2].message.job().thetas_size(), 0);
+  EXPECT_EQ(jobs[0].message.job().thetas(0).hash(), theta_hash(*batch(1)[0].theta));
+  Millis now = 2;
+  while (!d.batch_done()) {
+    ASSERT_FALSE(jobs.empty()) << "nothing in flight and the batch is not done";
+    // answer in reverse order: results still land in task order
+    for (auto it = jobs.rbegin(); it != jobs.rend(); ++it) d.on_result(it->worker, answer(it->message.job()), now);
+    jobs = jobs_in(d.outgoing(++now));
+  }
+  const std::vector<RolloutResult> results = d.take_results();
+  ASSERT_EQ(results.size(), 40u);
+  for (size_t i = 0; i < results.size(); ++i) EXPECT_EQ(results[i].total_reward, static_cast<double>(i));
+}
+
+TEST(Dispatcher, DuplicatesAndStrangersAreDropped) {
+  Dispatcher d(settings());
+  d.on_hello("a", hello(), 0);
+  d.start_batch(batch(2));
+  const std::vector<Outgoing> jobs = jobs_in(d.outgoing(1));
+  ASSERT_FALSE(jobs.empty());
+  const wire::Result result = answer(jobs[0].message.job());
+  d.on_result("stranger", result, 2);
+  EXPECT_EQ(d.dropped().at("unexpected_result"), 1);
+  d.on_result("a", result, 2);
+  d.on_result("a", result, 3);  // again
+  EXPECT_EQ(d.dropped().at("unexpected_result"), 2);
+  ASSERT_EQ(jobs.size(), 2u);  // one task a job, both sent at once
+  wire::Result short_result = answer(jobs[1].message.job());
+  short_result.mutable_results()->RemoveLast();
+  d.on_result("a", short_result, 5);
+  EXPECT_EQ(d.dropped().at("bad_result"), 1);
+  EXPECT_FALSE(d.heard_from("stranger", 5));
+}
+
+TEST(Dispatcher, JobsOfASilentWorkerGoToTheOthers) {
+  Dispatcher d(settings());
+  d.on_hello("a", hello(), 0);
+  d.on_hello("b", hello(), 0);
+  d.start_batch(batch(8));
+  std::vector<Outgoing> jobs = jobs_in(d.outgoing(1));
+  // b answers and keeps beating; a goes silent
+  Millis now = 1;
+  while (!d.batch_done() && now < 5000) {
+    now += 50;
+    for (const Outgoing& o : jobs)
+      if (o.worker == "b") d.on_result("b", answer(o.message.job()), now);
+    d.heard_from("b", now);
+    const std::vector<WorkerId> dead = d.expire(now);
+    if (!dead.empty()) {
+      EXPECT_EQ(dead, std::vector<WorkerId>{"a"});
+    }
+    jobs = jobs_in(d.outgoing(now));
+  }
+  ASSERT_TRUE(d.batch_done());
+  EXPECT_EQ(d.worker_count(), 1u);
+  const std::vector<RolloutResult> results = d.take_results();
+  for (size_t i = 0; i < results.size(); ++i) EXPECT_EQ(results[i].total_reward, static_cast<double>(i));
+}
+
+TEST(Dispatcher, AJobThatKillsEveryWorkerStopsTheRunNamingTheTask) {
+  Dispatcher d(settings());
+  d.start_batch(batch(3));
+  // task 1 kills whoever runs it; the others are answered
+  for (int round = 0; round < 10 && !d.failure(); ++round) {
+    const WorkerId id = "w" + std::to_string(round);
+    d.on_hello(id, hello(), round * 1000);
+    for (const Outgoing& o : jobs_in(d.outgoing(round * 1000))) {
+      const wire::Job& job = o.message.job();
+      bool deadly = false;
+      for (const wire::Task& t : job.tasks()) deadly = deadly || t.env().seed() == 1;
+      if (deadly) {
+        d.remove_worker(id, /*died=*/true);
+        break;
+      }
+      d.on_result(id, answer(job), round * 1000);
+    }
+  }
+  ASSERT_TRUE(d.failure());
+  EXPECT_TRUE(contains(*d.failure(), "task 1 of the batch")) << *d.failure();
+  EXPECT_TRUE(contains(*d.failure(), "3 workers")) << *d.failure();
+}
+
+TEST(Dispatcher, HeartbeatsGoToIdleWorkers) {
+  Dispatcher d(settings());
+  d.on_hello("a", hello(), 0);
+  EXPECT_TRUE(d.outgoing(50).empty());
+  const std::vector<Outgoing> out = d.outgoing(100);
+  ASSERT_EQ(out.size(), 1u);
+  EXPECT_TRUE(out[0].message.has_heartbeat());
+}
+
+}  // namespace
+}  // namespace poet

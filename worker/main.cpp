@@ -1,0 +1,138 @@
+// poet-worker: the stateless worker. Connects to a coordinator and runs the rollouts it is sent, until the
+// coordinator shuts it down or a signal stops it.
+//   poet-worker --connect tcp://HOST:PORT [--threads N] [--name NAME] [--log-level L]
+// It says Hello (protocol version, build fingerprint, threads) every second until welcomed, runs Jobs on its
+// threads and answers each with a Result, heartbeats, and reconnects (Hello again) when the coordinator falls
+// silent for its liveness window. SIGINT/SIGTERM abandon the job in hand, send Goodbye and exit 0 within a
+// second. Exit codes: 0 shut down or stopped, 1 runtime error, 2 bad command line or refused by the coordinator.
+
+#include <pthread.h>
+#include <spdlog/sinks/stdout_color_sinks.h>
+#include <spdlog/spdlog.h>
+#include <unistd.h>
+
+#include <CLI/CLI.hpp>
+#include <algorithm>
+#include <atomic>
+#include <climits>
+#include <csignal>
+#include <exception>
+#include <optional>
+#include <regex>
+#include <string>
+#include <thread>
+
+#include "build_fingerprint.h"
+#include "tool_flags.h"
+#include "worker_loop.h"
+
+namespace poet::worker {
+namespace {
+
+constexpr int kExitError = 1;
+
+// SIGINT and SIGTERM are blocked in every thread and taken by one watcher thread with sigwait, so the reaction
+// is ordinary code and no rollout thread is interrupted. Before the loop runs a signal ends the process at once
+// (exit 0: there is nothing to say goodbye to); in the loop the first sets the stop flag and wakes the loop
+// (Goodbye, exit 0), and a second ends the process at once.
+class StopSignals {
+ public:
+  StopSignals() {
+    sigemptyset(&set_);
+    sigaddset(&set_, SIGINT);
+    sigaddset(&set_, SIGTERM);
+    pthread_sigmask(SIG_BLOCK, &set_, nullptr);  // before any other thread exists, so all inherit it
+    std::thread([this] { watch(); }).detach();   // lives as long as the process
+  }
+  // From now on a signal asks the loop to stop through `stop` and `wake` (which must live to the process's end).
+  void loop_started(WakePipe& wake) { wake_ = &wake; }
+  const std::atomic<bool>& stop_flag() const { return stop_; }
+
+ private:
+  [[noreturn]] void watch() {
+    for (;;) {
+      int signal = 0;
+      if (sigwait(&set_, &signal) != 0) continue;
+      WakePipe* wake = wake_.load();
+      if (wake == nullptr || stop_) ::_exit(0);
+      stop_ = true;
+      wake->notify();
+    }
+  }
+
+  sigset_t set_{};
+  std::atomic<WakePipe*> wake_{nullptr};
+  std::atomic<bool> stop_{false};
+};
+
+// "host:pid", the default name.
+std::string default_name() {
+  char host[256] = {};
+  if (::gethostname(host, sizeof host - 1) != 0) host[0] = '\0';
+  return std::string(host[0] != '\0' ? host : "worker") + ":" + std::to_string(::getpid());
+}
+
+// CLI11 check of --connect: tcp://HOST:PORT (a host name, IPv4 or [IPv6]) or ipc://PATH.
+std::string check_endpoint(const std::string& endpoint) {
+  static const std::regex kTcp(R"(tcp://([A-Za-z0-9._-]+|\[[0-9A-Fa-f:.]+\]):([0-9]{1,5}))");
+  std::smatch match;
+  if (std::regex_match(endpoint, match, kTcp)) {
+    const int port = std::stoi(match[2].str());
+    if (port >= 1 && port <= 65535) return {};
+    return "port out of range: " + endpoint;
+  }
+  if (endpoint.starts_with("ipc://") && endpoint.size() > 6) return {};
+  return "expected tcp://HOST:PORT or ipc://PATH, got " + endpoint;
+}
+
+}  // namespace
+}  // namespace poet::worker
+
+int main(int argc, char** argv) {
+  using namespace poet::worker;
+  // first of all, so that every thread started later has the signals blocked
+  static StopSignals signals;
+
+  LoopSettings settings;
+  int threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  std::string name;
+  std::string log_level = "info";
+  std::string fault;
+  CLI::App app{"A POET worker: runs the rollouts a poet-coordinator sends it"};
+  app.add_option("--connect", settings.endpoint, "The coordinator's job endpoint, tcp://HOST:PORT")
+      ->required()
+      ->check(CLI::Validator(check_endpoint, "ENDPOINT"));
+  app.add_option("--threads", threads, "Episodes run at once (default: hardware concurrency)")
+      ->check(CLI::Range(1, 4096));
+  app.add_option("--name", name, "Name in the coordinator's logs (default: host:pid)");
+  app.add_option("--log-level", log_level, "trace, debug, info (default), warn, error or off")
+      ->check(CLI::IsMember({"trace", "debug", "info", "warn", "error", "off"}));
+  app.add_option("--fault", fault,
+                 "Test-only misbehaviour, for tests of the coordinator's poison-job rule and leases: crash-on-job "
+                 "(abort() on receiving a Job) or ignore-jobs (never answer a Job, keep heartbeating)")
+      ->check(CLI::IsMember({"crash-on-job", "ignore-jobs"}))
+      ->group("");  // hidden from --help
+  poet::add_fingerprint_flag(app);
+  if (const std::optional<int> code = poet::parse_command_line(app, argc, argv)) return *code;
+
+  spdlog::set_default_logger(spdlog::stderr_color_mt("poet-worker"));
+  spdlog::set_level(spdlog::level::from_str(log_level));
+
+  settings.threads = threads;
+  settings.session.threads = static_cast<uint32_t>(threads);
+  settings.session.name = name.empty() ? default_name() : name;
+  if (fault == "crash-on-job") settings.session.fault = Fault::kCrashOnJob;
+  if (fault == "ignore-jobs") settings.session.fault = Fault::kIgnoreJobs;
+  if (!fault.empty()) spdlog::warn("--fault {}: this worker misbehaves on purpose (a test)", fault);
+  spdlog::info("{}: {} threads, connecting to {}; build digest {:016x}", settings.session.name, threads,
+               settings.endpoint, poet::build_fingerprint_digest());
+
+  try {
+    static WakePipe wake;  // static: the signal thread may still touch it while the process ends
+    signals.loop_started(wake);
+    return run_worker(settings, wake, signals.stop_flag());
+  } catch (const std::exception& e) {
+    spdlog::error("{}", e.what());
+    return kExitError;
+  }
+}

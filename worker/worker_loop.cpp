@@ -1,0 +1,220 @@
+#include "worker_loop.h"
+
+#include <fcntl.h>
+#include <spdlog/spdlog.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <cstdlib>
+#include <optional>
+#include <system_error>
+#include <utility>
+#include <zmq.hpp>
+
+#include "job_runner.h"
+
+namespace poet::worker {
+namespace {
+
+using namespace std::chrono_literals;
+
+// The longest poll: the loop wakes at least this often even with nothing to do (a safety net; deadlines and the
+// wake pipe normally wake it).
+constexpr Millis kMaxPollWait = 100ms;
+// Messages read in one turn before timers and finished jobs get their turn.
+constexpr int kMaxFramesPerTurn = 256;
+// How long closing the socket may wait to deliver a Goodbye.
+constexpr int kGoodbyeLingerMs = 500;
+
+const char* kind_name(const wire::WorkerMessage& message) {
+  switch (message.kind_case()) {
+    case wire::WorkerMessage::kHello:
+      return "Hello";
+    case wire::WorkerMessage::kResult:
+      return "Result";
+    case wire::WorkerMessage::kHeartbeat:
+      return "Heartbeat";
+    case wire::WorkerMessage::kGoodbye:
+      return "Goodbye";
+    case wire::WorkerMessage::KIND_NOT_SET:
+      break;
+  }
+  return "message";
+}
+
+class SocketLoop {
+ public:
+  SocketLoop(const LoopSettings& settings, WakePipe& wake, const std::atomic<bool>& stop)
+      : settings_(settings), wake_(wake), stop_(stop), session_(settings.session), runner_(settings.threads, [&wake] {
+          wake.notify();
+        }) {}
+
+  int run() {
+    std::optional<int> code =
+        connect() ? apply(session_.start(Clock::now())) : apply(session_.on_connect_failed(Clock::now()));
+    while (!code) {
+      if (stop_) {
+        code = apply(session_.on_stop(Clock::now(), "stopped by a signal"));
+        return code.value_or(0);
+      }
+      if (!poll()) continue;  // interrupted: look at the stop flag again
+      wake_.drain();
+      if (stop_) continue;
+      code = receive();
+      if (code) break;
+      for (const JobOutcome& outcome : runner_.take_finished()) {
+        code = apply(session_.on_job_finished(outcome, Clock::now()));
+        if (code) break;
+      }
+      if (!code) code = apply(session_.on_tick(Clock::now()));
+    }
+    return *code;
+  }
+
+ private:
+  // A fresh DEALER connected to the coordinator; false (and no socket) when the endpoint cannot be connected.
+  bool connect() {
+    try {
+      zmq::socket_t socket(context_, zmq::socket_type::dealer);
+      socket.set(zmq::sockopt::linger, 0);
+      socket.set(zmq::sockopt::maxmsgsize, static_cast<int64_t>(kMaxFrameBytes));
+      // no queueing for a peer that is not connected: a Hello sent then fails at once (and is retried) instead
+      // of piling up and arriving in a burst when the coordinator comes up
+      socket.set(zmq::sockopt::immediate, 1);
+      socket.connect(settings_.endpoint);
+      socket_ = std::move(socket);
+      spdlog::debug("connecting to {}", settings_.endpoint);
+      return true;
+    } catch (const zmq::error_t& e) {
+      spdlog::warn("cannot connect to {}: {}", settings_.endpoint, e.what());
+      socket_.reset();
+      return false;
+    }
+  }
+
+  // Waits for a frame, a wake-up or the next deadline. False when interrupted.
+  bool poll() {
+    zmq_pollitem_t items[2] = {{nullptr, wake_.read_fd(), ZMQ_POLLIN, 0}, {nullptr, 0, ZMQ_POLLIN, 0}};
+    size_t count = 1;
+    if (socket_) {
+      items[1].socket = socket_->handle();
+      count = 2;
+    }
+    const auto until_deadline = session_.next_deadline() - Clock::now();
+    const Millis wait = std::clamp(std::chrono::ceil<Millis>(until_deadline), Millis(0), kMaxPollWait);
+    try {
+      zmq::poll(items, count, wait);
+      return true;
+    } catch (const zmq::error_t& e) {
+      if (e.num() == EINTR) return false;
+      throw;
+    }
+  }
+
+  // Reads the frames waiting on the socket, each handed to the session.
+  std::optional<int> receive() {
+    for (int n = 0; n < kMaxFramesPerTurn && socket_; ++n) {
+      zmq::message_t frame;
+      try {
+        if (!socket_->recv(frame, zmq::recv_flags::dontwait)) break;
+        Actions actions;
+        if (frame.more()) {
+          // the parts of a message arrive together: read and drop the rest of it
+          bool more = true;
+          while (more) {
+            zmq::message_t part;
+            if (!socket_->recv(part, zmq::recv_flags::dontwait)) break;
+            more = part.more();
+          }
+          actions = session_.on_multipart(Clock::now());
+        } else {
+          actions = session_.on_frame(frame.to_string_view(), Clock::now());
+        }
+        if (auto code = apply(std::move(actions))) return code;
+      } catch (const zmq::error_t& e) {
+        if (e.num() == EINTR) break;
+        throw;
+      }
+    }
+    return std::nullopt;
+  }
+
+  bool send(const wire::WorkerMessage& message) {
+    if (!socket_) return false;
+    const std::string bytes = message.SerializeAsString();
+    try {
+      if (socket_->send(zmq::buffer(bytes), zmq::send_flags::dontwait)) return true;
+      spdlog::trace("{} not sent: no connection to the coordinator", kind_name(message));
+    } catch (const zmq::error_t& e) {
+      spdlog::warn("{} not sent: {}", kind_name(message), e.what());
+    }
+    return false;
+  }
+
+  // Does what the session asked, in the order Actions documents.
+  std::optional<int> apply(Actions actions) {
+    if (actions.crash) {
+      spdlog::critical("a Job arrived and --fault crash-on-job is set: aborting");
+      spdlog::default_logger()->flush();
+      std::abort();
+    }
+    if (actions.abandon_jobs) runner_.abandon();
+    if (actions.close_socket) socket_.reset();
+    if (actions.open_socket && !connect()) return apply(session_.on_connect_failed(Clock::now()));
+    bool sent = false;
+    for (const wire::WorkerMessage& message : actions.send) {
+      if (send(message)) {
+        sent = true;
+      } else {
+        session_.on_send_failed(message, Clock::now());
+      }
+    }
+    for (WorkerJob& job : actions.run) runner_.submit(std::move(job));
+    if (actions.exit_code) {
+      // the last message (a Goodbye) gets a moment to leave; linger 0 would discard it
+      if (socket_ && sent) socket_->set(zmq::sockopt::linger, kGoodbyeLingerMs);
+      socket_.reset();
+      return actions.exit_code;
+    }
+    return std::nullopt;
+  }
+
+  const LoopSettings& settings_;
+  WakePipe& wake_;
+  const std::atomic<bool>& stop_;
+  zmq::context_t context_{1};
+  std::optional<zmq::socket_t> socket_;  // after the context: closed before it
+  WorkerSession session_;
+  JobRunner runner_;  // last: its thread is joined first
+};
+
+}  // namespace
+
+WakePipe::WakePipe() {
+  if (::pipe2(fds_, O_NONBLOCK | O_CLOEXEC) != 0) throw std::system_error(errno, std::generic_category(), "pipe2");
+}
+
+WakePipe::~WakePipe() {
+  ::close(fds_[0]);
+  ::close(fds_[1]);
+}
+
+void WakePipe::notify() {
+  const char byte = 1;
+  // a full pipe already holds a wake-up: EAGAIN is fine
+  [[maybe_unused]] const ssize_t written = ::write(fds_[1], &byte, 1);
+}
+
+void WakePipe::drain() {
+  char buffer[256];
+  while (::read(fds_[0], buffer, sizeof buffer) > 0) {
+  }
+}
+
+int run_worker(const LoopSettings& settings, WakePipe& wake, const std::atomic<bool>& stop) {
+  SocketLoop loop(settings, wake, stop);
+  return loop.run();
+}
+
+}  // namespace poet::worker

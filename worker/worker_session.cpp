@@ -1,0 +1,324 @@
+#include "worker_session.h"
+
+#include <spdlog/fmt/fmt.h>
+#include <spdlog/spdlog.h>
+
+#include <algorithm>
+#include <utility>
+
+#include "build_fingerprint.h"
+
+namespace poet::worker {
+namespace {
+
+using namespace std::chrono_literals;
+
+constexpr Millis kDefaultHeartbeat = 1000ms;
+constexpr Millis kDefaultLiveness = 5000ms;
+constexpr Millis kMinTiming = 10ms;
+constexpr Millis kMaxTiming = 3'600'000ms;
+constexpr auto kDropLogInterval = 1s;
+
+long long ms(Millis d) { return static_cast<long long>(d.count()); }
+
+}  // namespace
+
+std::pair<Millis, Millis> welcome_timings(const wire::Welcome& welcome) {
+  auto pick = [](bool has, uint32_t value, Millis fallback) {
+    if (!has || value == 0) return fallback;
+    return std::clamp(Millis(value), kMinTiming, kMaxTiming);
+  };
+  const Millis heartbeat = pick(welcome.has_heartbeat_ms(), welcome.heartbeat_ms(), kDefaultHeartbeat);
+  const Millis liveness = pick(welcome.has_liveness_ms(), welcome.liveness_ms(), kDefaultLiveness);
+  return {heartbeat, std::max(liveness, 2 * heartbeat)};
+}
+
+WorkerSession::WorkerSession(SessionSettings settings)
+    : settings_(std::move(settings)), backoff_(settings_.first_backoff) {}
+
+wire::WorkerMessage WorkerSession::hello() const {
+  wire::WorkerMessage message;
+  wire::Hello& hello = *message.mutable_hello();
+  hello.set_protocol_version(wire::PROTOCOL_VERSION);
+  hello.set_fingerprint_digest(build_fingerprint_digest());
+  hello.set_fingerprint(build_fingerprint());
+  hello.set_threads(settings_.threads);
+  hello.set_name(settings_.name);
+  return message;
+}
+
+void WorkerSession::send(Actions& actions, wire::WorkerMessage message, TimePoint now) {
+  actions.send.push_back(std::move(message));
+  last_sent_ = now;
+}
+
+Actions WorkerSession::start(TimePoint now) {
+  Actions actions;
+  state_ = SessionState::kGreeting;
+  send(actions, hello(), now);
+  next_hello_ = now + settings_.hello_interval;
+  return actions;
+}
+
+Actions WorkerSession::on_frame(std::string_view frame, TimePoint now) {
+  if (state_ != SessionState::kGreeting && state_ != SessionState::kWelcomed) return {};
+  last_received_ = now;  // a frame of any sort shows the coordinator is there
+  if (frame.size() > settings_.max_frame_bytes) {
+    drop(&DropCounts::oversized,
+         fmt::format("a frame of {} bytes (the cap is {})", frame.size(), settings_.max_frame_bytes), now);
+    return {};
+  }
+  wire::CoordinatorMessage message;
+  if (!message.ParseFromArray(frame.data(), static_cast<int>(frame.size()))) {
+    drop(&DropCounts::unparsable, fmt::format("{} bytes that are not a CoordinatorMessage", frame.size()), now);
+    return {};
+  }
+  return on_message(message, now);
+}
+
+Actions WorkerSession::on_multipart(TimePoint now) {
+  if (state_ != SessionState::kGreeting && state_ != SessionState::kWelcomed) return {};
+  last_received_ = now;
+  drop(&DropCounts::unexpected, "a message of several frames", now);
+  return {};
+}
+
+Actions WorkerSession::on_message(const wire::CoordinatorMessage& message, TimePoint now) {
+  Actions actions;
+  if (state_ != SessionState::kGreeting && state_ != SessionState::kWelcomed) return actions;
+  last_received_ = now;
+  const bool welcomed = state_ == SessionState::kWelcomed;
+  switch (message.kind_case()) {
+    case wire::CoordinatorMessage::kWelcome: {
+      std::tie(heartbeat_, liveness_) = welcome_timings(message.welcome());
+      if (!welcomed) {
+        state_ = SessionState::kWelcomed;
+        welcomed_at_ = now;
+        spdlog::info("welcomed by the coordinator: heartbeat every {} ms, liveness {} ms", ms(heartbeat_),
+                     ms(liveness_));
+      } else {
+        // a second Welcome answers a Hello repeated before the first arrived
+        spdlog::debug("Welcome again: heartbeat every {} ms, liveness {} ms", ms(heartbeat_), ms(liveness_));
+      }
+      break;
+    }
+    case wire::CoordinatorMessage::kRefused:
+      spdlog::error("refused by the coordinator: {}", message.refused().reason());
+      finish(actions, 2);
+      break;
+    case wire::CoordinatorMessage::kJob:
+      if (!welcomed) {
+        drop(&DropCounts::unexpected, "a Job before Welcome", now);
+        break;
+      }
+      accept_job(message.job(), actions, now);
+      break;
+    case wire::CoordinatorMessage::kHeartbeat:
+      if (!welcomed) drop(&DropCounts::unexpected, "a Heartbeat before Welcome", now);
+      break;
+    case wire::CoordinatorMessage::kShutdown:
+      spdlog::info("the coordinator shuts the worker down: {}", message.shutdown().reason());
+      finish(actions, 0);
+      break;
+    case wire::CoordinatorMessage::KIND_NOT_SET:
+      drop(&DropCounts::unexpected, "a message of no known kind", now);
+      break;
+  }
+  return actions;
+}
+
+void WorkerSession::accept_job(const wire::Job& job, Actions& actions, TimePoint now) {
+  if (settings_.fault == Fault::kCrashOnJob) {
+    actions.crash = true;
+    return;
+  }
+  if (!job.has_job_id()) {
+    drop(&DropCounts::unexpected, "a Job with no job_id", now);
+    return;
+  }
+  if (settings_.fault == Fault::kIgnoreJobs) {
+    spdlog::debug("job {}: ignored (--fault ignore-jobs)", job.job_id());
+    return;
+  }
+
+  // a job of another batch: the previous batch's θs go (jobs already queued hold theirs)
+  if (!batch_ || *batch_ != job.batch_id()) {
+    thetas_.clear();
+    batch_ = job.batch_id();
+  }
+  auto refuse = [&](std::string error, bool missing_theta) {
+    if (missing_theta) {
+      spdlog::debug("job {}: {}", job.job_id(), error);
+    } else {
+      spdlog::warn("job {} refused: {}", job.job_id(), error);
+    }
+    wire::WorkerMessage message;
+    wire::Result& result = *message.mutable_result();
+    result.set_job_id(job.job_id());
+    result.set_error(std::move(error));
+    if (missing_theta) result.set_missing_theta(true);
+    send(actions, std::move(message), now);
+  };
+
+  // θs first, then every task checked before any runs: a job runs whole or not at all
+  for (int i = 0; i < job.thetas_size(); ++i) {
+    if (auto error = add_theta(job.thetas(i), thetas_)) return refuse(fmt::format("thetas[{}].{}", i, *error), false);
+  }
+  WorkerJob decoded{.job_id = job.job_id(), .batch_id = job.batch_id(), .tasks = {}};
+  decoded.tasks.reserve(static_cast<size_t>(job.tasks_size()));
+  for (int i = 0; i < job.tasks_size(); ++i) {
+    const wire::Task& task = job.tasks(i);
+    if (task.has_theta_hash() && !thetas_.contains(task.theta_hash())) {
+      return refuse(
+          fmt::format("tasks[{}].theta_hash: no θ {:016x} was sent in batch {}", i, task.theta_hash(), job.batch_id()),
+          true);
+    }
+    Expected<RolloutTask> decoded_task = task_from_wire(task, thetas_);
+    if (!decoded_task) return refuse(fmt::format("tasks[{}].{}", i, decoded_task.error()), false);
+    decoded.tasks.push_back(std::move(*decoded_task));
+  }
+  spdlog::debug("job {} (batch {}): {} tasks queued", job.job_id(), job.batch_id(), decoded.tasks.size());
+  actions.run.push_back(std::move(decoded));
+}
+
+Actions WorkerSession::on_job_finished(const JobOutcome& outcome, TimePoint now) {
+  Actions actions;
+  if (state_ != SessionState::kWelcomed) return actions;  // a job of a coordinator the worker has left
+  wire::WorkerMessage message;
+  wire::Result& result = *message.mutable_result();
+  result.set_job_id(outcome.job_id);
+  if (outcome.error) {
+    spdlog::warn("job {} failed: {}", outcome.job_id, *outcome.error);
+    result.set_error(*outcome.error);
+  } else {
+    for (const RolloutResult& r : outcome.results) *result.add_results() = to_wire(r);
+  }
+  send(actions, std::move(message), now);
+  return actions;
+}
+
+Actions WorkerSession::on_send_failed(const wire::WorkerMessage& message, TimePoint now) {
+  switch (message.kind_case()) {
+    case wire::WorkerMessage::kHello:
+      // the connection is not up yet: try again soon rather than in a second
+      if (state_ == SessionState::kGreeting) next_hello_ = std::min(next_hello_, now + settings_.hello_retry);
+      break;
+    case wire::WorkerMessage::kResult:
+      spdlog::warn("the result of job {} could not be sent (no connection); the coordinator re-queues the job",
+                   message.result().job_id());
+      break;
+    default:
+      break;  // a heartbeat or a goodbye lost with the connection
+  }
+  return {};
+}
+
+Actions WorkerSession::on_connect_failed(TimePoint now) {
+  Actions actions;
+  if (state_ == SessionState::kFinished) return actions;
+  actions.abandon_jobs = true;
+  actions.close_socket = true;
+  thetas_.clear();
+  batch_.reset();
+  state_ = SessionState::kWaitingToReconnect;
+  reconnect_at_ = now + backoff_;
+  spdlog::warn("could not connect to the coordinator; trying again in {} ms", ms(backoff_));
+  backoff_ = std::min(2 * backoff_, settings_.max_backoff);
+  return actions;
+}
+
+void WorkerSession::lose_coordinator(Actions& actions, TimePoint now) {
+  spdlog::warn("nothing from the coordinator for {} ms: it is gone; reconnecting in {} ms", ms(liveness_),
+               ms(backoff_));
+  actions.abandon_jobs = true;
+  actions.close_socket = true;
+  thetas_.clear();
+  batch_.reset();
+  state_ = SessionState::kWaitingToReconnect;
+  reconnect_at_ = now + backoff_;
+  backoff_ = std::min(2 * backoff_, settings_.max_backoff);
+}
+
+Actions WorkerSession::on_tick(TimePoint now) {
+  Actions actions;
+  switch (state_) {
+    case SessionState::kGreeting:
+      if (now >= next_hello_) {
+        send(actions, hello(), now);
+        next_hello_ = now + settings_.hello_interval;
+      }
+      break;
+    case SessionState::kWelcomed:
+      if (now - last_received_ >= liveness_) {
+        lose_coordinator(actions, now);
+        break;
+      }
+      // a connection that stayed up a whole liveness window earns a fresh backoff
+      if (now - welcomed_at_ >= liveness_) backoff_ = settings_.first_backoff;
+      if (now - last_sent_ >= heartbeat_) {
+        wire::WorkerMessage heartbeat;
+        heartbeat.mutable_heartbeat();
+        send(actions, std::move(heartbeat), now);
+      }
+      break;
+    case SessionState::kWaitingToReconnect:
+      if (now >= reconnect_at_) {
+        actions.open_socket = true;
+        state_ = SessionState::kGreeting;
+        send(actions, hello(), now);
+        next_hello_ = now + settings_.hello_interval;
+        spdlog::info("connecting again; Hello");
+      }
+      break;
+    case SessionState::kFinished:
+      break;
+  }
+  return actions;
+}
+
+Actions WorkerSession::on_stop(TimePoint now, std::string reason) {
+  Actions actions;
+  if (state_ == SessionState::kFinished) return actions;
+  if (state_ == SessionState::kWelcomed) {
+    wire::WorkerMessage goodbye;
+    goodbye.mutable_goodbye()->set_reason(reason);
+    send(actions, std::move(goodbye), now);
+  }
+  spdlog::info("stopping: {}", reason);
+  finish(actions, 0);
+  return actions;
+}
+
+void WorkerSession::finish(Actions& actions, int exit_code) {
+  actions.abandon_jobs = true;
+  actions.exit_code = exit_code;
+  state_ = SessionState::kFinished;
+  thetas_.clear();
+  batch_.reset();
+}
+
+TimePoint WorkerSession::next_deadline() const {
+  switch (state_) {
+    case SessionState::kGreeting:
+      return next_hello_;
+    case SessionState::kWelcomed:
+      return std::min(last_sent_ + heartbeat_, last_received_ + liveness_);
+    case SessionState::kWaitingToReconnect:
+      return reconnect_at_;
+    case SessionState::kFinished:
+      break;
+  }
+  return TimePoint::max();
+}
+
+void WorkerSession::drop(uint64_t DropCounts::*reason, std::string_view what, TimePoint now) {
+  ++(drops_.*reason);
+  ++drops_unlogged_;
+  if (last_drop_log_ && now - *last_drop_log_ < kDropLogInterval) return;
+  spdlog::warn("dropped {} from the coordinator ({} frames dropped since the last such line, {} in all)", what,
+               drops_unlogged_, drops_.total());
+  drops_unlogged_ = 0;
+  last_drop_log_ = now;
+}
+
+}  // namespace poet::worker
