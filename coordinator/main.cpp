@@ -7,7 +7,6 @@
 // once, and so does a second signal. Exit codes: 0 done, 1 runtime error (or a diverged run), 2 bad command line,
 // config or run directory (or one another process owns), 130 interrupted.
 
-#include <pthread.h>
 #include <spdlog/sinks/stdout_color_sinks.h>
 #include <spdlog/spdlog.h>
 #include <unistd.h>
@@ -36,6 +35,7 @@
 #include "run/progress_display.h"
 #include "run/run_directory.h"
 #include "status/status_server.h"
+#include "stop_signals.h"
 #include "tool_flags.h"
 
 namespace poet {
@@ -43,38 +43,6 @@ namespace {
 
 constexpr int kExitError = 1;
 constexpr int kExitInterrupted = 130;
-
-// How SIGINT and SIGTERM are handled: they are blocked in every thread and taken by one watcher thread with
-// sigwait, so the reaction runs as ordinary code (a stop request is not async-signal-safe) and no rollout
-// thread is ever interrupted. Until the loop starts a signal ends the process at once; in the loop the first
-// asks the evaluator to stop, and a second ends the process at once (the last checkpoint stays valid).
-class StopSignals {
- public:
-  StopSignals() {
-    sigemptyset(&set_);
-    sigaddset(&set_, SIGINT);
-    sigaddset(&set_, SIGTERM);
-    pthread_sigmask(SIG_BLOCK, &set_, nullptr);  // before any other thread exists, so all inherit it
-    std::thread([this] { watch(); }).detach();   // lives as long as the process
-  }
-  void loop_started() { in_loop_ = true; }
-  std::stop_token token() const { return source_.get_token(); }
-  bool stop_requested() const { return source_.stop_requested(); }
-
- private:
-  [[noreturn]] void watch() {
-    for (;;) {
-      int signal = 0;
-      if (sigwait(&set_, &signal) != 0) continue;
-      if (!in_loop_ || source_.stop_requested()) ::_exit(kExitInterrupted);
-      source_.request_stop();
-    }
-  }
-
-  sigset_t set_{};
-  std::atomic<bool> in_loop_{false};
-  std::stop_source source_;
-};
 
 struct Options {
   std::string config_path;
@@ -355,7 +323,7 @@ int run(const Options& options, StopSignals& signals) {
 
 int main(int argc, char** argv) {
   // first of all, so that a signal at any later point of start-up ends the process with 130
-  static poet::StopSignals signals;
+  static poet::StopSignals signals(poet::kExitInterrupted);
 
   poet::Options options;
   CLI::App app{"Run POET (or a control) in a run directory; resume it after an interruption"};

@@ -6,7 +6,6 @@
 // silent for its liveness window. SIGINT/SIGTERM abandon the job in hand, send Goodbye and exit 0 within a
 // second. Exit codes: 0 shut down or stopped, 1 runtime error, 2 bad command line or refused by the coordinator.
 
-#include <pthread.h>
 #include <spdlog/sinks/stdout_color_sinks.h>
 #include <spdlog/spdlog.h>
 #include <unistd.h>
@@ -23,6 +22,7 @@
 #include <thread>
 
 #include "build_fingerprint.h"
+#include "stop_signals.h"
 #include "tool_flags.h"
 #include "worker_loop.h"
 
@@ -30,40 +30,6 @@ namespace poet::worker {
 namespace {
 
 constexpr int kExitError = 1;
-
-// SIGINT and SIGTERM are blocked in every thread and taken by one watcher thread with sigwait, so the reaction
-// is ordinary code and no rollout thread is interrupted. Before the loop runs a signal ends the process at once
-// (exit 0: there is nothing to say goodbye to); in the loop the first sets the stop flag and wakes the loop
-// (Goodbye, exit 0), and a second ends the process at once.
-class StopSignals {
- public:
-  StopSignals() {
-    sigemptyset(&set_);
-    sigaddset(&set_, SIGINT);
-    sigaddset(&set_, SIGTERM);
-    pthread_sigmask(SIG_BLOCK, &set_, nullptr);  // before any other thread exists, so all inherit it
-    std::thread([this] { watch(); }).detach();   // lives as long as the process
-  }
-  // From now on a signal asks the loop to stop through `stop` and `wake` (which must live to the process's end).
-  void loop_started(WakePipe& wake) { wake_ = &wake; }
-  const std::atomic<bool>& stop_flag() const { return stop_; }
-
- private:
-  [[noreturn]] void watch() {
-    for (;;) {
-      int signal = 0;
-      if (sigwait(&set_, &signal) != 0) continue;
-      WakePipe* wake = wake_.load();
-      if (wake == nullptr || stop_) ::_exit(0);
-      stop_ = true;
-      wake->notify();
-    }
-  }
-
-  sigset_t set_{};
-  std::atomic<WakePipe*> wake_{nullptr};
-  std::atomic<bool> stop_{false};
-};
 
 // "host:pid", the default name.
 std::string default_name() {
@@ -90,8 +56,9 @@ std::string check_endpoint(const std::string& endpoint) {
 
 int main(int argc, char** argv) {
   using namespace poet::worker;
-  // first of all, so that every thread started later has the signals blocked
-  static StopSignals signals;
+  // first of all, so that every thread started later has the signals blocked; before the loop a signal ends the
+  // worker at once with 0 (there is nothing to say goodbye to)
+  static poet::StopSignals signals(0);
 
   LoopSettings settings;
   int threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
@@ -129,8 +96,12 @@ int main(int argc, char** argv) {
 
   try {
     static WakePipe wake;  // static: the signal thread may still touch it while the process ends
-    signals.loop_started(wake);
-    return run_worker(settings, wake, signals.stop_flag());
+    static std::atomic<bool> stop{false};
+    signals.loop_started([] {
+      stop = true;
+      wake.notify();
+    });
+    return run_worker(settings, wake, stop);
   } catch (const std::exception& e) {
     spdlog::error("{}", e.what());
     return kExitError;

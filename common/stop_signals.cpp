@@ -1,0 +1,33 @@
+#include "stop_signals.h"
+
+#include <pthread.h>
+#include <unistd.h>
+
+#include <thread>
+
+namespace poet {
+
+StopSignals::StopSignals(int exit_code) : exit_code_(exit_code) {
+  sigemptyset(&set_);
+  sigaddset(&set_, SIGINT);
+  sigaddset(&set_, SIGTERM);
+  pthread_sigmask(SIG_BLOCK, &set_, nullptr);
+  std::thread([this] { watch(); }).detach();  // lives as long as the process
+}
+
+void StopSignals::loop_started(std::function<void()> on_stop) {
+  on_stop_ = std::move(on_stop);
+  in_loop_.store(true, std::memory_order_release);
+}
+
+void StopSignals::watch() {
+  for (;;) {
+    int signal = 0;
+    if (sigwait(&set_, &signal) != 0) continue;
+    if (!in_loop_.load(std::memory_order_acquire) || source_.stop_requested()) ::_exit(exit_code_);
+    source_.request_stop();
+    if (on_stop_) on_stop_();
+  }
+}
+
+}  // namespace poet
