@@ -31,12 +31,14 @@ struct Tool {
   const char* path;
 };
 
-// Every binary of the project, poet-coordinator included: the same rules for all.
+// Every binary of the project, poet-coordinator and poet-worker included: the same rules for all.
 const Tool kTools[] = {{"poet-coordinator", POET_COORDINATOR_BIN},
                        {"poet-rollout", POET_ROLLOUT_BIN},
                        {"poet-eval", POET_EVAL_BIN},
                        {"poet-fidelity", POET_FIDELITY_BIN},
-                       {"poet-lineage", POET_LINEAGE_BIN}};
+                       {"poet-lineage", POET_LINEAGE_BIN},
+                       {"poet-worker", POET_WORKER_BIN},
+                       {"poetctl", POETCTL_BIN}};
 
 std::string read(const fs::path& path) {
   std::ifstream in(path, std::ios::binary);
