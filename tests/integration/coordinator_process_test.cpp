@@ -20,9 +20,8 @@
 #include <thread>
 #include <vector>
 
+#include "child_process.h"
 #include "run/checkpoint_file.h"
-
-extern char** environ;
 
 namespace {
 
@@ -50,10 +49,9 @@ poet {
 // The files a resumed run must reproduce exactly.
 const char* const kRunFiles[] = {"checkpoint.pb", "events.jsonl", "pair_stats.csv"};
 
-std::string read(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  return std::string(std::istreambuf_iterator<char>(in), {});
-}
+using poet::testing::exit_code;
+using poet::testing::spawn_child;
+std::string read(const fs::path& path) { return poet::testing::read_file(path); }
 
 bool contains(const std::string& text, std::string_view part) { return text.find(part) != std::string::npos; }
 
@@ -74,8 +72,6 @@ std::string preset(const std::string& name) { return std::string(POET_SOURCE_DIR
 
 // Long enough that no test run reaches it: a run given this limit is still running when it is signalled.
 constexpr char kEndless[] = "100000";
-
-int exit_code(int status) { return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status); }
 
 // A fresh directory per test; every child still running is killed and the directory removed, even on failure.
 class CoordinatorProcessTest : public ::testing::Test {
@@ -104,31 +100,10 @@ class CoordinatorProcessTest : public ::testing::Test {
   pid_t spawn(const std::vector<std::string>& args, const std::string& name, int blocked_signal = 0) {
     std::vector<std::string> all = {POET_COORDINATOR_BIN};
     all.insert(all.end(), args.begin(), args.end());
-    std::vector<char*> argv;
-    for (std::string& a : all) argv.push_back(a.data());
-    argv.push_back(nullptr);
-    const std::string out = (root_ / (name + ".out")).string();
-    const std::string err = (root_ / (name + ".err")).string();
-    posix_spawn_file_actions_t actions;
-    posix_spawn_file_actions_init(&actions);
-    posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, out.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-    posix_spawn_file_actions_addopen(&actions, STDERR_FILENO, err.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-    posix_spawnattr_t attributes;
-    posix_spawnattr_init(&attributes);
-    if (blocked_signal != 0) {
-      sigset_t mask;
-      sigemptyset(&mask);
-      sigaddset(&mask, blocked_signal);
-      posix_spawnattr_setsigmask(&attributes, &mask);
-      posix_spawnattr_setflags(&attributes, POSIX_SPAWN_SETSIGMASK);
-    }
-    pid_t pid = -1;
-    const int rc = posix_spawn(&pid, argv[0], &actions, &attributes, argv.data(), environ);
-    posix_spawn_file_actions_destroy(&actions);
-    posix_spawnattr_destroy(&attributes);
-    EXPECT_EQ(rc, 0) << "posix_spawn " << argv[0];
-    if (rc == 0) children_.push_back(pid);
-    return rc == 0 ? pid : -1;
+    const pid_t pid = spawn_child(all, root_ / (name + ".out"), root_ / (name + ".err"), blocked_signal);
+    EXPECT_GT(pid, 0) << "posix_spawn " << POET_COORDINATOR_BIN;
+    if (pid > 0) children_.push_back(pid);
+    return pid;
   }
 
   // Waits for a child (at most a few minutes: a hung child fails the test rather than hanging it).

@@ -20,7 +20,7 @@
 #include <thread>
 #include <vector>
 
-extern char** environ;
+#include "child_process.h"
 
 namespace {
 
@@ -38,14 +38,11 @@ poet { mutation_interval: 2 transfer_interval: 2 repro_threshold: -1000 mc_low: 
 
 const char* const kRunFiles[] = {"checkpoint.pb", "events.jsonl", "pair_stats.csv"};
 
-std::string read(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  return std::string(std::istreambuf_iterator<char>(in), {});
-}
+using poet::testing::exit_code;
+using poet::testing::spawn_child;
+std::string read(const fs::path& path) { return poet::testing::read_file(path); }
 
 bool contains(const std::string& text, std::string_view part) { return text.find(part) != std::string::npos; }
-
-int exit_code(int status) { return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status); }
 
 // The children of a process (its local workers), from /proc.
 std::vector<pid_t> children_of(pid_t pid) {
@@ -79,21 +76,10 @@ class DistributedRunTest : public ::testing::Test {
 
   pid_t spawn(const char* binary, std::vector<std::string> args, const std::string& name) {
     args.insert(args.begin(), binary);
-    std::vector<char*> argv;
-    for (std::string& a : args) argv.push_back(a.data());
-    argv.push_back(nullptr);
-    const std::string out = (root_ / (name + ".out")).string();
-    const std::string err = (root_ / (name + ".err")).string();
-    posix_spawn_file_actions_t actions;
-    posix_spawn_file_actions_init(&actions);
-    posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, out.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-    posix_spawn_file_actions_addopen(&actions, STDERR_FILENO, err.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-    pid_t pid = -1;
-    const int rc = posix_spawn(&pid, argv[0], &actions, nullptr, argv.data(), environ);
-    posix_spawn_file_actions_destroy(&actions);
-    EXPECT_EQ(rc, 0);
-    if (rc == 0) children_.push_back(pid);
-    return rc == 0 ? pid : -1;
+    const pid_t pid = spawn_child(args, root_ / (name + ".out"), root_ / (name + ".err"));
+    EXPECT_GT(pid, 0) << "posix_spawn " << binary;
+    if (pid > 0) children_.push_back(pid);
+    return pid;
   }
 
   pid_t coordinator(const fs::path& dir, std::vector<std::string> extra, const std::string& name) {
