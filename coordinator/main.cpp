@@ -251,6 +251,8 @@ int run(const Options& options, StopSignals& signals) {
       snapshot.queue_depth = d.queue_depth();
       snapshot.in_flight_jobs = d.in_flight();
       snapshot.dropped_frames = d.dropped();
+      snapshot.workers_joined = d.workers_joined();
+      snapshot.workers_lost = d.workers_lost();
       const bool waiting = d.worker_count() == 0 && d.queue_depth() > 0;
       board.publish_dispatch(std::move(snapshot));
       board.set_state(waiting ? RunPhase::kWaitingForWorkers : RunPhase::kRunning,

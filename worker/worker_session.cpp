@@ -96,6 +96,9 @@ Actions WorkerSession::on_message(const wire::CoordinatorMessage& message, TimeP
         welcomed_at_ = now;
         spdlog::info("welcomed by the coordinator: heartbeat every {} ms, liveness {} ms", ms(heartbeat_),
                      ms(liveness_));
+        wire::WorkerMessage ready;  // the coordinator sends jobs once the worker has answered its Welcome
+        ready.mutable_heartbeat();
+        send(actions, std::move(ready), now);
       } else {
         // a second Welcome answers a Hello repeated before the first arrived
         spdlog::debug("Welcome again: heartbeat every {} ms, liveness {} ms", ms(heartbeat_), ms(liveness_));
@@ -119,6 +122,17 @@ Actions WorkerSession::on_message(const wire::CoordinatorMessage& message, TimeP
     case wire::CoordinatorMessage::kShutdown:
       spdlog::info("the coordinator shuts the worker down: {}", message.shutdown().reason());
       finish(actions, 0);
+      break;
+    case wire::CoordinatorMessage::kRejoin:
+      if (!welcomed) break;  // it answers a message sent before this Hello: the Welcome is on its way
+      spdlog::warn("the coordinator does not know this worker ({}): dropping its jobs, Hello again",
+                   message.rejoin().reason().substr(0, 200));
+      actions.abandon_jobs = true;
+      thetas_.clear();
+      batch_.reset();
+      state_ = SessionState::kGreeting;
+      send(actions, hello(), now);
+      next_hello_ = now + settings_.hello_interval;
       break;
     case wire::CoordinatorMessage::KIND_NOT_SET:
       drop(&DropCounts::unexpected, "a message of no known kind", now);

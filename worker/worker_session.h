@@ -5,12 +5,15 @@
 // and is tested with a fake clock.
 //
 //   greeting ── Welcome ──▶ welcomed ── nothing received for liveness_ms ──▶ waiting to reconnect
-//      ▲                       │                                                   │
+//      ▲ ▲                     │                                                   │
+//      │ └── Rejoin: Hello ────┘                                                   │
 //      └──── fresh socket, Hello (after a backoff of 250 ms, doubling to 4 s) ─────┘
 //   Refused (exit 2), Shutdown (exit 0) or a stop (Goodbye, exit 0) ──▶ finished
 //
 // Greeting: Hello now and every second until a Welcome (sooner when a Hello could not be sent because the
-// connection is not up yet). Welcomed: Heartbeat whenever nothing was sent for heartbeat_ms; a Job is decoded
+// connection is not up yet); a Heartbeat answers the Welcome at once (ready for jobs). Welcomed: Heartbeat
+// whenever nothing was sent for heartbeat_ms; a Rejoin (the coordinator restarted) drops the jobs and goes back
+// to greeting with a Hello at once; a Job is decoded
 // at once (θs into the cache, tasks checked) and either handed to the runner or answered with an error Result.
 // Anything that fails to parse, is larger than the cap or comes when its kind makes no sense is counted and
 // dropped, with a log line at most once a second.

@@ -32,6 +32,12 @@ wire::CoordinatorMessage Dispatcher::on_hello(const WorkerId& id, const wire::He
     return reply;
   }
   if (workers_.contains(id)) remove_worker(id, /*died=*/false);  // said Hello again: a fresh start
+  if (workers_.size() >= settings_.max_workers) {
+    count_drop("worker_limit");
+    reply.mutable_refused()->set_reason("the coordinator already has " + std::to_string(workers_.size()) +
+                                        " workers, its limit");
+    return reply;
+  }
   Worker worker;
   worker.view.id = id;
   worker.view.name = hello.name().substr(0, 200);
@@ -41,6 +47,7 @@ wire::CoordinatorMessage Dispatcher::on_hello(const WorkerId& id, const wire::He
   worker.last_sent = now;
   workers_.emplace(id, std::move(worker));
   arrival_.push_back(id);
+  joined_ += 1;
   reply.mutable_welcome()->set_heartbeat_ms(static_cast<uint32_t>(settings_.heartbeat_ms));
   reply.mutable_welcome()->set_liveness_ms(static_cast<uint32_t>(settings_.liveness_ms));
   return reply;
@@ -50,6 +57,7 @@ bool Dispatcher::heard_from(const WorkerId& id, Millis now) {
   const auto it = workers_.find(id);
   if (it == workers_.end()) return false;
   it->second.view.last_heard = now;
+  it->second.ready = true;
   return true;
 }
 
@@ -144,6 +152,7 @@ std::vector<WorkerId> Dispatcher::expire(Millis now) {
   for (const WorkerId& id : arrival_)
     if (now - workers_.at(id).view.last_heard > settings_.liveness_ms) dead.push_back(id);
   for (const WorkerId& id : dead) remove_worker(id, /*died=*/true);
+  lost_ += static_cast<int64_t>(dead.size());
   return dead;
 }
 
@@ -171,7 +180,7 @@ std::vector<Outgoing> Dispatcher::outgoing(Millis now) {
     assigned = false;
     for (const WorkerId& id : arrival_) {
       Worker& worker = workers_.at(id);
-      if (queue_.empty() || worker.jobs.size() >= static_cast<size_t>(settings_.jobs_ahead)) continue;
+      if (queue_.empty() || !worker.ready || worker.jobs.size() >= static_cast<size_t>(settings_.jobs_ahead)) continue;
       Job& job = jobs_.at(queue_.front());
       queue_.pop_front();
       job.holder = id;
@@ -215,7 +224,8 @@ void Dispatcher::start_batch(std::span<const RolloutTask> tasks) {
 
   // about four jobs per thread of the workers present, so that a slow or lost worker delays little
   int threads = 0;
-  for (const auto& [id, worker] : workers_) threads += worker.view.threads;
+  for (const auto& [id, worker] : workers_)
+    if (worker.ready) threads += worker.view.threads;
   const size_t per_job = std::clamp<size_t>((tasks.size() + 4 * std::max(threads, 1) - 1) / (4 * std::max(threads, 1)),
                                             1, static_cast<size_t>(settings_.max_chunk));
   for (size_t begin = 0; begin < tasks.size(); begin += per_job) {

@@ -29,6 +29,7 @@ struct DispatchSettings {
   int max_attempts = 3;             // a task whose worker died this many times stops the run (the first + 2 retries)
   int jobs_ahead = 2;               // jobs a worker holds at once: one running, one arriving
   int max_chunk = 64;               // tasks per job at most
+  size_t max_workers = 4096;        // Hellos beyond this many connected workers are refused
   uint64_t fingerprint_digest = 0;  // workers of another build are refused (0: accept any, for tests)
 };
 
@@ -37,10 +38,6 @@ struct Outgoing {
   WorkerId worker;
   wire::CoordinatorMessage message;
 };
-
-// Why a frame was dropped, as counted for /metrics.
-inline constexpr const char* kDropReasons[] = {
-    "malformed", "oversized", "wrong_version", "wrong_fingerprint", "unknown_peer", "unexpected_result", "bad_result"};
 
 struct WorkerView {
   WorkerId id;
@@ -57,7 +54,8 @@ class Dispatcher {
  public:
   explicit Dispatcher(DispatchSettings settings) : settings_(settings) {}
 
-  // A Hello: the Welcome to send, or a Refused (wrong protocol version or build fingerprint; counted).
+  // A Hello: the Welcome to send, or a Refused (wrong protocol version or build fingerprint, or max_workers
+  // reached; counted). A welcomed worker gets jobs once it has sent another message (proof that it listens).
   wire::CoordinatorMessage on_hello(const WorkerId& id, const wire::Hello& hello, Millis now);
   // A Result from a worker: accepted when the worker holds the job; otherwise counted and dropped.
   void on_result(const WorkerId& id, const wire::Result& result, Millis now);
@@ -84,7 +82,10 @@ class Dispatcher {
   int64_t queue_depth() const { return static_cast<int64_t>(queue_.size()); }
   int64_t in_flight() const;
   std::vector<WorkerView> workers() const;
+  // Frames and Hellos refused or dropped, by reason (status_board.h's kDropReasonNames).
   const std::map<std::string, int64_t>& dropped() const { return dropped_; }
+  int64_t workers_joined() const { return joined_; }  // Welcomes given
+  int64_t workers_lost() const { return lost_; }      // workers removed for silence
   void count_drop(const std::string& reason) { dropped_[reason] += 1; }
   const DispatchSettings& settings() const { return settings_; }
 
@@ -101,6 +102,7 @@ class Dispatcher {
     std::set<uint64_t> jobs;         // held
     std::set<uint64_t> thetas_sent;  // this batch
     Millis last_sent = 0;
+    bool ready = false;  // has sent something since its Hello
   };
 
   void requeue(uint64_t job_id, bool died);
@@ -126,6 +128,8 @@ class Dispatcher {
 
   std::optional<std::string> failure_;
   std::map<std::string, int64_t> dropped_;
+  int64_t joined_ = 0;
+  int64_t lost_ = 0;
 };
 
 }  // namespace poet

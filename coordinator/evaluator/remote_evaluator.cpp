@@ -192,10 +192,16 @@ void RemoteEvaluator::handle(const std::string& peer, const std::string& payload
       return;
     }
     case wire::WorkerMessage::kResult:
-      dispatcher_.on_result(peer, message.result(), now);
-      return;
     case wire::WorkerMessage::kHeartbeat:
-      if (!dispatcher_.heard_from(peer, now)) note_drop("unknown_peer", peer);
+      if (!dispatcher_.heard_from(peer, now)) {
+        // a worker of an earlier coordinator on this port, or one counted dead: it must start afresh
+        note_drop("unknown_peer", peer);
+        Outgoing rejoin{peer, {}};
+        rejoin.message.mutable_rejoin()->set_reason("this coordinator does not know the worker: say Hello again");
+        send(rejoin);
+        return;
+      }
+      if (message.has_result()) dispatcher_.on_result(peer, message.result(), now);
       return;
     case wire::WorkerMessage::kGoodbye:
       if (!dispatcher_.heard_from(peer, now)) return;

@@ -468,7 +468,11 @@ std::string StatusBoard::metrics_text() const {
   sample("poet_queue_depth", dispatch.queue_depth);
   family("poet_in_flight_jobs", "gauge", "Jobs held by workers.");
   sample("poet_in_flight_jobs", dispatch.in_flight_jobs);
-  family("poet_dropped_frames_total", "counter", "Frames the dispatcher dropped, by reason.");
+  family("poet_workers_joined_total", "counter", "Workers welcomed since the coordinator started.");
+  sample("poet_workers_joined_total", dispatch.workers_joined);
+  family("poet_workers_lost_total", "counter", "Workers removed for being silent longer than the liveness window.");
+  sample("poet_workers_lost_total", dispatch.workers_lost);
+  family("poet_dropped_frames_total", "counter", "Frames and Hellos the dispatcher dropped or refused, by reason.");
   std::map<std::string, int64_t> dropped;
   for (const char* reason : kDropReasonNames) dropped[reason] = 0;
   for (const auto& [reason, count] : dispatch.dropped_frames) dropped[reason] = count;

@@ -43,11 +43,22 @@ struct DispatchSnapshot {
   int64_t queue_depth = 0;
   int64_t in_flight_jobs = 0;
   std::map<std::string, int64_t> dropped_frames;  // by reason (kDropReasonNames and any other the dispatcher counts)
+  int64_t workers_joined = 0;                     // Welcomes given since the coordinator started
+  int64_t workers_lost = 0;                       // workers removed for silence
 };
 
 // The drop reasons /metrics always lists (as 0 until counted), so a dashboard's series exist from the start.
-inline constexpr const char* kDropReasonNames[] = {"malformed",         "oversized",    "wrong_version",
-                                                   "wrong_fingerprint", "unknown_peer", "unexpected_result"};
+inline constexpr const char* kDropReasonNames[] = {
+    "malformed",          // not one WorkerMessage in one frame
+    "oversized",          // a frame over the coordinator's cap
+    "wrong_version",      // a Hello of another protocol version
+    "wrong_fingerprint",  // a Hello of another build
+    "worker_limit",       // a Hello beyond the coordinator's limit of workers
+    "unknown_peer",       // a Heartbeat or Result from a peer that never said Hello
+    "unexpected_result",  // a Result for a job the peer does not hold
+    "bad_result",         // a Result of the wrong size or with non-finite numbers
+    "unauthorised_key",   // CURVE: a handshake with a key not in authorized/
+};
 
 // What the coordinator is doing, for /status's "state".
 enum class RunPhase { kStarting, kRunning, kWaitingForWorkers, kStopping, kFinished };

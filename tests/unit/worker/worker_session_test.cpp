@@ -126,6 +126,43 @@ TEST(WorkerSession, WelcomeSetsTheHeartbeatSchedule) {
   EXPECT_TRUE(only_heartbeat(session.on_tick(kT0 + 280ms)));
 }
 
+TEST(WorkerSession, WelcomeIsAnsweredAtOnceWithAHeartbeat) {
+  WorkerSession session(settings());
+  session.start(kT0);
+  // the coordinator sends jobs to a worker only once it has heard from it after its Hello
+  EXPECT_TRUE(only_heartbeat(session.on_message(welcome(), kT0 + 5ms)));
+  EXPECT_TRUE(session.on_message(welcome(), kT0 + 6ms).send.empty()) << "a second Welcome needs no answer";
+}
+
+TEST(WorkerSession, RejoinDropsTheJobsAndSaysHelloAgain) {
+  WorkerSession session = welcomed();
+  const std::vector<double> values = theta(1);
+  wire::CoordinatorMessage job;
+  job.mutable_job()->set_job_id(5);
+  job.mutable_job()->set_batch_id(1);
+  *job.mutable_job()->add_thetas() = theta_message(values);
+  *job.mutable_job()->add_tasks() = task_message(theta_hash(values));
+  ASSERT_EQ(session.on_message(job, kT0 + 10ms).run.size(), 1u);
+  EXPECT_EQ(session.cached_thetas(), 1u);
+
+  wire::CoordinatorMessage rejoin;
+  rejoin.mutable_rejoin()->set_reason("restarted");
+  const Actions a = session.on_message(rejoin, kT0 + 20ms);
+  EXPECT_TRUE(a.abandon_jobs);
+  EXPECT_FALSE(a.close_socket) << "the connection is fine: only the coordinator's memory of the worker is gone";
+  ASSERT_EQ(a.send.size(), 1u);
+  EXPECT_TRUE(a.send[0].has_hello());
+  EXPECT_EQ(session.state(), SessionState::kGreeting);
+  EXPECT_EQ(session.cached_thetas(), 0u);
+  // the job's outcome belongs to the coordinator's earlier life: not sent
+  EXPECT_TRUE(session.on_job_finished(JobOutcome{.job_id = 5, .results = {}, .error = std::nullopt}, kT0 + 30ms)
+                  .send.empty());
+  // a Rejoin while greeting answers a message sent before the Hello: the Welcome is on its way
+  EXPECT_TRUE(session.on_message(rejoin, kT0 + 40ms).send.empty());
+  EXPECT_TRUE(only_heartbeat(session.on_message(welcome(), kT0 + 50ms)));
+  EXPECT_EQ(session.state(), SessionState::kWelcomed);
+}
+
 TEST(WorkerSession, WelcomeTimingsHaveDefaultsAndBounds) {
   EXPECT_EQ(welcome_timings(wire::Welcome()), std::make_pair(Millis(1000), Millis(5000)));
   EXPECT_EQ(welcome_timings(welcome(0, 0).welcome()), std::make_pair(Millis(1000), Millis(5000)));

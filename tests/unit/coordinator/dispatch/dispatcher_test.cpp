@@ -39,6 +39,12 @@ wire::Hello hello(uint32_t threads = 1, uint64_t fingerprint = 42) {
   return h;
 }
 
+// A worker's Hello and the Heartbeat that answers its Welcome: from then on it gets jobs.
+void join(Dispatcher& d, const WorkerId& id, const wire::Hello& h, Millis now) {
+  ASSERT_TRUE(d.on_hello(id, h, now).has_welcome());
+  ASSERT_TRUE(d.heard_from(id, now));
+}
+
 // The answer a worker gives to a job: reward = the task's course seed, so results show their task.
 wire::Result answer(const wire::Job& job) {
   wire::Result r;
@@ -85,8 +91,8 @@ TEST(Dispatcher, RefusesOtherVersionsAndBuilds) {
 
 TEST(Dispatcher, ABatchSpreadsOverWorkersAndComesBackInTaskOrder) {
   Dispatcher d(settings());
-  d.on_hello("a", hello(2), 0);
-  d.on_hello("b", hello(2), 0);
+  join(d, "a", hello(2), 0);
+  join(d, "b", hello(2), 0);
   d.start_batch(batch(40));
   std::vector<Outgoing> jobs = jobs_in(d.outgoing(1));
   ASSERT_EQ(jobs.size(), 4u);  // two ahead for each worker
@@ -111,7 +117,7 @@ TEST(Dispatcher, ABatchSpreadsOverWorkersAndComesBackInTaskOrder) {
 
 TEST(Dispatcher, DuplicatesAndStrangersAreDropped) {
   Dispatcher d(settings());
-  d.on_hello("a", hello(), 0);
+  join(d, "a", hello(), 0);
   d.start_batch(batch(2));
   const std::vector<Outgoing> jobs = jobs_in(d.outgoing(1));
   ASSERT_FALSE(jobs.empty());
@@ -131,8 +137,8 @@ TEST(Dispatcher, DuplicatesAndStrangersAreDropped) {
 
 TEST(Dispatcher, JobsOfASilentWorkerGoToTheOthers) {
   Dispatcher d(settings());
-  d.on_hello("a", hello(), 0);
-  d.on_hello("b", hello(), 0);
+  join(d, "a", hello(), 0);
+  join(d, "b", hello(), 0);
   d.start_batch(batch(8));
   std::vector<Outgoing> jobs = jobs_in(d.outgoing(1));
   // b answers and keeps beating; a goes silent
@@ -160,7 +166,7 @@ TEST(Dispatcher, AJobThatKillsEveryWorkerStopsTheRunNamingTheTask) {
   // task 1 kills whoever runs it; the others are answered
   for (int round = 0; round < 10 && !d.failure(); ++round) {
     const WorkerId id = "w" + std::to_string(round);
-    d.on_hello(id, hello(), round * 1000);
+    join(d, id, hello(), round * 1000);
     for (const Outgoing& o : jobs_in(d.outgoing(round * 1000))) {
       const wire::Job& job = o.message.job();
       bool deadly = false;
@@ -179,11 +185,41 @@ TEST(Dispatcher, AJobThatKillsEveryWorkerStopsTheRunNamingTheTask) {
 
 TEST(Dispatcher, HeartbeatsGoToIdleWorkers) {
   Dispatcher d(settings());
-  d.on_hello("a", hello(), 0);
+  join(d, "a", hello(), 0);
   EXPECT_TRUE(d.outgoing(50).empty());
   const std::vector<Outgoing> out = d.outgoing(100);
   ASSERT_EQ(out.size(), 1u);
   EXPECT_TRUE(out[0].message.has_heartbeat());
+}
+
+TEST(Dispatcher, AWorkerGetsJobsOnlyOnceItAnswersTheWelcome) {
+  Dispatcher d(settings());
+  ASSERT_TRUE(d.on_hello("mute", hello(), 0).has_welcome());
+  d.start_batch(batch(4));
+  EXPECT_TRUE(jobs_in(d.outgoing(1)).empty()) << "a peer that only said Hello holds no work";
+  // it stays silent and expires: nothing was lost with it, so no task counts a death
+  EXPECT_EQ(d.expire(600), std::vector<WorkerId>{"mute"});
+  EXPECT_EQ(d.queue_depth(), 4);  // one task a job (nobody ready when the batch was cut), none split
+  join(d, "real", hello(), 600);
+  for (Millis now = 601; !d.batch_done() && now < 700; ++now) {
+    for (const Outgoing& o : jobs_in(d.outgoing(now))) d.on_result("real", answer(o.message.job()), now);
+  }
+  EXPECT_TRUE(d.batch_done());
+  EXPECT_FALSE(d.failure());
+}
+
+TEST(Dispatcher, HellosBeyondTheWorkerLimitAreRefusedAndCounted) {
+  DispatchSettings s = settings();
+  s.max_workers = 3;
+  Dispatcher d(s);
+  for (int i = 0; i < 5; ++i) d.on_hello("w" + std::to_string(i), hello(), 0);
+  EXPECT_EQ(d.worker_count(), 3u);
+  EXPECT_EQ(d.dropped().at("worker_limit"), 2);
+  const wire::CoordinatorMessage again = d.on_hello("w0", hello(), 1);  // a known worker starting afresh
+  EXPECT_TRUE(again.has_welcome());
+  const wire::CoordinatorMessage refused = d.on_hello("w9", hello(), 1);
+  ASSERT_TRUE(refused.has_refused());
+  EXPECT_TRUE(contains(refused.refused().reason(), "limit")) << refused.refused().reason();
 }
 
 }  // namespace
