@@ -98,7 +98,8 @@ BENCHMARK(BM_EsStepRatios)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterat
 // An evaluator that returns at once (returns from a hash of the task), so only the coordinator's work is timed.
 class InstantEvaluator final : public Evaluator {
  public:
-  std::vector<RolloutResult> evaluate(std::span<const RolloutTask> tasks) override {
+  using Evaluator::evaluate;
+  std::vector<RolloutResult> evaluate(std::span<const RolloutTask> tasks, const ResultsReady&) override {
     std::vector<RolloutResult> out(tasks.size());
     for (size_t i = 0; i < tasks.size(); ++i) {
       const uint64_t h = mix64(tasks[i].perturbation ? tasks[i].perturbation->key + 3 * i : i);

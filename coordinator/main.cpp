@@ -1,6 +1,8 @@
-// poet-coordinator: runs POET (or one of the paper's controls) in a run directory, on threads of this process.
+// poet-coordinator: runs POET (or one of the paper's controls) in a run directory, its rollouts on threads of this
+// process or on poet-worker processes over ZeroMQ.
 //   poet-coordinator --config FILE --run-dir DIR [--threads N] [--iterations N]   a new run
 //   poet-coordinator --run-dir DIR --resume [--iterations N]                       continue it (N may extend it)
+//   ... [--local-workers N] [--listen tcp://HOST:PORT [--curve-keys DIR]] [--status-address HOST:PORT]
 // The state is checkpointed every checkpoint_interval iterations and at the end. SIGINT/SIGTERM abandon the
 // iteration in flight (within a second) and exit 130, the last checkpoint being the state; a resume repeats that
 // iteration exactly. A signal during start-up (reading the config or checkpoint, opening the run) exits 130 at
@@ -28,6 +30,7 @@
 
 #include "build_fingerprint.h"
 #include "config/run_config.h"
+#include "curve_keys.h"
 #include "dispatch/local_workers.h"
 #include "evaluator/local_evaluator.h"
 #include "evaluator/remote_evaluator.h"
@@ -58,6 +61,7 @@ struct Options {
   std::string worker_binary;
   std::vector<std::string> worker_args;           // passed to every local worker (tests' fault switches)
   std::string status_address = "127.0.0.1:8580";  // the HTTP status socket; empty: none
+  std::string curve_keys;                         // CURVE key directory; empty: no authentication
 };
 
 // "iteration 12: pair_created pair=3 env=r0.4 ..." from {"iteration": 12, "event": "pair_created", ...}.
@@ -175,6 +179,29 @@ struct Rollouts {
   std::unique_ptr<LocalWorkers> local_workers;
 };
 
+// The job socket's CURVE keys from DIR (common/curve_keys.h), checked before anything listens; local workers
+// use DIR's worker key, so it must be there and authorised too.
+std::optional<CurveServer> curve_server(const std::filesystem::path& dir, bool local_workers) {
+  Expected<CurveKeyPair> keys = read_key_pair(dir, "coordinator");
+  Expected<std::vector<std::string>> authorized = read_authorized_keys(dir);
+  if (!keys || !authorized) {
+    spdlog::error("--curve-keys: {} (make keys with `poetctl keygen`)", keys ? authorized.error() : keys.error());
+    return std::nullopt;
+  }
+  if (local_workers) {
+    Expected<CurveKeyPair> worker = read_key_pair(dir, "worker");
+    if (!worker || !std::binary_search(authorized->begin(), authorized->end(), worker->public_key)) {
+      spdlog::error("--curve-keys with --local-workers: {}",
+                    worker ? "worker.key is not in authorized/" : worker.error());
+      return std::nullopt;
+    }
+  }
+  if (authorized->empty())
+    spdlog::warn("--curve-keys: no key in {}: no worker can connect until one is added", (dir / "authorized").string());
+  spdlog::info("CURVE on: workers need one of the {} keys in {}", authorized->size(), (dir / "authorized").string());
+  return CurveServer{keys->secret_key, dir};
+}
+
 std::optional<Rollouts> make_rollouts(const Options& options, StopSignals& signals) {
   Rollouts r;
   if (options.listen.empty() && options.local_workers == 0) {
@@ -186,7 +213,15 @@ std::optional<Rollouts> make_rollouts(const Options& options, StopSignals& signa
   settings.heartbeat_ms = std::max(options.liveness_ms / 5, 1);
   settings.fingerprint_digest = build_fingerprint_digest();
   const std::string endpoint = options.listen.empty() ? "tcp://127.0.0.1:*" : options.listen;
-  Expected<std::unique_ptr<RemoteEvaluator>> remote = RemoteEvaluator::bind(endpoint, settings, signals.token());
+  std::optional<CurveServer> curve;
+  std::vector<std::string> worker_args = options.worker_args;
+  if (!options.curve_keys.empty()) {
+    curve = curve_server(options.curve_keys, options.local_workers > 0);
+    if (!curve) return std::nullopt;
+    worker_args.insert(worker_args.begin(), {"--curve-keys", options.curve_keys});
+  }
+  Expected<std::unique_ptr<RemoteEvaluator>> remote =
+      RemoteEvaluator::bind(endpoint, settings, signals.token(), std::move(curve));
   if (!remote) {
     spdlog::error("{}", remote.error());
     return std::nullopt;
@@ -199,7 +234,7 @@ std::optional<Rollouts> make_rollouts(const Options& options, StopSignals& signa
     const int threads = std::max(1, hardware / options.local_workers);
     const std::string binary = options.worker_binary.empty() ? LocalWorkers::default_binary() : options.worker_binary;
     Expected<std::unique_ptr<LocalWorkers>> workers =
-        LocalWorkers::start(binary, r.remote->endpoint(), options.local_workers, threads, options.worker_args);
+        LocalWorkers::start(binary, r.remote->endpoint(), options.local_workers, threads, worker_args);
     if (!workers) {
       spdlog::error("{}", workers.error());
       return std::nullopt;
@@ -253,7 +288,7 @@ int run(const Options& options, StopSignals& signals) {
       snapshot.dropped_frames = d.dropped();
       snapshot.workers_joined = d.workers_joined();
       snapshot.workers_lost = d.workers_lost();
-      const bool waiting = d.worker_count() == 0 && d.queue_depth() > 0;
+      const bool waiting = d.ready_workers() == 0 && d.queue_depth() > 0;
       board.publish_dispatch(std::move(snapshot));
       board.set_state(waiting ? RunPhase::kWaitingForWorkers : RunPhase::kRunning,
                       waiting ? "no worker is connected" : "");
@@ -351,6 +386,10 @@ int main(int argc, char** argv) {
       ->group("");  // for tests: fault switches
   app.add_option("--status-address", options.status_address,
                  "HOST:PORT of the HTTP status socket (default 127.0.0.1:8580; port 0: any free port; empty: none)");
+  app.add_option("--curve-keys", options.curve_keys,
+                 "CURVE authentication: DIR holds coordinator.key(_secret) and authorized/*.key, the workers' public "
+                 "keys (made by `poetctl keygen`); workers without an authorised key get no connection")
+      ->check(CLI::ExistingDirectory);
   app.add_option("--log-level", options.log_level, "trace, debug, info (default), warn, error or off")
       ->check(CLI::IsMember({"trace", "debug", "info", "warn", "error", "off"}));
   poet::add_fingerprint_flag(app);

@@ -1,6 +1,6 @@
 // poet-worker: the stateless worker. Connects to a coordinator and runs the rollouts it is sent, until the
 // coordinator shuts it down or a signal stops it.
-//   poet-worker --connect tcp://HOST:PORT [--threads N] [--name NAME] [--log-level L]
+//   poet-worker --connect tcp://HOST:PORT [--threads N] [--name NAME] [--curve-keys DIR] [--log-level L]
 // It says Hello (protocol version, build fingerprint, threads) every second until welcomed, runs Jobs on its
 // threads and answers each with a Result, heartbeats, and reconnects (Hello again) when the coordinator falls
 // silent for its liveness window. SIGINT/SIGTERM abandon the job in hand, send Goodbye and exit 0 within a
@@ -16,12 +16,14 @@
 #include <climits>
 #include <csignal>
 #include <exception>
+#include <filesystem>
 #include <optional>
 #include <regex>
 #include <string>
 #include <thread>
 
 #include "build_fingerprint.h"
+#include "curve_keys.h"
 #include "stop_signals.h"
 #include "tool_flags.h"
 #include "worker_loop.h"
@@ -72,6 +74,11 @@ int main(int argc, char** argv) {
   app.add_option("--threads", threads, "Episodes run at once (default: hardware concurrency)")
       ->check(CLI::Range(1, 4096));
   app.add_option("--name", name, "Name in the coordinator's logs (default: host:pid)");
+  std::string curve_keys;
+  app.add_option("--curve-keys", curve_keys,
+                 "CURVE authentication: DIR holds worker.key(_secret), this worker's pair, and coordinator.key, the "
+                 "coordinator's public key (made by `poetctl keygen`)")
+      ->check(CLI::ExistingDirectory);
   app.add_option("--log-level", log_level, "trace, debug, info (default), warn, error or off")
       ->check(CLI::IsMember({"trace", "debug", "info", "warn", "error", "off"}));
   app.add_option("--fault", fault,
@@ -85,6 +92,16 @@ int main(int argc, char** argv) {
   spdlog::set_default_logger(spdlog::stderr_color_mt("poet-worker"));
   spdlog::set_level(spdlog::level::from_str(log_level));
 
+  if (!curve_keys.empty()) {
+    poet::Expected<poet::CurveKeyPair> own = poet::read_key_pair(curve_keys, "worker");
+    poet::Expected<std::string> coordinator =
+        poet::read_key_file(std::filesystem::path(curve_keys) / "coordinator.key");
+    if (!own || !coordinator) {
+      spdlog::error("--curve-keys: {} (make keys with `poetctl keygen`)", own ? coordinator.error() : own.error());
+      return poet::kExitUsage;
+    }
+    settings.curve = CurveClient{*coordinator, own->public_key, own->secret_key};
+  }
   settings.threads = threads;
   settings.session.threads = static_cast<uint32_t>(threads);
   settings.session.name = name.empty() ? default_name() : name;
@@ -95,7 +112,7 @@ int main(int argc, char** argv) {
                settings.endpoint, poet::build_fingerprint_digest());
 
   try {
-    static WakePipe wake;  // static: the signal thread may still touch it while the process ends
+    static poet::WakePipe wake;  // static: the signal thread may still touch it while the process ends
     static std::atomic<bool> stop{false};
     signals.loop_started([] {
       stop = true;

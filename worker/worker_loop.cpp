@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cerrno>
 #include <cstdlib>
+#include <cstring>
 #include <optional>
 #include <system_error>
 #include <utility>
@@ -61,6 +62,7 @@ class SocketLoop {
       if (!poll()) continue;  // interrupted: look at the stop flag again
       wake_.drain();
       if (stop_) continue;
+      read_handshakes();
       code = receive();
       if (code) break;
       for (const JobOutcome& outcome : runner_.take_finished()) {
@@ -75,9 +77,16 @@ class SocketLoop {
  private:
   // A fresh DEALER connected to the coordinator; false (and no socket) when the endpoint cannot be connected.
   bool connect() {
+    monitor_.reset();
     try {
       zmq::socket_t socket(context_, zmq::socket_type::dealer);
       socket.set(zmq::sockopt::linger, 0);
+      if (settings_.curve) {
+        socket.set(zmq::sockopt::curve_serverkey, settings_.curve->server_public_key);
+        socket.set(zmq::sockopt::curve_publickey, settings_.curve->public_key);
+        socket.set(zmq::sockopt::curve_secretkey, settings_.curve->secret_key);
+      }
+      watch_handshakes(socket);
       socket.set(zmq::sockopt::maxmsgsize, static_cast<int64_t>(kMaxFrameBytes));
       // no queueing for a peer that is not connected: a Hello sent then fails at once (and is retried) instead
       // of piling up and arriving in a burst when the coordinator comes up
@@ -93,14 +102,56 @@ class SocketLoop {
     }
   }
 
+  // Handshake failures of `socket` arrive on monitor_ (ZeroMQ's socket monitor over inproc).
+  void watch_handshakes(zmq::socket_t& socket) {
+    const std::string address = "inproc://handshakes-" + std::to_string(++monitors_);
+    const int events = ZMQ_EVENT_HANDSHAKE_FAILED_AUTH | ZMQ_EVENT_HANDSHAKE_FAILED_PROTOCOL |
+                       ZMQ_EVENT_HANDSHAKE_FAILED_NO_DETAIL | ZMQ_EVENT_HANDSHAKE_SUCCEEDED;
+    if (zmq_socket_monitor(socket.handle(), address.c_str(), events) != 0) return;  // only the log line is lost
+    zmq::socket_t monitor(context_, zmq::socket_type::pair);
+    monitor.set(zmq::sockopt::linger, 0);
+    monitor.connect(address);
+    monitor_ = std::move(monitor);
+  }
+
+  // Reads the monitor's events: a refused handshake is logged (once, until one succeeds).
+  void read_handshakes() {
+    for (int n = 0; monitor_ && n < kMaxFramesPerTurn; ++n) {
+      zmq::message_t event;
+      if (!monitor_->recv(event, zmq::recv_flags::dontwait)) return;
+      zmq::message_t address;
+      if (event.more() && !monitor_->recv(address, zmq::recv_flags::dontwait)) return;
+      if (event.size() < 6) continue;
+      uint16_t id = 0;
+      uint32_t value = 0;
+      std::memcpy(&id, event.data(), sizeof id);
+      std::memcpy(&value, static_cast<const char*>(event.data()) + 2, sizeof value);
+      if (id == ZMQ_EVENT_HANDSHAKE_SUCCEEDED) {
+        handshake_refused_ = false;
+        continue;
+      }
+      if (handshake_refused_) continue;
+      handshake_refused_ = true;
+      if (id == ZMQ_EVENT_HANDSHAKE_FAILED_AUTH) {
+        spdlog::error(
+            "the coordinator at {} refused this worker's CURVE key (ZAP status {}): its public key must be "
+            "in the coordinator's authorized/ folder; trying again",
+            settings_.endpoint, value);
+      } else {
+        spdlog::error("the security handshake with {} failed: {}; trying again", settings_.endpoint,
+                      settings_.curve ? "is the coordinator's public key (coordinator.key) the right one?"
+                                      : "does the coordinator require CURVE keys (--curve-keys)?");
+      }
+    }
+  }
+
   // Waits for a frame, a wake-up or the next deadline. False when interrupted.
   bool poll() {
-    zmq_pollitem_t items[2] = {{nullptr, wake_.read_fd(), ZMQ_POLLIN, 0}, {nullptr, 0, ZMQ_POLLIN, 0}};
+    zmq_pollitem_t items[3] = {
+        {nullptr, wake_.read_fd(), ZMQ_POLLIN, 0}, {nullptr, 0, ZMQ_POLLIN, 0}, {nullptr, 0, ZMQ_POLLIN, 0}};
     size_t count = 1;
-    if (socket_) {
-      items[1].socket = socket_->handle();
-      count = 2;
-    }
+    if (socket_) items[count++].socket = socket_->handle();
+    if (monitor_) items[count++].socket = monitor_->handle();
     const auto until_deadline = session_.next_deadline() - Clock::now();
     const Millis wait = std::clamp(std::chrono::ceil<Millis>(until_deadline), Millis(0), kMaxPollWait);
     try {
@@ -160,7 +211,10 @@ class SocketLoop {
       std::abort();
     }
     if (actions.abandon_jobs) runner_.abandon();
-    if (actions.close_socket) socket_.reset();
+    if (actions.close_socket) {
+      socket_.reset();
+      monitor_.reset();
+    }
     if (actions.open_socket && !connect()) return apply(session_.on_connect_failed(Clock::now()));
     bool sent = false;
     for (const wire::WorkerMessage& message : actions.send) {
@@ -184,33 +238,15 @@ class SocketLoop {
   WakePipe& wake_;
   const std::atomic<bool>& stop_;
   zmq::context_t context_{1};
-  std::optional<zmq::socket_t> socket_;  // after the context: closed before it
+  std::optional<zmq::socket_t> socket_;   // after the context: closed before it
+  std::optional<zmq::socket_t> monitor_;  // the socket's handshake events
+  int monitors_ = 0;
+  bool handshake_refused_ = false;  // logged already
   WorkerSession session_;
   JobRunner runner_;  // last: its thread is joined first
 };
 
 }  // namespace
-
-WakePipe::WakePipe() {
-  if (::pipe2(fds_, O_NONBLOCK | O_CLOEXEC) != 0) throw std::system_error(errno, std::generic_category(), "pipe2");
-}
-
-WakePipe::~WakePipe() {
-  ::close(fds_[0]);
-  ::close(fds_[1]);
-}
-
-void WakePipe::notify() {
-  const char byte = 1;
-  // a full pipe already holds a wake-up: EAGAIN is fine
-  [[maybe_unused]] const ssize_t written = ::write(fds_[1], &byte, 1);
-}
-
-void WakePipe::drain() {
-  char buffer[256];
-  while (::read(fds_[0], buffer, sizeof buffer) > 0) {
-  }
-}
 
 int run_worker(const LoopSettings& settings, WakePipe& wake, const std::atomic<bool>& stop) {
   SocketLoop loop(settings, wake, stop);

@@ -2,36 +2,31 @@
 // The worker's socket loop: a ZeroMQ DEALER connected to the coordinator's ROUTER, one serialized WorkerMessage
 // per frame out, one CoordinatorMessage per frame in. It only moves bytes and jobs: every decision is the
 // WorkerSession's. It polls the socket and a wake-up pipe with a short timeout (never blocking on a job, which
-// runs on the JobRunner's thread), so heartbeats go out on time while a job runs.
+// runs on the JobRunner's thread), so heartbeats go out on time while a job runs. It also watches the socket's
+// handshakes, so a worker the coordinator refuses at the security layer (a CURVE key it does not accept, or no
+// CURVE where it asks for it) says so instead of waiting in silence.
 
 #include <atomic>
+#include <optional>
 #include <string>
 
+#include "wake_pipe.h"
 #include "worker_session.h"
 
 namespace poet::worker {
 
-// A self-pipe that wakes the loop's poll: written by the job runner (an outcome is ready) and by the signal
-// thread (stop). notify() is safe from any thread and never blocks.
-class WakePipe {
- public:
-  WakePipe();  // throws std::system_error when no pipe can be made
-  ~WakePipe();
-  WakePipe(const WakePipe&) = delete;
-  WakePipe& operator=(const WakePipe&) = delete;
-
-  void notify();
-  void drain();  // the loop's side: empties the pipe
-  int read_fd() const { return fds_[0]; }
-
- private:
-  int fds_[2] = {-1, -1};
+// CURVE keys of a worker (common/curve_keys.h): its own pair and the coordinator's public key, all Z85.
+struct CurveClient {
+  std::string server_public_key;
+  std::string public_key;
+  std::string secret_key;
 };
 
 struct LoopSettings {
   std::string endpoint;  // tcp://HOST:PORT of the coordinator's ROUTER
   int threads = 1;       // episodes the job runner runs at once
   SessionSettings session;
+  std::optional<CurveClient> curve;  // none: no authentication
 };
 
 // Runs the worker until the session ends (Refused: 2, Shutdown: 0) or `stop` is set (Goodbye, 0), and returns

@@ -17,6 +17,8 @@ struct EsSettings {
   double adam_beta2 = 0.999;
   double adam_epsilon = 1e-8;
   bool normalize_grads_by_sigma = true;
+
+  bool operator==(const EsSettings&) const = default;  // outcomes computed with equal settings are reused
 };
 
 }  // namespace poet

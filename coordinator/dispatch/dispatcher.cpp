@@ -142,6 +142,7 @@ void Dispatcher::on_result(const WorkerId& id, const wire::Result& result, Milli
     if (!have_result_[j.begin + k]) remaining_ -= 1;
     have_result_[j.begin + k] = true;
   }
+  ready_ranges_.emplace_back(j.begin, j.end);
   worker->second.view.jobs_done += 1;
   worker->second.view.results_done += static_cast<int64_t>(count);
   jobs_.erase(job);
@@ -244,6 +245,7 @@ void Dispatcher::abandon_batch() {
   task_theta_hash_.clear();
   results_.clear();
   have_result_.clear();
+  ready_ranges_.clear();
   remaining_ = 0;
   batch_active_ = false;
 }
@@ -252,6 +254,13 @@ std::vector<RolloutResult> Dispatcher::take_results() {
   std::vector<RolloutResult> out = std::move(results_);
   abandon_batch();
   return out;
+}
+
+std::vector<std::pair<size_t, size_t>> Dispatcher::take_ready_ranges() { return std::exchange(ready_ranges_, {}); }
+
+size_t Dispatcher::ready_workers() const {
+  return static_cast<size_t>(
+      std::count_if(workers_.begin(), workers_.end(), [](const auto& w) { return w.second.ready; }));
 }
 
 int64_t Dispatcher::in_flight() const {

@@ -13,6 +13,7 @@
 #include <span>
 #include <string>
 #include <unordered_map>
+#include <utility>
 #include <vector>
 
 #include "rollout_task.h"
@@ -75,10 +76,16 @@ class Dispatcher {
   bool batch_done() const { return batch_active_ && remaining_ == 0; }
   // The results in task order; ends the batch.
   std::vector<RolloutResult> take_results();
+  // The ranges [first, end) of tasks whose results became final since the last call, and those results.
+  std::vector<std::pair<size_t, size_t>> take_ready_ranges();
+  std::span<const RolloutResult> results(size_t first, size_t end) const {
+    return std::span<const RolloutResult>(results_).subspan(first, end - first);
+  }
   // Set when a task killed max_attempts workers, or a worker refused a task: the run must stop.
   const std::optional<std::string>& failure() const { return failure_; }
 
   size_t worker_count() const { return workers_.size(); }
+  size_t ready_workers() const;  // those that may be sent jobs
   int64_t queue_depth() const { return static_cast<int64_t>(queue_.size()); }
   int64_t in_flight() const;
   std::vector<WorkerView> workers() const;
@@ -122,6 +129,7 @@ class Dispatcher {
   std::vector<RolloutResult> results_;
   std::vector<bool> have_result_;
   size_t remaining_ = 0;
+  std::vector<std::pair<size_t, size_t>> ready_ranges_;
   std::map<uint64_t, Job> jobs_;  // open jobs by id
   std::deque<uint64_t> queue_;
   uint64_t next_job_id_ = 1;

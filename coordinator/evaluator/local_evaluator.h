@@ -13,7 +13,9 @@ class LocalEvaluator final : public Evaluator {
  public:
   explicit LocalEvaluator(int threads, std::stop_token stop = {})
       : threads_(threads < 1 ? 1 : threads), stop_(std::move(stop)) {}
-  std::vector<RolloutResult> evaluate(std::span<const RolloutTask> tasks) override;
+  using Evaluator::evaluate;
+  // Reports each task's result to `ready` as soon as its episode ends (one index per call).
+  std::vector<RolloutResult> evaluate(std::span<const RolloutTask> tasks, const ResultsReady& ready) override;
   int threads() const { return threads_; }
 
  private:

@@ -6,11 +6,15 @@
 #include <stdexcept>
 #include <zmq.hpp>
 
+#include "evaluator/curve_authenticator.h"
+
 namespace poet {
 namespace {
 
 // A worker's messages are small (a Result of a job of 64 tasks is under 2 KB); anything near this is hostile.
 constexpr size_t kMaxWorkerMessageBytes = 1 << 20;
+// How long closing the socket may wait to deliver what was sent last.
+constexpr int kFinalLingerMs = 500;
 // libzmq drops the connection of a peer that sends more than this in one frame.
 constexpr int64_t kMaxFrameBytes = 4 << 20;
 
@@ -35,12 +39,19 @@ RemoteEvaluator::RemoteEvaluator(DispatchSettings settings, std::stop_token stop
     : stop_(std::move(stop)), dispatcher_(settings) {}
 
 Expected<std::unique_ptr<RemoteEvaluator>> RemoteEvaluator::bind(const std::string& endpoint, DispatchSettings settings,
-                                                                 std::stop_token stop) {
+                                                                 std::stop_token stop,
+                                                                 std::optional<CurveServer> curve) {
   std::unique_ptr<RemoteEvaluator> evaluator(new RemoteEvaluator(settings, std::move(stop)));
   try {
     evaluator->context_ = std::make_unique<zmq::context_t>(1);
+    if (curve) evaluator->authenticator_ = std::make_unique<CurveAuthenticator>(*evaluator->context_, curve->key_dir);
     evaluator->socket_ = std::make_unique<zmq::socket_t>(*evaluator->context_, zmq::socket_type::router);
     zmq::socket_t& socket = *evaluator->socket_;
+    if (curve) {
+      socket.set(zmq::sockopt::curve_server, 1);
+      socket.set(zmq::sockopt::curve_secretkey, curve->secret_key);
+      socket.set(zmq::sockopt::zap_domain, "poet");
+    }
     socket.set(zmq::sockopt::linger, 0);
     socket.set(zmq::sockopt::router_mandatory, 1);  // a send to a vanished peer fails instead of vanishing
     socket.set(zmq::sockopt::maxmsgsize, kMaxFrameBytes);
@@ -59,6 +70,7 @@ RemoteEvaluator::~RemoteEvaluator() {
     std::lock_guard lock(mutex_);
     quit_ = true;
   }
+  wake_.notify();
   if (thread_.joinable()) thread_.join();
 }
 
@@ -68,22 +80,25 @@ void RemoteEvaluator::on_snapshot(std::function<void(const Dispatcher&)> publish
 }
 
 void RemoteEvaluator::shutdown_workers(const std::string& reason) {
-  {
-    std::lock_guard lock(mutex_);
-    shutdown_requested_ = true;
-    shutdown_reason_ = reason;
-  }
-  // the socket thread sends the Shutdowns on its next turn; give it that turn
-  for (int i = 0; i < 50; ++i) {
-    std::this_thread::sleep_for(std::chrono::milliseconds(10));
-    std::lock_guard lock(mutex_);
-    if (!shutdown_requested_) break;
-  }
+  std::unique_lock lock(mutex_);
+  shutdown_requested_ = true;
+  shutdown_reason_ = reason;
+  wake_.notify();
+  // The socket thread tells the known workers at once; then every peer that speaks within one heartbeat interval
+  // (every live worker does) is told too, also one the dispatcher had dropped as silent a moment ago.
+  const auto window = std::chrono::milliseconds(std::min<Millis>(dispatcher_.settings().heartbeat_ms + 100, 2000));
+  changed_.wait_for(lock, window, [this] { return quit_; });
 }
 
-std::vector<RolloutResult> RemoteEvaluator::evaluate(std::span<const RolloutTask> tasks) {
+std::vector<RolloutResult> RemoteEvaluator::evaluate(std::span<const RolloutTask> tasks, const ResultsReady& ready) {
   std::unique_lock lock(mutex_);
   dispatcher_.start_batch(tasks);
+  wake_.notify();
+  ready_ = ready ? &ready : nullptr;
+  struct Unlisten {  // however evaluate() ends, the socket thread calls `ready` no more
+    const ResultsReady*& listener;
+    ~Unlisten() { listener = nullptr; }
+  } unlisten{ready_};
   changed_.notify_all();
   Millis waiting_since = now_ms();
   bool said_waiting = false;
@@ -100,7 +115,7 @@ std::vector<RolloutResult> RemoteEvaluator::evaluate(std::span<const RolloutTask
     }
     if (dispatcher_.batch_done()) return dispatcher_.take_results();
     // say so when the run waits for workers, then every minute while it still does
-    if (dispatcher_.worker_count() > 0) {
+    if (dispatcher_.ready_workers() > 0) {
       waiting_since = now_ms();
       said_waiting = false;
     } else if (now_ms() - waiting_since > (said_waiting ? 60'000 : 2'000)) {
@@ -117,20 +132,36 @@ void RemoteEvaluator::loop() {
   for (;;) {
     {
       std::lock_guard lock(mutex_);
-      if (quit_) return;
+      if (quit_) {
+        // the last messages (the Shutdowns) get a moment to leave; linger 0 would discard them at close
+        socket_->set(zmq::sockopt::linger, kFinalLingerMs);
+        return;
+      }
     }
-    zmq::pollitem_t items[] = {{socket_->handle(), 0, ZMQ_POLLIN, 0}};
+    zmq::pollitem_t items[] = {{nullptr, wake_.read_fd(), ZMQ_POLLIN, 0},
+                               {socket_->handle(), 0, ZMQ_POLLIN, 0},
+                               {authenticator_ ? authenticator_->socket().handle() : nullptr, 0, ZMQ_POLLIN, 0}};
     try {
-      zmq::poll(items, 1, std::chrono::milliseconds(10));
+      zmq::poll(items, authenticator_ ? 3 : 2, std::chrono::milliseconds(10));
     } catch (const zmq::error_t& e) {
       if (e.num() != EINTR) spdlog::error("poll: {}", e.what());
     }
+    wake_.drain();
     const Millis now = now_ms();
     std::lock_guard lock(mutex_);
+    if (authenticator_) {
+      authenticator_->answer_all([&](const std::string& key, const std::string& reason) {
+        note_drop("unauthorised_key", "a worker with CURVE key " + key + " (" + reason + ")");
+      });
+    }
     receive_all(now);
-    for (const WorkerId& dead : dispatcher_.expire(now))
-      spdlog::warn("worker {} silent for {} ms: its jobs go back to the queue", printable(dead),
-                   dispatcher_.settings().liveness_ms);
+    for (const auto& [first, end] : dispatcher_.take_ready_ranges())
+      if (ready_) (*ready_)(first, dispatcher_.results(first, end));
+    for (const WorkerId& dead : dispatcher_.expire(now)) {
+      if (const auto held_back = log_lost_.admit(now))
+        spdlog::warn("worker {} silent for {} ms: removed, its jobs go back to the queue{}", printable(dead),
+                     dispatcher_.settings().liveness_ms, LogThrottle::held_back_note(*held_back));
+    }
     if (shutdown_requested_) {
       for (const WorkerView& w : dispatcher_.workers()) {
         Outgoing bye{w.id, {}};
@@ -138,6 +169,7 @@ void RemoteEvaluator::loop() {
         send(bye);
       }
       shutdown_requested_ = false;
+      shutting_down_ = true;
     }
     for (const Outgoing& message : dispatcher_.outgoing(now)) send(message);
     if (dispatcher_.batch_done() || dispatcher_.failure()) changed_.notify_all();
@@ -162,11 +194,11 @@ void RemoteEvaluator::receive_all(Millis now) {
     }
     const std::string id = peer.to_string();
     if (frames.size() != 1) {
-      note_drop("malformed", id);
+      note_drop("malformed", "peer " + printable(id));
       continue;
     }
     if (frames[0].size() > kMaxWorkerMessageBytes) {
-      note_drop("oversized", id);
+      note_drop("oversized", "peer " + printable(id));
       continue;
     }
     handle(id, frames[0].to_string(), now);
@@ -176,17 +208,27 @@ void RemoteEvaluator::receive_all(Millis now) {
 void RemoteEvaluator::handle(const std::string& peer, const std::string& payload, Millis now) {
   wire::WorkerMessage message;
   if (!message.ParseFromString(payload) || message.kind_case() == wire::WorkerMessage::KIND_NOT_SET) {
-    note_drop("malformed", peer);
+    note_drop("malformed", "peer " + printable(peer));
+    return;
+  }
+  if (shutting_down_) {  // whoever it is: the run is over
+    if (message.has_goodbye()) return;
+    Outgoing bye{peer, {}};
+    bye.message.mutable_shutdown()->set_reason(shutdown_reason_);
+    send(bye);
     return;
   }
   switch (message.kind_case()) {
     case wire::WorkerMessage::kHello: {
       Outgoing reply{peer, dispatcher_.on_hello(peer, message.hello(), now)};
+      const std::string name = message.hello().name().substr(0, 200);
       if (reply.message.has_refused()) {  // counted by the dispatcher
-        spdlog::warn("refused worker {}: {}", message.hello().name().substr(0, 200), reply.message.refused().reason());
-      } else {
-        spdlog::info("worker {} ({} threads) joined: {} connected", message.hello().name().substr(0, 200),
-                     message.hello().threads(), dispatcher_.worker_count());
+        if (const auto held_back = log_refused_.admit(now))
+          spdlog::warn("refused worker {}: {}{}", name, reply.message.refused().reason(),
+                       LogThrottle::held_back_note(*held_back));
+      } else if (const auto held_back = log_joined_.admit(now)) {
+        spdlog::info("worker {} ({} threads) joined: {} connected{}", name, message.hello().threads(),
+                     dispatcher_.worker_count(), LogThrottle::held_back_note(*held_back));
       }
       send(reply);
       return;
@@ -195,7 +237,7 @@ void RemoteEvaluator::handle(const std::string& peer, const std::string& payload
     case wire::WorkerMessage::kHeartbeat:
       if (!dispatcher_.heard_from(peer, now)) {
         // a worker of an earlier coordinator on this port, or one counted dead: it must start afresh
-        note_drop("unknown_peer", peer);
+        note_drop("unknown_peer", "peer " + printable(peer));
         Outgoing rejoin{peer, {}};
         rejoin.message.mutable_rejoin()->set_reason("this coordinator does not know the worker: say Hello again");
         send(rejoin);
@@ -206,10 +248,12 @@ void RemoteEvaluator::handle(const std::string& peer, const std::string& payload
     case wire::WorkerMessage::kGoodbye:
       if (!dispatcher_.heard_from(peer, now)) return;
       dispatcher_.remove_worker(peer, /*died=*/false);
-      spdlog::info("worker {} left: {} connected", printable(peer), dispatcher_.worker_count());
+      if (const auto held_back = log_left_.admit(now))
+        spdlog::info("worker {} left: {} connected{}", printable(peer), dispatcher_.worker_count(),
+                     LogThrottle::held_back_note(*held_back));
       return;
     default:
-      note_drop("malformed", peer);
+      note_drop("malformed", "peer " + printable(peer));
   }
 }
 
@@ -228,13 +272,12 @@ void RemoteEvaluator::send(const Outgoing& message) {
   }
 }
 
-void RemoteEvaluator::note_drop(const std::string& reason, const std::string& peer) {
+void RemoteEvaluator::note_drop(const std::string& reason, const std::string& who) {
   dispatcher_.count_drop(reason);
-  const Millis now = now_ms();
-  Millis& last = last_drop_log_[reason];
-  if (now - last < 1000) return;  // never flood the log
-  last = now;
-  spdlog::warn("dropped a frame from {}: {} ({} so far)", printable(peer), reason, dispatcher_.dropped().at(reason));
+  const auto held_back = log_drops_[reason].admit(now_ms());
+  if (!held_back) return;
+  spdlog::warn("refused {}: {} ({} so far){}", who, reason, dispatcher_.dropped().at(reason),
+               LogThrottle::held_back_note(*held_back));
 }
 
 }  // namespace poet

@@ -6,16 +6,20 @@
 // whatever the number of workers, their speed, their joining and leaving.
 
 #include <condition_variable>
+#include <filesystem>
 #include <functional>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <stop_token>
 #include <string>
 #include <thread>
 
 #include "dispatch/dispatcher.h"
 #include "evaluator/evaluator.h"
+#include "evaluator/log_throttle.h"
 #include "expected.h"
+#include "wake_pipe.h"
 
 namespace zmq {
 class context_t;
@@ -24,22 +28,36 @@ class socket_t;
 
 namespace poet {
 
+class CurveAuthenticator;
+
+// CURVE on the job socket: the coordinator's secret key, and the key directory whose authorized/*.key are the
+// workers it accepts (common/curve_keys.h).
+struct CurveServer {
+  std::string secret_key;  // Z85
+  std::filesystem::path key_dir;
+};
+
 class RemoteEvaluator final : public Evaluator {
  public:
   // Binds endpoint ("tcp://0.0.0.0:5555"; "tcp://127.0.0.1:*" picks a free port) and starts the socket thread.
-  // A stop request on `stop` abandons a batch in flight (EvaluationStopped).
+  // A stop request on `stop` abandons a batch in flight (EvaluationStopped). With `curve`, only workers holding an
+  // authorised key can connect.
   static Expected<std::unique_ptr<RemoteEvaluator>> bind(const std::string& endpoint, DispatchSettings settings,
-                                                         std::stop_token stop);
+                                                         std::stop_token stop,
+                                                         std::optional<CurveServer> curve = std::nullopt);
   ~RemoteEvaluator() override;
 
   // Blocks until every task has a result (waiting for workers as long as it takes, and saying so in the log).
   // Throws EvaluationStopped on a stop request, and std::runtime_error naming the task when a task killed
   // settings.max_attempts workers or a worker refused it.
-  std::vector<RolloutResult> evaluate(std::span<const RolloutTask> tasks) override;
+  // `ready` hears of each job's results as they arrive, on the socket thread.
+  std::vector<RolloutResult> evaluate(std::span<const RolloutTask> tasks, const ResultsReady& ready) override;
+  using Evaluator::evaluate;
 
   // The endpoint bound, with its port ("tcp://127.0.0.1:41235").
   const std::string& endpoint() const { return endpoint_; }
-  // Tells every connected worker the run is over (they exit), then lets the socket go.
+  // Tells every connected worker the run is over (they exit): the known ones at once, then any peer that speaks
+  // within the next heartbeat interval. Returns after that interval (at most about two seconds).
   void shutdown_workers(const std::string& reason);
   // Called on the socket thread about twice a second, with the dispatcher under the lock (for the status board).
   void on_snapshot(std::function<void(const Dispatcher&)> publish);
@@ -50,10 +68,12 @@ class RemoteEvaluator final : public Evaluator {
   void receive_all(Millis now);
   void handle(const std::string& peer, const std::string& payload, Millis now);
   void send(const Outgoing& message);
-  void note_drop(const std::string& reason, const std::string& peer);
+  void note_drop(const std::string& reason, const std::string& who);  // counts, and logs at most once a second
 
   std::unique_ptr<zmq::context_t> context_;
+  std::unique_ptr<CurveAuthenticator> authenticator_;  // with CURVE only
   std::unique_ptr<zmq::socket_t> socket_;
+  WakePipe wake_;  // a new batch, a shutdown or quit: the socket thread acts at once, not at its next poll timeout
   std::string endpoint_;
   std::stop_token stop_;
 
@@ -61,10 +81,17 @@ class RemoteEvaluator final : public Evaluator {
   std::condition_variable changed_;
   Dispatcher dispatcher_;
   std::function<void(const Dispatcher&)> publish_;
+  const ResultsReady* ready_ = nullptr;  // the batch's listener, while evaluate() runs
   bool quit_ = false;
   std::string shutdown_reason_;
   bool shutdown_requested_ = false;
-  std::map<std::string, Millis> last_drop_log_;  // by reason: logs at most once a second each
+  bool shutting_down_ = false;  // Shutdowns sent: every message is answered with another
+  // the log of a flood of peers: a few lines a second of each kind
+  std::map<std::string, LogThrottle> log_drops_;  // by reason, one a second
+  LogThrottle log_joined_{5};
+  LogThrottle log_left_{5};
+  LogThrottle log_lost_{5};
+  LogThrottle log_refused_{5};
   std::thread thread_;
 };
 

@@ -22,6 +22,16 @@ void IterationContext::event(std::string_view name, nlohmann::ordered_json field
   report.events.push_back(std::move(e));
 }
 
+IterationContext iteration_context(RunState& state, Evaluator& evaluator, IterationReport& report) {
+  return {state,
+          evaluator,
+          report,
+          state.config,
+          es_settings(state.config),
+          episode_settings(state.config),
+          state.next_iteration};
+}
+
 void record_evaluation(IterationContext& ctx, Pair& pair, const std::vector<double>& theta, const Evaluation& eval) {
   pair.latest_score = eval.score;
   pair.latest_finished = eval.finished;
@@ -93,13 +103,7 @@ IterationReport run_iteration(RunState& state, Evaluator& evaluator) {
   IterationReport report;
   report.iteration = state.next_iteration;
   const int64_t rollouts_before = state.counters.rollouts;
-  IterationContext ctx{state,
-                       evaluator,
-                       report,
-                       state.config,
-                       es_settings(state.config),
-                       episode_settings(state.config),
-                       state.next_iteration};
+  IterationContext ctx = iteration_context(state, evaluator, report);
 
   const auto mode = state.config.mode();
   const bool poet = mode == pb::RunConfig::POET || mode == pb::RunConfig::POET_WITHOUT_TRANSFER;

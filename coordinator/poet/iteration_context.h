@@ -29,6 +29,9 @@ struct IterationContext {
   RolloutBatch batch() const { return RolloutBatch(episodes); }
 };
 
+// The context of iteration state.next_iteration, its settings read from the state's config.
+IterationContext iteration_context(RunState& state, Evaluator& evaluator, IterationReport& report);
+
 // Records an evaluation of θ on the pair's own environment: latest score, best score and θ, and the first solve
 // (finished and score ≥ solved_score), with a "solved" event.
 void record_evaluation(IterationContext& ctx, Pair& pair, const std::vector<double>& theta, const Evaluation& eval);

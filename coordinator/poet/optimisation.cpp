@@ -28,7 +28,7 @@ void optimise(IterationContext& ctx) {
     const uint64_t key = ctx.key("noise", {static_cast<uint64_t>(p.id), static_cast<uint64_t>(ctx.t)});
     handles.push_back(steps.add_es_step({share(p.theta), p.env, p.optimizer.sigma, key}, n));
   }
-  steps.run(ctx.evaluator, ctx.state.counters);
+  steps.run(ctx.evaluator, ctx.state.counters, ctx.es);
 
   // the updates: Adam on the gradient, then the decays (σ was used before its decay)
   std::vector<PairStatsRow> rows;

@@ -56,7 +56,7 @@ Start best_start(IterationContext& ctx, const Child& child) {
         {theta, child.env, fresh.sigma, ctx.key("admission-noise", {u(ctx.t), u(child.attempt), u(source.id)})},
         ctx.es.perturbations));
   }
-  first.run(ctx.evaluator, ctx.state.counters);
+  first.run(ctx.evaluator, ctx.state.counters, ctx.es);
 
   RolloutBatch second = ctx.batch();
   std::vector<std::vector<double>> proposals;

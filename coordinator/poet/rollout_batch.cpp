@@ -1,6 +1,7 @@
 #include "poet/rollout_batch.h"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <stdexcept>
 #include <thread>
@@ -8,6 +9,7 @@
 #include "config/run_config.h"
 #include "es/es_gradient.h"
 #include "parallel_for.h"
+#include "poet/background_pool.h"
 #include "rng.h"
 
 namespace poet {
@@ -18,6 +20,8 @@ uint32_t course_seed(uint64_t key, uint64_t index) {
   RandomStream stream(stream_key(key, "course", {index}));
   return static_cast<uint32_t>(stream.uniform_int(0, kMaxEnvSeed));
 }
+
+int cores() { return static_cast<int>(std::max(1u, std::thread::hardware_concurrency())); }
 
 }  // namespace
 
@@ -70,8 +74,69 @@ size_t RolloutBatch::add_evaluation(SharedParams theta, const EnvDef& env, uint6
 }
 
 void RolloutBatch::run(Evaluator& evaluator, RunCounters& counters) {
+  early_.clear();
   if (tasks_.empty()) return;  // nothing to ask for: evaluators never see empty batches
-  results_ = evaluator.evaluate(tasks_);
+  accept(evaluator.evaluate(tasks_), counters);
+}
+
+void RolloutBatch::run(Evaluator& evaluator, RunCounters& counters, const EsSettings& es) {
+  early_.clear();
+  if (tasks_.empty()) return;
+  accept(evaluate_early(evaluator, es), counters);
+}
+
+size_t RolloutBatch::slot_of(size_t task) const {
+  const auto after = std::ranges::upper_bound(slots_, task, {}, &Slot::offset);
+  return static_cast<size_t>(after - slots_.begin()) - 1;
+}
+
+std::vector<RolloutResult> RolloutBatch::evaluate_early(Evaluator& evaluator, const EsSettings& es) {
+  early_.assign(slots_.size(), std::nullopt);
+  early_settings_ = es;
+  results_.assign(tasks_.size(), RolloutResult{});  // filled as results arrive; never reallocated meanwhile
+  std::vector<bool> arrived(tasks_.size(), false);
+  std::vector<size_t> missing(slots_.size());
+  for (size_t s = 0; s < slots_.size(); ++s) missing[s] = slots_[s].count;
+
+  const auto compute = [this, &es](size_t s) {
+    const Slot& slot = slots_[s];
+    for (size_t i = slot.offset; i < slot.offset + slot.count; ++i)
+      if (!std::isfinite(results_[i].total_reward)) return;  // accept() refuses the batch
+    try {
+      early_[s] = es_outcome(s, es);
+    } catch (...) {
+      // es_outcomes computes it again and throws there, as it would have without this early start
+    }
+  };
+  // last of the locals, so that on a throw its destructor joins the threads before anything they read goes
+  BackgroundPool pool(cores());
+  const ResultsReady ready = [&](size_t first, std::span<const RolloutResult> results) {
+    for (size_t k = 0; k < results.size(); ++k) {
+      const size_t i = first + k;
+      if (i >= tasks_.size() || arrived[i]) continue;
+      arrived[i] = true;
+      results_[i] = results[k];
+      const size_t s = slot_of(i);
+      if (--missing[s] == 0 && !slots_[s].keys.empty()) pool.submit([&compute, s] { compute(s); });
+    }
+  };
+  std::vector<RolloutResult> returned = evaluator.evaluate(tasks_, ready);
+  pool.wait();
+
+  // an early outcome stands on the results reported; they must be the ones returned
+  if (returned.size() == tasks_.size()) {
+    for (size_t i = 0; i < tasks_.size(); ++i) {
+      if (arrived[i] &&
+          std::bit_cast<uint64_t>(returned[i].total_reward) != std::bit_cast<uint64_t>(results_[i].total_reward))
+        throw std::runtime_error("evaluator returned a return for task " + std::to_string(i) +
+                                 " other than the one it reported final");
+    }
+  }
+  return returned;
+}
+
+void RolloutBatch::accept(std::vector<RolloutResult> results, RunCounters& counters) {
+  results_ = std::move(results);
   if (results_.size() != tasks_.size())
     throw std::runtime_error("evaluator returned " + std::to_string(results_.size()) + " results for " +
                              std::to_string(tasks_.size()) + " tasks");
@@ -102,9 +167,11 @@ EsOutcome RolloutBatch::es_outcome(size_t handle, const EsSettings& settings) co
 
 std::vector<EsOutcome> RolloutBatch::es_outcomes(std::span<const size_t> handles, const EsSettings& settings) const {
   std::vector<EsOutcome> out(handles.size());
-  const int threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
-  parallel_for(static_cast<int>(handles.size()), threads,
-               [&](int i) { out[static_cast<size_t>(i)] = es_outcome(handles[static_cast<size_t>(i)], settings); });
+  const bool early = !early_.empty() && settings == early_settings_;
+  parallel_for(static_cast<int>(handles.size()), cores(), [&](int i) {
+    const size_t h = handles[static_cast<size_t>(i)];
+    out[static_cast<size_t>(i)] = early && early_.at(h) ? *early_[h] : es_outcome(h, settings);
+  });
   return out;
 }
 

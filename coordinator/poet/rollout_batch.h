@@ -6,6 +6,7 @@
 
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <span>
 #include <vector>
 
@@ -64,11 +65,17 @@ class RolloutBatch {
   // Runs every task added so far in one evaluator call (none when there are no tasks); counts rollouts and
   // environment steps. Throws std::runtime_error on a wrong number of results or a non-finite return.
   void run(Evaluator& evaluator, RunCounters& counters);
+  // The same, and each ES step's outcome for `es` is computed on background threads as soon as the evaluator
+  // reports the step's results final, while the rest of the batch runs; es_outcomes(…, es) then finds it done.
+  // The threads are joined before run returns or throws. Throws std::runtime_error when the evaluator returns a
+  // return other than the one it reported.
+  void run(Evaluator& evaluator, RunCounters& counters, const EsSettings& es);
 
-  // The outcomes of these ES steps, in order. Their gradients (a rebuild of every ε, some 40 ms for 512
-  // perturbations) are computed on all of this machine's cores, each by the same serial code, so the numbers do
-  // not depend on the core count.
+  // The outcomes of these ES steps, in order: those computed during run(…, settings), the others computed now on
+  // all of this machine's cores. Either way each comes from es_outcome on the same results, so the numbers
+  // depend neither on the core count nor on when the results arrived.
   std::vector<EsOutcome> es_outcomes(std::span<const size_t> handles, const EsSettings& settings) const;
+  // One ES step's outcome, computed now: the gradient rebuilds every ε (some 10 ms for 256 perturbations).
   EsOutcome es_outcome(size_t handle, const EsSettings& settings) const;
   Evaluation evaluation(size_t handle) const;
   size_t size() const { return tasks_.size(); }
@@ -81,11 +88,16 @@ class RolloutBatch {
     double sigma = 0;
   };
   RolloutTask task(SharedParams theta, const EnvDef& env) const;
+  size_t slot_of(size_t task) const;
+  std::vector<RolloutResult> evaluate_early(Evaluator& evaluator, const EsSettings& es);
+  void accept(std::vector<RolloutResult> results, RunCounters& counters);
 
   EpisodeSettings settings_;
   std::vector<RolloutTask> tasks_;
   std::vector<Slot> slots_;
   std::vector<RolloutResult> results_;
+  std::vector<std::optional<EsOutcome>> early_;  // by slot: ES outcomes computed while the batch ran
+  EsSettings early_settings_;                    // the settings they were computed with
 };
 
 }  // namespace poet

@@ -41,7 +41,7 @@ void transfer(IterationContext& ctx) {
           first.add_es_step({theta, target.env, target.optimizer.sigma, step_key}, ctx.es.perturbations));
     }
   }
-  first.run(ctx.evaluator, ctx.state.counters);
+  first.run(ctx.evaluator, ctx.state.counters, ctx.es);
 
   // round 2: the proposals' evaluations
   RolloutBatch second = ctx.batch();

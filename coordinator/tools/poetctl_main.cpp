@@ -1,25 +1,30 @@
 // poetctl: asks a running poet-coordinator's status socket what its run is doing.
 //   poetctl [--address HOST:PORT] [--json] status | pairs | pair ID | archive | workers | events [--since N]
 //           [--limit M] | metrics
+//   poetctl keygen DIR coordinator|worker [--authorize]
 // Prints a table for people, or with --json the server's JSON as it came (/metrics is always its text). The
 // address is --address, else $POET_STATUS, else 127.0.0.1:8580. Exit codes: 0 done, 1 the coordinator cannot be
 // reached or answered with an error (the message names the address), 2 bad command line or address.
 
 #include <google/protobuf/util/json_util.h>
 #include <httplib.h>
+#include <zmq.h>
 
 #include <CLI/CLI.hpp>
 #include <algorithm>
+#include <array>
 #include <charconv>
 #include <cmath>
 #include <csignal>
 #include <cstdio>
 #include <cstdlib>
+#include <filesystem>
 #include <functional>
 #include <optional>
 #include <string>
 #include <vector>
 
+#include "curve_keys.h"
 #include "status.pb.h"
 #include "status/status_server.h"
 #include "tool_flags.h"
@@ -317,6 +322,38 @@ std::function<bool(const std::string&)> printer(void (*print)(const Message&), c
   };
 }
 
+// poetctl keygen: a fresh pair from libzmq's generator, written without replacing any key.
+int make_keys(const std::filesystem::path& dir, const std::string& name, bool authorize) {
+  std::array<char, 41> public_key{};
+  std::array<char, 41> secret_key{};
+  if (zmq_curve_keypair(public_key.data(), secret_key.data()) != 0) {
+    std::fprintf(stderr, "poetctl keygen: this libzmq cannot make CURVE keys: %s\n", zmq_strerror(zmq_errno()));
+    return kExitUnreachable;
+  }
+  const CurveKeyPair keys{public_key.data(), secret_key.data()};
+  if (auto error = write_key_pair(dir, name, keys)) {
+    std::fprintf(stderr, "poetctl keygen: %s\n", error->c_str());
+    return kExitUnreachable;
+  }
+  std::printf("%s/%s.key: %s\n", dir.c_str(), name.c_str(), keys.public_key.c_str());
+  if (authorize && name != "worker") {
+    std::fprintf(stderr, "poetctl keygen: --authorize is for worker keys\n");
+    return kExitUsage;
+  }
+  if (authorize) {
+    const std::filesystem::path authorized = dir / "authorized";
+    std::error_code ec;
+    std::filesystem::create_directories(authorized, ec);
+    std::filesystem::copy_file(dir / (name + ".key"), authorized / (name + ".key"), ec);
+    if (ec) {
+      std::fprintf(stderr, "poetctl keygen: %s: %s\n", (authorized / (name + ".key")).c_str(), ec.message().c_str());
+      return kExitUnreachable;
+    }
+    std::printf("authorised: %s\n", (authorized / (name + ".key")).c_str());
+  }
+  return 0;
+}
+
 }  // namespace
 }  // namespace poet
 
@@ -349,7 +386,18 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(int64_t{0}, int64_t{1} << 50));
   events->add_option("--limit", limit, "At most this many events")->check(CLI::Range(int64_t{1}, kMaxEventsPerPage));
   auto* metrics = app.add_subcommand("metrics", "The Prometheus metrics, as text");
+  std::string key_dir;
+  std::string key_name;
+  bool authorize = false;
+  auto* keygen = app.add_subcommand(
+      "keygen", "Make a CURVE key pair DIR/NAME.key and DIR/NAME.key_secret, for --curve-keys (no socket involved)");
+  keygen->add_option("dir", key_dir, "The key directory (created if missing)")->required();
+  keygen->add_option("name", key_name, "coordinator, or worker")
+      ->required()
+      ->check(CLI::IsMember({"coordinator", "worker"}));
+  keygen->add_flag("--authorize", authorize, "Also copy the public key into DIR/authorized/ (workers only)");
   if (const std::optional<int> code = parse_command_line(app, argc, argv)) return *code;
+  if (keygen->parsed()) return make_keys(key_dir, key_name, authorize);
 
   if (address.empty()) {
     const char* from_environment = std::getenv(kAddressVariable);

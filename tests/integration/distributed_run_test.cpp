@@ -1,12 +1,16 @@
 // The coordinator with ZeroMQ workers, as real processes on loopback: runs with 1, 2 or 3 local workers end in
 // the files of a run on threads, byte for byte; a worker killed with SIGKILL mid-run changes nothing; a run
-// started with no worker waits and completes once one connects; a job that kills every worker stops the run
-// naming the task; the status socket answers during a run.
+// started with no worker waits and completes once one connects, and one whose every worker leaves waits for the
+// next; a coordinator killed with SIGKILL and started again finds its workers back and ends in the same files; a
+// job that kills every worker stops the run naming the task; the status socket answers during a run.
 
+#include <arpa/inet.h>
 #include <fcntl.h>
 #include <gtest/gtest.h>
 #include <httplib.h>
+#include <netinet/in.h>
 #include <spawn.h>
+#include <sys/socket.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -20,123 +24,14 @@
 #include <thread>
 #include <vector>
 
-#include "child_process.h"
+#include "coordinator_run_fixture.h"
 
 namespace {
 
+using namespace poet::testing;
 namespace fs = std::filesystem;
 using namespace std::chrono_literals;
-
-constexpr char kConfig[] = R"(mode: POET
-seed: 7
-iterations: 6
-es { perturbations: 4 }
-walker { max_steps: 120 }
-poet { mutation_interval: 2 transfer_interval: 2 repro_threshold: -1000 mc_low: -1000 mc_high: 1000
-       max_children: 4 max_admitted: 1 active_cap: 3 }
-)";
-
-const char* const kRunFiles[] = {"checkpoint.pb", "events.jsonl", "pair_stats.csv"};
-
-using poet::testing::exit_code;
-using poet::testing::spawn_child;
-std::string read(const fs::path& path) { return poet::testing::read_file(path); }
-
-bool contains(const std::string& text, std::string_view part) { return text.find(part) != std::string::npos; }
-
-// The children of a process (its local workers), from /proc.
-std::vector<pid_t> children_of(pid_t pid) {
-  std::vector<pid_t> out;
-  std::error_code ec;
-  for (const auto& task : fs::directory_iterator("/proc/" + std::to_string(pid) + "/task", ec)) {
-    std::ifstream in(task.path() / "children");
-    for (pid_t child; in >> child;) out.push_back(child);
-  }
-  return out;
-}
-
-class DistributedRunTest : public ::testing::Test {
- protected:
-  void SetUp() override {
-    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    root_ = fs::temp_directory_path() / ("poet_distributed_test_" + std::to_string(::getpid()) + "_" + info->name());
-    fs::remove_all(root_);
-    fs::create_directories(root_);
-    config_ = root_ / "tiny.textproto";
-    std::ofstream(config_) << kConfig;
-  }
-  void TearDown() override {
-    for (pid_t pid : children_) {
-      for (pid_t worker : children_of(pid)) ::kill(worker, SIGKILL);
-      ::kill(pid, SIGKILL);
-      ::waitpid(pid, nullptr, 0);
-    }
-    fs::remove_all(root_);
-  }
-
-  pid_t spawn(const char* binary, std::vector<std::string> args, const std::string& name) {
-    args.insert(args.begin(), binary);
-    const pid_t pid = spawn_child(args, root_ / (name + ".out"), root_ / (name + ".err"));
-    EXPECT_GT(pid, 0) << "posix_spawn " << binary;
-    if (pid > 0) children_.push_back(pid);
-    return pid;
-  }
-
-  pid_t coordinator(const fs::path& dir, std::vector<std::string> extra, const std::string& name) {
-    std::vector<std::string> args = {"--config",         config_.string(), "--run-dir",     dir.string(), "--quiet",
-                                     "--status-address", "127.0.0.1:0",    "--liveness-ms", "1000"};
-    args.insert(args.end(), extra.begin(), extra.end());
-    return spawn(POET_COORDINATOR_BIN, args, name);
-  }
-
-  // Waits (at most two minutes) for the process to end; its exit code, or -1 when it did not.
-  int wait(pid_t pid) {
-    const auto deadline = std::chrono::steady_clock::now() + 120s;
-    int status = 0;
-    while (std::chrono::steady_clock::now() < deadline) {
-      if (::waitpid(pid, &status, WNOHANG) == pid) {
-        std::erase(children_, pid);
-        return exit_code(status);
-      }
-      std::this_thread::sleep_for(10ms);
-    }
-    ADD_FAILURE() << "process " << pid << " did not end";
-    return -1;
-  }
-
-  // The first match of `pattern` (group 1) in the process's stderr, once it appears (at most 30 s).
-  std::string await_log(const std::string& name, const std::string& pattern) {
-    const std::regex re(pattern);
-    const auto deadline = std::chrono::steady_clock::now() + 30s;
-    while (std::chrono::steady_clock::now() < deadline) {
-      std::smatch m;
-      const std::string err = read(root_ / (name + ".err"));
-      if (std::regex_search(err, m, re)) return m[1];
-      std::this_thread::sleep_for(10ms);
-    }
-    ADD_FAILURE() << name << ": no log line matching " << pattern;
-    return "";
-  }
-
-  fs::path threads_run() {
-    const fs::path dir = root_ / "threads";
-    const pid_t pid = coordinator(dir, {"--threads", "2"}, "threads");
-    EXPECT_EQ(wait(pid), 0) << read(root_ / "threads.err");
-    return dir;
-  }
-
-  void expect_same_run(const fs::path& a, const fs::path& b) {
-    for (const char* file : kRunFiles) {
-      const std::string x = read(a / file);
-      EXPECT_FALSE(x.empty()) << a / file;
-      EXPECT_TRUE(x == read(b / file)) << file << " differs between " << a << " and " << b;
-    }
-  }
-
-  fs::path root_;
-  fs::path config_;
-  std::vector<pid_t> children_;
-};
+using DistributedRunTest = CoordinatorRunTest;
 
 TEST_F(DistributedRunTest, AnyNumberOfWorkersGivesTheRunOfThreads) {
   const fs::path reference = threads_run();
@@ -147,12 +42,6 @@ TEST_F(DistributedRunTest, AnyNumberOfWorkersGivesTheRunOfThreads) {
     EXPECT_TRUE(contains(read(root_ / (name + ".err")), "started " + std::to_string(workers) + " local workers"));
     expect_same_run(reference, root_ / name);
   }
-}
-
-// The config with one line replaced.
-std::string config_with(const std::string& from, const std::string& to) {
-  std::string text = kConfig;
-  return text.replace(text.find(from), from.size(), to);
 }
 
 TEST_F(DistributedRunTest, AWorkerKilledMidRunChangesNothing) {
@@ -182,7 +71,67 @@ TEST_F(DistributedRunTest, ARunWithoutWorkersWaitsForOne) {
   const pid_t worker = spawn(POET_WORKER_BIN, {"--connect", endpoint, "--threads", "2"}, "worker");
   EXPECT_EQ(wait(pid), 0) << read(root_ / "N.err");
   expect_same_run(reference, root_ / "N");
-  EXPECT_EQ(wait(worker), 0) << "the worker leaves when the run is finished";
+  EXPECT_EQ(wait(worker), 0) << "the worker leaves when the run is finished\n" << read(root_ / "worker.err");
+}
+
+TEST_F(DistributedRunTest, ARunWhoseWorkersAllLeaveWaitsForTheNext) {
+  std::ofstream(config_, std::ios::trunc) << config_with("perturbations: 4", "perturbations: 24");
+  const fs::path reference = threads_run();
+  const pid_t pid = coordinator(root_ / "L", {"--listen", "tcp://127.0.0.1:*"}, "L");
+  const std::string endpoint = await_log("L", "workers connect to (tcp://[0-9.]+:[0-9]+)");
+  ASSERT_FALSE(endpoint.empty());
+  const pid_t first = spawn(POET_WORKER_BIN, {"--connect", endpoint, "--threads", "1"}, "first");
+  await_log("L", "(iteration [0-9]+):");
+  ASSERT_EQ(::waitpid(pid, nullptr, WNOHANG), 0) << "the run ended before the worker left";
+  ASSERT_EQ(::kill(first, SIGTERM), 0);
+  EXPECT_EQ(wait(first), 0);
+  await_log("L", "worker [0-9a-f]+ (left): 0 connected");
+  await_log("L", "(waiting for workers)");
+  const pid_t second = spawn(POET_WORKER_BIN, {"--connect", endpoint, "--threads", "2"}, "second");
+  EXPECT_EQ(wait(pid), 0) << read(root_ / "L.err");
+  expect_same_run(reference, root_ / "L");
+  EXPECT_EQ(wait(second), 0);
+}
+
+// A loopback port free at the time of asking (the kernel's choice), for a coordinator that must come back on the
+// same port.
+int free_port() {
+  const int fd = ::socket(AF_INET, SOCK_STREAM, 0);
+  sockaddr_in address{};
+  address.sin_family = AF_INET;
+  address.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+  socklen_t length = sizeof address;
+  const bool ok = fd >= 0 && ::bind(fd, reinterpret_cast<sockaddr*>(&address), sizeof address) == 0 &&
+                  ::getsockname(fd, reinterpret_cast<sockaddr*>(&address), &length) == 0;
+  if (fd >= 0) ::close(fd);
+  return ok ? ntohs(address.sin_port) : -1;
+}
+
+TEST_F(DistributedRunTest, ACoordinatorKilledMidRunFindsItsWorkersAgainAndEndsTheSame) {
+  std::ofstream(config_, std::ios::trunc) << config_with("perturbations: 4", "perturbations: 24");
+  const fs::path reference = threads_run();
+  const int port = free_port();
+  ASSERT_GT(port, 0);
+  const std::string endpoint = "tcp://127.0.0.1:" + std::to_string(port);
+  const pid_t before = coordinator(root_ / "R", {"--listen", endpoint}, "before");
+  await_log("before", "workers connect to (tcp://)");
+  std::vector<pid_t> workers;
+  for (const char* name : {"a", "b"})
+    workers.push_back(spawn(POET_WORKER_BIN, {"--connect", endpoint, "--threads", "1"}, name));
+  await_log("before", "(iteration [2-9]):");  // past the first checkpoint (checkpoint_interval 1)
+  ASSERT_EQ(::kill(before, SIGKILL), 0);
+  EXPECT_EQ(wait(before), 128 + SIGKILL);
+  EXPECT_NE(read(root_ / "R" / "events.jsonl"), read(reference / "events.jsonl")) << "the run ended before the kill";
+
+  const pid_t after = coordinator(root_ / "R", {"--listen", endpoint}, "after");
+  EXPECT_EQ(wait(after), 0) << read(root_ / "after.err");
+  const std::string log = read(root_ / "after.err");
+  EXPECT_TRUE(contains(log, "resum")) << log;
+  EXPECT_TRUE(contains(log, "joined")) << log;
+  expect_same_run(reference, root_ / "R");
+  for (pid_t worker : workers) EXPECT_EQ(wait(worker), 0) << "the workers stay until the restarted run shuts them down";
+  const std::string worker_log = read(root_ / "a.err") + read(root_ / "b.err");
+  EXPECT_TRUE(contains(worker_log, "Hello again") || contains(worker_log, "connecting again")) << worker_log;
 }
 
 TEST_F(DistributedRunTest, AJobThatKillsEveryWorkerStopsTheRunNamingTheTask) {

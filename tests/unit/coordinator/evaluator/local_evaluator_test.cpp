@@ -1,11 +1,12 @@
-// LocalEvaluator: results in task order, equal to running each task alone, whatever the thread count; a stop
-// request abandons a batch, cutting its episodes short; and run_task's perturbed episode is the plain rollout of
-// θ + sign·σ·ε.
+// LocalEvaluator: results in task order, equal to running each task alone, whatever the thread count, each
+// reported final once as its episode ends; a stop request abandons a batch, cutting its episodes short; and
+// run_task's perturbed episode is the plain rollout of θ + sign·σ·ε.
 
 #include "evaluator/local_evaluator.h"
 
 #include <gtest/gtest.h>
 
+#include <atomic>
 #include <chrono>
 #include <thread>
 
@@ -44,6 +45,31 @@ TEST(LocalEvaluator, ResultsComeInTaskOrderWhateverTheThreadCount) {
     EXPECT_EQ(two[i].steps, alone.steps) << i;
   }
   EXPECT_NE(one[1].total_reward, one[2].total_reward);
+}
+
+TEST(LocalEvaluator, ReportsEveryResultOnceAndNeverTwoReportsAtOnce) {
+  const std::vector<RolloutTask> batch = tasks();
+  std::vector<int> reported(batch.size(), 0);
+  std::vector<double> returns(batch.size(), 0);
+  std::atomic<bool> inside{false};
+  bool overlapped = false;
+  const std::vector<RolloutResult> out =
+      LocalEvaluator(2).evaluate(batch, [&](size_t first, std::span<const RolloutResult> results) {
+        if (inside.exchange(true)) overlapped = true;
+        std::this_thread::sleep_for(std::chrono::milliseconds(2));  // gives a concurrent call its chance
+        for (size_t k = 0; k < results.size(); ++k) {
+          ASSERT_LT(first + k, batch.size());
+          reported[first + k] += 1;
+          returns[first + k] = results[k].total_reward;
+        }
+        inside = false;
+      });
+  EXPECT_FALSE(overlapped);
+  ASSERT_EQ(out.size(), batch.size());
+  for (size_t i = 0; i < batch.size(); ++i) {
+    EXPECT_EQ(reported[i], 1) << i;
+    EXPECT_EQ(returns[i], out[i].total_reward) << i;
+  }
 }
 
 TEST(LocalEvaluator, AStopRequestAbandonsTheBatch) {

@@ -5,7 +5,11 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cstring>
+#include <random>
 #include <set>
+#include <thread>
 
 #include "engine_test_support.h"
 #include "es/es_gradient.h"
@@ -13,6 +17,51 @@
 
 namespace poet::testing {
 namespace {
+
+// Reports a batch's results from another thread in pieces of 1 to 7 results, in a scrambled order, then
+// returns them; or, given throw_after, reports that many pieces in task order and throws.
+class PiecemealEvaluator final : public Evaluator {
+ public:
+  using Script = std::function<RolloutResult(size_t index)>;
+  explicit PiecemealEvaluator(Script script, int throw_after = -1)
+      : script_(std::move(script)), throw_after_(throw_after) {}
+  using Evaluator::evaluate;
+  std::vector<RolloutResult> evaluate(std::span<const RolloutTask> tasks, const ResultsReady& ready) override {
+    std::vector<RolloutResult> out;
+    for (size_t i = 0; i < tasks.size(); ++i) out.push_back(script_(i));
+    std::mt19937 rng(17);
+    std::vector<std::pair<size_t, size_t>> pieces;  // [first, end)
+    for (size_t first = 0; first < out.size();) {
+      const size_t end = std::min(out.size(), first + 1 + rng() % 7);
+      pieces.emplace_back(first, end);
+      first = end;
+    }
+    if (throw_after_ < 0) std::shuffle(pieces.begin(), pieces.end(), rng);
+    std::jthread reporter([&] {
+      for (int p = 0; p < static_cast<int>(pieces.size()) && p != throw_after_; ++p) {
+        const auto [first, end] = pieces[static_cast<size_t>(p)];
+        ready(first, std::span(out).subspan(first, end - first));
+      }
+    });
+    reporter.join();
+    if (throw_after_ >= 0) throw std::runtime_error("worker lost");
+    return out;
+  }
+
+ private:
+  Script script_;
+  int throw_after_;
+};
+
+// Distinct returns from a hash of the task index.
+RolloutResult hashed(size_t i) { return scored(static_cast<double>(mix64(i) >> 44) / 1000.0); }
+
+bool same_bits(const EsOutcome& a, const EsOutcome& b) {
+  return a.gradient.size() == b.gradient.size() &&
+         std::memcmp(a.gradient.data(), b.gradient.data(), a.gradient.size() * sizeof(double)) == 0 &&
+         std::memcmp(&a.mean_return, &b.mean_return, sizeof(double)) == 0 &&
+         std::memcmp(&a.max_return, &b.max_return, sizeof(double)) == 0;
+}
 
 EpisodeSettings settings(bool stochastic) {
   pb::RunConfig c = tiny_config();
@@ -115,6 +164,79 @@ TEST(RolloutBatch, AnEmptyBatchNeverReachesTheEvaluatorAndBadResultsAreRefused) 
   batch.add_evaluation(share(std::vector<double>(kParamCount, 0.0)), rough(0.0), 1);
   ScriptedEvaluator nan([](int, size_t, const RolloutTask&) { return scored(std::nan("")); });
   EXPECT_THROW(batch.run(nan, counters), std::runtime_error);
+}
+
+// ES steps of 40 perturbations between evaluations, as transfer rounds lay them out.
+RolloutBatch mixed_batch(std::vector<size_t>& es_handles) {
+  RolloutBatch batch(settings(false));
+  for (int s = 0; s < 6; ++s) {
+    const SharedParams theta = share(std::vector<double>(kParamCount, 0.05 * s));
+    batch.add_evaluation(theta, rough(1.0 + s, 7), static_cast<uint64_t>(s));
+    es_handles.push_back(batch.add_es_step({theta, rough(1.0 + s, 7), 0.03 + 0.01 * s, 200u + s}, 40));
+  }
+  return batch;
+}
+
+TEST(RolloutBatch, OutcomesComputedAsResultsArriveAreTheSerialOnesBitForBit) {
+  std::vector<size_t> handles;
+  RolloutBatch batch = mixed_batch(handles);
+  PiecemealEvaluator ev(hashed);
+  RunCounters counters;
+  batch.run(ev, counters, EsSettings{});
+  EXPECT_EQ(counters.rollouts, static_cast<int64_t>(batch.size()));
+  const std::vector<EsOutcome> early = batch.es_outcomes(handles, EsSettings{});
+  ASSERT_EQ(early.size(), handles.size());
+  for (size_t k = 0; k < handles.size(); ++k) EXPECT_TRUE(same_bits(early[k], batch.es_outcome(handles[k], {}))) << k;
+
+  // the same batch run the old way, results arriving all at once
+  std::vector<size_t> late_handles;
+  RolloutBatch late = mixed_batch(late_handles);
+  ScriptedEvaluator all_at_once([](int, size_t i, const RolloutTask&) { return hashed(i); });
+  late.run(all_at_once, counters);
+  const std::vector<EsOutcome> after = late.es_outcomes(late_handles, EsSettings{});
+  for (size_t k = 0; k < handles.size(); ++k) EXPECT_TRUE(same_bits(early[k], after[k])) << k;
+
+  // outcomes asked for other settings than those computed early are computed afresh
+  EsSettings raw;
+  raw.normalize_grads_by_sigma = false;
+  const std::vector<EsOutcome> unnormalised = batch.es_outcomes(handles, raw);
+  for (size_t k = 0; k < handles.size(); ++k)
+    EXPECT_TRUE(same_bits(unnormalised[k], batch.es_outcome(handles[k], raw))) << k;
+  EXPECT_FALSE(same_bits(unnormalised[0], early[0]));
+}
+
+TEST(RolloutBatch, AnEvaluatorThatThrowsMidBatchLeavesNoGradientRunning) {
+  for (int reported : {0, 3, 60, 110}) {
+    std::vector<size_t> handles;
+    auto batch = std::make_unique<RolloutBatch>(mixed_batch(handles));
+    PiecemealEvaluator ev(hashed, reported);  // 60 pieces or more complete ES steps, whose gradients then start
+    RunCounters counters;
+    EXPECT_THROW(batch->run(ev, counters, EsSettings{}), std::runtime_error) << reported;
+    batch.reset();  // nothing may still read it
+  }
+}
+
+TEST(RolloutBatch, ResultsReportedEarlyAreCheckedLikeTheOthers) {
+  std::vector<size_t> handles;
+  RolloutBatch nan_batch = mixed_batch(handles);
+  PiecemealEvaluator nan([](size_t i) { return i == 5 ? scored(std::nan("")) : hashed(i); });
+  RunCounters counters;
+  EXPECT_THROW(nan_batch.run(nan, counters, EsSettings{}), std::runtime_error);
+
+  // a return reported final and then returned changed
+  class Fickle final : public Evaluator {
+   public:
+    using Evaluator::evaluate;
+    std::vector<RolloutResult> evaluate(std::span<const RolloutTask> tasks, const ResultsReady& ready) override {
+      std::vector<RolloutResult> out;
+      for (size_t i = 0; i < tasks.size(); ++i) out.push_back(hashed(i));
+      ready(0, out);
+      out[7].total_reward += 1;
+      return out;
+    }
+  } fickle;
+  RolloutBatch batch = mixed_batch(handles);
+  EXPECT_THROW(batch.run(fickle, counters, EsSettings{}), std::runtime_error);
 }
 
 }  // namespace

@@ -14,11 +14,14 @@ class ScriptedEvaluator final : public Evaluator {
   using Script = std::function<RolloutResult(int call, size_t index, const RolloutTask& task)>;
   explicit ScriptedEvaluator(Script script) : script_(std::move(script)) {}
 
-  std::vector<RolloutResult> evaluate(std::span<const RolloutTask> tasks) override {
+  using Evaluator::evaluate;
+  // Reports the whole batch final before returning it, so the engine's early ES outcomes run in every test.
+  std::vector<RolloutResult> evaluate(std::span<const RolloutTask> tasks, const ResultsReady& ready) override {
     const int call = static_cast<int>(batches.size());
     batches.emplace_back(tasks.begin(), tasks.end());
     std::vector<RolloutResult> out;
     for (size_t i = 0; i < tasks.size(); ++i) out.push_back(script_(call, i, tasks[i]));
+    if (ready) ready(0, out);
     return out;
   }
 

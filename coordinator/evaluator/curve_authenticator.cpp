@@ -1,0 +1,62 @@
+#include "evaluator/curve_authenticator.h"
+
+#include <algorithm>
+#include <array>
+#include <vector>
+
+#include "curve_keys.h"
+
+namespace poet {
+namespace {
+
+constexpr char kZapEndpoint[] = "inproc://zeromq.zap.01";
+constexpr size_t kRequestFrames = 7;  // version, request id, domain, address, identity, mechanism, key
+
+std::string z85(const zmq::message_t& key) {
+  if (key.size() != 32) return "(not a 32-byte key)";
+  std::array<char, 41> text{};
+  zmq_z85_encode(text.data(), static_cast<const uint8_t*>(key.data()), key.size());
+  return text.data();
+}
+
+}  // namespace
+
+CurveAuthenticator::CurveAuthenticator(zmq::context_t& context, std::filesystem::path key_dir)
+    : socket_(context, zmq::socket_type::rep), key_dir_(std::move(key_dir)) {
+  socket_.set(zmq::sockopt::linger, 0);
+  socket_.bind(kZapEndpoint);
+}
+
+bool CurveAuthenticator::answer_one(std::string& key, std::string& reason) {
+  std::vector<zmq::message_t> request;
+  zmq::message_t frame;
+  if (!socket_.recv(frame, zmq::recv_flags::dontwait)) return false;
+  request.push_back(std::move(frame));
+  while (request.back().more()) {
+    zmq::message_t part;
+    if (!socket_.recv(part, zmq::recv_flags::dontwait)) break;
+    request.push_back(std::move(part));
+  }
+  // libzmq writes these requests itself; still, nothing is assumed about their shape
+  const bool well_formed = request.size() == kRequestFrames && request[0].to_string_view() == "1.0" &&
+                           request[5].to_string_view() == "CURVE";
+  key = well_formed ? z85(request[6]) : "";
+  if (!well_formed) {
+    reason = "not a CURVE request";
+  } else if (Expected<std::vector<std::string>> authorized = read_authorized_keys(key_dir_); !authorized) {
+    reason = authorized.error();
+  } else if (!std::binary_search(authorized->begin(), authorized->end(), key)) {
+    reason = "its public key is not in " + (key_dir_ / "authorized").string();
+  }
+  const std::string request_id = request.size() > 1 ? request[1].to_string() : "";
+  const std::string status = reason.empty() ? "200" : "400";
+  socket_.send(zmq::str_buffer("1.0"), zmq::send_flags::sndmore);
+  socket_.send(zmq::buffer(request_id), zmq::send_flags::sndmore);
+  socket_.send(zmq::buffer(status), zmq::send_flags::sndmore);
+  socket_.send(zmq::buffer(reason.empty() ? std::string("OK") : reason), zmq::send_flags::sndmore);
+  socket_.send(zmq::buffer(key), zmq::send_flags::sndmore);  // user id: the key
+  socket_.send(zmq::str_buffer(""), zmq::send_flags::none);  // no metadata
+  return true;
+}
+
+}  // namespace poet

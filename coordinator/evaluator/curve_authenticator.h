@@ -1,0 +1,42 @@
+#pragma once
+// The coordinator's ZAP handler (ZeroMQ RFC 27) for CURVE: every worker's handshake asks it whether the client's
+// public key is one of DIR/authorized/*.key. The folder is read at each handshake, so a key copied in takes effect
+// for the next connection, without a restart. A worker whose key is refused never gets a connection: it can
+// neither be sent work nor submit any.
+
+#include <cstdint>
+#include <filesystem>
+#include <string>
+#include <zmq.hpp>
+
+namespace poet {
+
+class CurveAuthenticator {
+ public:
+  // Binds the ZAP endpoint in `context`; it must exist before a CURVE socket of that context binds. Throws
+  // zmq::error_t when it cannot.
+  CurveAuthenticator(zmq::context_t& context, std::filesystem::path key_dir);
+
+  zmq::socket_t& socket() { return socket_; }
+
+  // Answers every request waiting. `denied` is called for each refused handshake with the client's public key
+  // (Z85) and why.
+  template <typename OnDenied>
+  void answer_all(OnDenied&& denied) {
+    for (int n = 0; n < kMaxPerTurn; ++n) {
+      std::string key, reason;
+      if (!answer_one(key, reason)) return;
+      if (!reason.empty()) denied(key, reason);
+    }
+  }
+
+ private:
+  static constexpr int kMaxPerTurn = 256;
+  // False when no request was waiting; otherwise answers it, and sets reason when it was refused.
+  bool answer_one(std::string& key, std::string& reason);
+
+  zmq::socket_t socket_;
+  std::filesystem::path key_dir_;
+};
+
+}  // namespace poet

@@ -1,0 +1,142 @@
+#pragma once
+// The fixture of the tests that run poet-coordinator with workers as real processes: a small POET config, a
+// temporary root (removed afterwards), children started with their output in files and killed (with their own
+// children, the local workers) at the end whatever happened, waits bounded in time, and the comparison of two
+// run directories byte for byte.
+
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <csignal>
+#include <filesystem>
+#include <fstream>
+#include <regex>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "child_process.h"
+
+namespace poet::testing {
+
+namespace fs = std::filesystem;
+using namespace std::chrono_literals;
+
+constexpr char kConfig[] = R"(mode: POET
+seed: 7
+iterations: 6
+es { perturbations: 4 }
+walker { max_steps: 120 }
+poet { mutation_interval: 2 transfer_interval: 2 repro_threshold: -1000 mc_low: -1000 mc_high: 1000
+       max_children: 4 max_admitted: 1 active_cap: 3 }
+)";
+
+const char* const kRunFiles[] = {"checkpoint.pb", "events.jsonl", "pair_stats.csv"};
+
+inline std::string read(const fs::path& path) { return read_file(path); }
+
+inline bool contains(const std::string& text, std::string_view part) { return text.find(part) != std::string::npos; }
+
+// The children of a process (its local workers), from /proc.
+inline std::vector<pid_t> children_of(pid_t pid) {
+  std::vector<pid_t> out;
+  std::error_code ec;
+  for (const auto& task : fs::directory_iterator("/proc/" + std::to_string(pid) + "/task", ec)) {
+    std::ifstream in(task.path() / "children");
+    for (pid_t child; in >> child;) out.push_back(child);
+  }
+  return out;
+}
+
+class CoordinatorRunTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+    root_ = fs::temp_directory_path() / ("poet_run_test_" + std::to_string(::getpid()) + "_" + info->name());
+    fs::remove_all(root_);
+    fs::create_directories(root_);
+    config_ = root_ / "tiny.textproto";
+    std::ofstream(config_) << kConfig;
+  }
+  void TearDown() override {
+    for (pid_t pid : children_) {
+      for (pid_t worker : children_of(pid)) ::kill(worker, SIGKILL);
+      ::kill(pid, SIGKILL);
+      ::waitpid(pid, nullptr, 0);
+    }
+    fs::remove_all(root_);
+  }
+
+  pid_t spawn(const char* binary, std::vector<std::string> args, const std::string& name) {
+    args.insert(args.begin(), binary);
+    const pid_t pid = spawn_child(args, root_ / (name + ".out"), root_ / (name + ".err"));
+    EXPECT_GT(pid, 0) << "posix_spawn " << binary;
+    if (pid > 0) children_.push_back(pid);
+    return pid;
+  }
+
+  pid_t coordinator(const fs::path& dir, std::vector<std::string> extra, const std::string& name) {
+    std::vector<std::string> args = {"--config",         config_.string(), "--run-dir",     dir.string(), "--quiet",
+                                     "--status-address", "127.0.0.1:0",    "--liveness-ms", "1000"};
+    args.insert(args.end(), extra.begin(), extra.end());
+    return spawn(POET_COORDINATOR_BIN, args, name);
+  }
+
+  // Waits (at most two minutes) for the process to end; its exit code, or -1 when it did not.
+  int wait(pid_t pid) {
+    const auto deadline = std::chrono::steady_clock::now() + 120s;
+    int status = 0;
+    while (std::chrono::steady_clock::now() < deadline) {
+      if (::waitpid(pid, &status, WNOHANG) == pid) {
+        std::erase(children_, pid);
+        return exit_code(status);
+      }
+      std::this_thread::sleep_for(10ms);
+    }
+    ADD_FAILURE() << "process " << pid << " did not end";
+    return -1;
+  }
+
+  // The first match of `pattern` (group 1) in the process's stderr, once it appears (at most 30 s).
+  std::string await_log(const std::string& name, const std::string& pattern) {
+    const std::regex re(pattern);
+    const auto deadline = std::chrono::steady_clock::now() + 30s;
+    while (std::chrono::steady_clock::now() < deadline) {
+      std::smatch m;
+      const std::string err = read(root_ / (name + ".err"));
+      if (std::regex_search(err, m, re)) return m[1];
+      std::this_thread::sleep_for(10ms);
+    }
+    ADD_FAILURE() << name << ": no log line matching " << pattern;
+    return "";
+  }
+
+  fs::path threads_run() {
+    const fs::path dir = root_ / "threads";
+    const pid_t pid = coordinator(dir, {"--threads", "2"}, "threads");
+    EXPECT_EQ(wait(pid), 0) << read(root_ / "threads.err");
+    return dir;
+  }
+
+  void expect_same_run(const fs::path& a, const fs::path& b) {
+    for (const char* file : kRunFiles) {
+      const std::string x = read(a / file);
+      EXPECT_FALSE(x.empty()) << a / file;
+      EXPECT_TRUE(x == read(b / file)) << file << " differs between " << a << " and " << b;
+    }
+  }
+
+  fs::path root_;
+  fs::path config_;
+  std::vector<pid_t> children_;
+};
+
+// The config with one line replaced.
+inline std::string config_with(const std::string& from, const std::string& to) {
+  std::string text = kConfig;
+  return text.replace(text.find(from), from.size(), to);
+}
+
+}  // namespace poet::testing

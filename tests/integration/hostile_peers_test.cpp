@@ -1,0 +1,220 @@
+// The coordinator's job socket under attack, with real processes and a rogue ZeroMQ peer on loopback: garbage,
+// truncated, multi-part, oversized, wrong-version and wrong-fingerprint frames, Results from a stranger and a
+// flood of Hellos from many identities are refused or dropped and counted in /metrics, while a real worker
+// still runs the run to the same files as threads do. With CURVE keys, workers with an unknown key or no key get
+// no connection at all (and say why), and the authorised one runs the run.
+
+#include <gtest/gtest.h>
+#include <httplib.h>
+
+#include <map>
+#include <memory>
+#include <regex>
+#include <string>
+#include <vector>
+#include <zmq.hpp>
+
+#include "build_fingerprint.h"
+#include "coordinator_run_fixture.h"
+#include "wire.pb.h"
+
+namespace {
+
+using namespace poet::testing;
+namespace fs = std::filesystem;
+using namespace std::chrono_literals;
+using HostilePeersTest = CoordinatorRunTest;
+
+std::string hello(uint32_t version, uint64_t fingerprint) {
+  poet::wire::WorkerMessage message;
+  poet::wire::Hello& h = *message.mutable_hello();
+  h.set_protocol_version(version);
+  h.set_fingerprint_digest(fingerprint);
+  h.set_fingerprint(std::string(200, 'x'));  // long enough that a cut lands inside it
+  h.set_threads(1);
+  h.set_name("rogue");
+  return message.SerializeAsString();
+}
+
+// One DEALER of the rogue peer, with its own identity.
+zmq::socket_t rogue_socket(zmq::context_t& context, const std::string& endpoint, const std::string& identity) {
+  zmq::socket_t socket(context, zmq::socket_type::dealer);
+  socket.set(zmq::sockopt::linger, 0);
+  socket.set(zmq::sockopt::routing_id, identity);
+  socket.connect(endpoint);
+  return socket;
+}
+
+// The coordinator's answer to the last frame sent (at most 5 s).
+std::optional<poet::wire::CoordinatorMessage> answer(zmq::socket_t& socket) {
+  zmq::pollitem_t item{socket.handle(), 0, ZMQ_POLLIN, 0};
+  if (zmq::poll(&item, 1, std::chrono::milliseconds(5000)) <= 0) return std::nullopt;
+  zmq::message_t frame;
+  if (!socket.recv(frame)) return std::nullopt;
+  poet::wire::CoordinatorMessage message;
+  if (!message.ParseFromArray(frame.data(), static_cast<int>(frame.size()))) return std::nullopt;
+  return message;
+}
+
+// /metrics' samples, by name with labels.
+std::map<std::string, double> metrics(int port) {
+  httplib::Client client("127.0.0.1", port);
+  client.set_connection_timeout(5);
+  client.set_read_timeout(5);
+  std::map<std::string, double> out;
+  const auto response = client.Get("/metrics");
+  if (!response || response->status != 200) return out;
+  static const std::regex kSample(R"(^([a-z_]+(\{[^}]*\})?) ([-0-9.e+]+)$)");
+  std::istringstream lines(response->body);
+  for (std::string line; std::getline(lines, line);) {
+    std::smatch m;
+    if (std::regex_match(line, m, kSample)) out[m[1]] = std::stod(m[3]);
+  }
+  return out;
+}
+
+std::string dropped(const std::string& reason) { return "poet_dropped_frames_total{reason=\"" + reason + "\"}"; }
+
+TEST_F(HostilePeersTest, RoguePeersAreCountedAndARealWorkerIsStillServed) {
+  const fs::path reference = threads_run();
+  const pid_t pid = coordinator(root_ / "H", {"--listen", "tcp://127.0.0.1:*"}, "H");
+  const std::string endpoint = await_log("H", "workers connect to (tcp://[0-9.]+:[0-9]+)");
+  const std::string port = await_log("H", "status: http://127.0.0.1:([0-9]+)/status");
+  ASSERT_FALSE(endpoint.empty());
+  ASSERT_FALSE(port.empty());
+
+  zmq::context_t context(1);
+  zmq::socket_t rogue = rogue_socket(context, endpoint, "rogue");
+  const std::string good_hello = hello(poet::wire::PROTOCOL_VERSION, poet::build_fingerprint_digest());
+  rogue.send(zmq::str_buffer("\xff\x01 garbage that is no protobuf \x80\x80"));
+  rogue.send(zmq::buffer(good_hello.substr(0, good_hello.size() / 2)));  // truncated
+  rogue.send(zmq::str_buffer("part"), zmq::send_flags::sndmore);
+  rogue.send(zmq::str_buffer("two"));                     // a message of two frames
+  rogue.send(zmq::buffer(std::string(2 << 20, '\x0a')));  // 2 MB: over the coordinator's 1 MB cap
+  poet::wire::WorkerMessage stranger_result;
+  stranger_result.mutable_result()->set_job_id(12345);
+  rogue.send(zmq::buffer(stranger_result.SerializeAsString()));
+  const auto rejoin = answer(rogue);
+  ASSERT_TRUE(rejoin && rejoin->has_rejoin()) << "a Result from a stranger is answered with Rejoin";
+  rogue.send(zmq::buffer(hello(99, poet::build_fingerprint_digest())));
+  const auto old_version = answer(rogue);
+  ASSERT_TRUE(old_version && old_version->has_refused());
+  EXPECT_TRUE(contains(old_version->refused().reason(), "protocol version 99")) << old_version->refused().reason();
+  rogue.send(zmq::buffer(hello(poet::wire::PROTOCOL_VERSION, 0x1234)));
+  const auto other_build = answer(rogue);
+  ASSERT_TRUE(other_build && other_build->has_refused());
+  EXPECT_TRUE(contains(other_build->refused().reason(), "fingerprint")) << other_build->refused().reason();
+  {  // 6 MB: over ZMQ_MAXMSGSIZE, so libzmq drops this peer's connection before the coordinator sees it
+    zmq::socket_t huge = rogue_socket(context, endpoint, "huge");
+    huge.send(zmq::buffer(std::string(6 << 20, 'x')));
+  }
+
+  // a flood of Hellos from 300 identities that never say anything more: welcomed, never given work
+  constexpr int kFlood = 300;
+  std::vector<zmq::socket_t> flood;
+  for (int i = 0; i < kFlood; ++i) {
+    flood.push_back(rogue_socket(context, endpoint, "fake-" + std::to_string(i)));
+    flood.back().send(zmq::buffer(good_hello));
+  }
+
+  std::map<std::string, double> m;
+  for (int i = 0; i < 100; ++i) {  // published twice a second
+    m = metrics(std::stoi(port));
+    if (m["poet_workers_joined_total"] >= kFlood && m[dropped("oversized")] >= 1) break;
+    std::this_thread::sleep_for(100ms);
+  }
+  EXPECT_GE(m[dropped("malformed")], 3) << "garbage, truncated, two frames";
+  EXPECT_GE(m[dropped("oversized")], 1);
+  EXPECT_EQ(m[dropped("wrong_version")], 1);
+  EXPECT_EQ(m[dropped("wrong_fingerprint")], 1);
+  EXPECT_GE(m[dropped("unknown_peer")], 1);
+  EXPECT_GE(m["poet_workers_joined_total"], kFlood);
+  EXPECT_EQ(m["poet_in_flight_jobs"], 0) << "a peer that only said Hello holds no work";
+
+  // the real worker runs the run, while a second flood arrives
+  const pid_t worker = spawn(POET_WORKER_BIN, {"--connect", endpoint, "--threads", "2"}, "worker");
+  await_log("H", "(iteration [0-9]+):");
+  for (int i = 0; i < kFlood; ++i) {
+    flood.push_back(rogue_socket(context, endpoint, "late-" + std::to_string(i)));
+    flood.back().send(zmq::buffer(good_hello));
+  }
+  EXPECT_EQ(wait(pid), 0) << read(root_ / "H.err");
+  expect_same_run(reference, root_ / "H");
+  EXPECT_EQ(wait(worker), 0);
+  // the log says what was refused without a line per frame
+  const std::string log = read(root_ / "H.err");
+  EXPECT_TRUE(contains(log, "malformed")) << log;
+  EXPECT_LT(std::count(log.begin(), log.end(), '\n'), 200) << "the log is flooded:\n" << log;
+}
+
+// Runs `poetctl keygen ARGS...` and expects it to succeed.
+void keygen(const fs::path& root, std::vector<std::string> args) {
+  args.insert(args.begin(), {POETCTL_BIN, "keygen"});
+  const pid_t pid = spawn_child(args, root / "keygen.out", root / "keygen.err");
+  ASSERT_GT(pid, 0);
+  int status = 0;
+  ASSERT_EQ(::waitpid(pid, &status, 0), pid);
+  ASSERT_EQ(exit_code(status), 0) << read(root / "keygen.err");
+}
+
+TEST_F(HostilePeersTest, WithCurveOnlyAWorkerWithAnAuthorisedKeyGetsWork) {
+  const fs::path reference = threads_run();
+  const fs::path keys = root_ / "keys";
+  const fs::path intruder_keys = root_ / "intruder";
+  keygen(root_, {keys.string(), "coordinator"});
+  keygen(root_, {keys.string(), "worker", "--authorize"});
+  keygen(root_, {intruder_keys.string(), "worker"});  // a valid pair, not authorised
+  fs::copy_file(keys / "coordinator.key", intruder_keys / "coordinator.key");
+  EXPECT_EQ(fs::status(keys / "coordinator.key_secret").permissions() & fs::perms::all,
+            fs::perms::owner_read | fs::perms::owner_write);
+
+  const pid_t pid = coordinator(root_ / "C", {"--listen", "tcp://127.0.0.1:*", "--curve-keys", keys.string()}, "C");
+  const std::string endpoint = await_log("C", "workers connect to (tcp://[0-9.]+:[0-9]+)");
+  const std::string port = await_log("C", "status: http://127.0.0.1:([0-9]+)/status");
+  ASSERT_FALSE(endpoint.empty());
+  ASSERT_FALSE(port.empty());
+  const pid_t intruder =
+      spawn(POET_WORKER_BIN, {"--connect", endpoint, "--curve-keys", intruder_keys.string()}, "intruder");
+  const pid_t keyless = spawn(POET_WORKER_BIN, {"--connect", endpoint}, "keyless");
+  await_log("intruder", "(refused this worker's CURVE key)");
+  await_log("keyless", "(security handshake) with");
+  await_log("C", "(refused a worker with CURVE key)");
+  await_log("C", "(waiting for workers)");
+  EXPECT_GE(metrics(std::stoi(port))[dropped("unauthorised_key")], 1);
+
+  const pid_t worker = spawn(POET_WORKER_BIN, {"--connect", endpoint, "--curve-keys", keys.string()}, "worker");
+  EXPECT_EQ(wait(pid), 0) << read(root_ / "C.err");
+  expect_same_run(reference, root_ / "C");
+  EXPECT_EQ(wait(worker), 0);
+  for (pid_t refused : {intruder, keyless}) {
+    ASSERT_EQ(::waitpid(refused, nullptr, WNOHANG), 0) << "a refused worker keeps trying until stopped";
+    ASSERT_EQ(::kill(refused, SIGTERM), 0);
+    EXPECT_EQ(wait(refused), 0);
+  }
+  for (const char* name : {"intruder", "keyless"})
+    EXPECT_FALSE(contains(read(root_ / (std::string(name) + ".err")), "welcomed")) << name << " got in";
+}
+
+TEST_F(HostilePeersTest, CurveKeyProblemsAreRefusedAtStart) {
+  const fs::path keys = root_ / "keys";
+  fs::create_directories(keys);
+  const pid_t no_keys = coordinator(root_ / "X", {"--local-workers", "1", "--curve-keys", keys.string()}, "nokeys");
+  EXPECT_EQ(wait(no_keys), 2);
+  EXPECT_TRUE(contains(read(root_ / "nokeys.err"), "coordinator.key")) << read(root_ / "nokeys.err");
+  keygen(root_, {keys.string(), "coordinator"});
+  keygen(root_, {keys.string(), "worker"});  // not authorised, yet local workers would use it
+  fs::create_directories(keys / "authorized");
+  const pid_t unauthorised =
+      coordinator(root_ / "Y", {"--local-workers", "1", "--curve-keys", keys.string()}, "unauth");
+  EXPECT_EQ(wait(unauthorised), 2);
+  EXPECT_TRUE(contains(read(root_ / "unauth.err"), "not in authorized")) << read(root_ / "unauth.err");
+  std::ofstream(keys / "authorized" / "bad.key") << "not a key\n";
+  const pid_t bad = coordinator(root_ / "Z", {"--listen", "tcp://127.0.0.1:*", "--curve-keys", keys.string()}, "bad");
+  EXPECT_EQ(wait(bad), 2);
+  EXPECT_TRUE(contains(read(root_ / "bad.err"), "bad.key: not a CURVE key")) << read(root_ / "bad.err");
+  const pid_t worker = spawn(POET_WORKER_BIN, {"--connect", "tcp://127.0.0.1:1", "--curve-keys", root_.string()}, "w");
+  EXPECT_EQ(wait(worker), 2);
+  EXPECT_TRUE(contains(read(root_ / "w.err"), "worker.key")) << read(root_ / "w.err");
+}
+
+}  // namespace

@@ -1,0 +1,93 @@
+// Tests common/curve_keys.cpp: Z85 keys checked, pairs written with the secret private and never replaced, and
+// every kind of bad key file refused with its name.
+
+#include "curve_keys.h"
+
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+
+namespace poet {
+namespace {
+
+namespace fs = std::filesystem;
+
+constexpr char kPublic[] = "rq:rM>}U?@Lns47E1%kR.o@n%FcmmsL/@{H8]yf7";
+constexpr char kSecret[] = "JTKVSB%%)wK0E.X)V>+}o?pNmC{O&4W4b!Ni{Lh6";
+
+bool contains(const std::string& text, std::string_view part) { return text.find(part) != std::string::npos; }
+
+class CurveKeysTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() / ("poet_curve_keys_test_" + std::to_string(::getpid()));
+    fs::remove_all(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+  fs::path dir_;
+};
+
+TEST_F(CurveKeysTest, Z85KeysAreFortyCharactersOfTheAlphabet) {
+  EXPECT_TRUE(is_z85_key(kPublic));
+  EXPECT_FALSE(is_z85_key(std::string(kPublic).substr(1)));
+  EXPECT_FALSE(is_z85_key(std::string(kPublic) + "0"));
+  std::string spaced = kPublic;
+  spaced[3] = ' ';
+  EXPECT_FALSE(is_z85_key(spaced));
+  spaced[3] = '"';  // not in Z85
+  EXPECT_FALSE(is_z85_key(spaced));
+}
+
+TEST_F(CurveKeysTest, APairIsWrittenReadBackAndNeverReplaced) {
+  ASSERT_EQ(write_key_pair(dir_, "worker", {kPublic, kSecret}), std::nullopt);
+  EXPECT_EQ(fs::status(dir_ / "worker.key_secret").permissions() & fs::perms::all,
+            fs::perms::owner_read | fs::perms::owner_write);
+  const Expected<CurveKeyPair> read = read_key_pair(dir_, "worker");
+  ASSERT_TRUE(read) << read.error();
+  EXPECT_EQ(read->public_key, kPublic);
+  EXPECT_EQ(read->secret_key, kSecret);
+  const std::optional<std::string> again = write_key_pair(dir_, "worker", {kSecret, kPublic});
+  ASSERT_TRUE(again);
+  EXPECT_TRUE(contains(*again, "worker.key_secret")) << *again;
+  EXPECT_EQ(read_key_pair(dir_, "worker")->secret_key, kSecret) << "the existing key stays";
+  EXPECT_TRUE(write_key_pair(dir_, "other", {"short", kSecret}));
+}
+
+TEST_F(CurveKeysTest, BadKeyFilesAreRefusedWithTheirName) {
+  fs::create_directories(dir_);
+  const Expected<std::string> missing = read_key_file(dir_ / "none.key");
+  ASSERT_FALSE(missing);
+  EXPECT_TRUE(contains(missing.error(), "none.key")) << missing.error();
+  for (const std::string& text : {std::string(), std::string("not a key\n"), std::string(kPublic) + "\n\n",
+                                  std::string(kPublic) + " ", std::string(5000, 'a')}) {
+    std::ofstream(dir_ / "bad.key", std::ios::trunc) << text;
+    const Expected<std::string> key = read_key_file(dir_ / "bad.key");
+    ASSERT_FALSE(key) << "accepted: " << text;
+    EXPECT_TRUE(contains(key.error(), "bad.key")) << key.error();
+  }
+  std::ofstream(dir_ / "good.key", std::ios::trunc) << kPublic;  // no newline is fine
+  EXPECT_TRUE(read_key_file(dir_ / "good.key"));
+}
+
+TEST_F(CurveKeysTest, AuthorizedKeysAreTheFolderKeyFiles) {
+  const Expected<std::vector<std::string>> no_folder = read_authorized_keys(dir_);
+  ASSERT_FALSE(no_folder);
+  EXPECT_TRUE(contains(no_folder.error(), "authorized")) << no_folder.error();
+  fs::create_directories(dir_ / "authorized");
+  EXPECT_TRUE(read_authorized_keys(dir_)->empty());
+  std::ofstream(dir_ / "authorized" / "b.key") << kSecret << "\n";
+  std::ofstream(dir_ / "authorized" / "a.key") << kPublic << "\n";
+  std::ofstream(dir_ / "authorized" / "README") << "other files are ignored\n";
+  const Expected<std::vector<std::string>> keys = read_authorized_keys(dir_);
+  ASSERT_TRUE(keys) << keys.error();
+  EXPECT_EQ(*keys, (std::vector<std::string>{kSecret, kPublic}));  // sorted
+  std::ofstream(dir_ / "authorized" / "c.key") << "garbage";
+  const Expected<std::vector<std::string>> bad = read_authorized_keys(dir_);
+  ASSERT_FALSE(bad);
+  EXPECT_TRUE(contains(bad.error(), "c.key")) << bad.error();
+}
+
+}  // namespace
+}  // namespace poet
