@@ -52,7 +52,12 @@ StatusResponse get(const StatusBoard& board, const std::string& path, const Quer
   if (path == "/archive") return json(board.archive());
   if (path == "/workers") return json(board.workers());
   if (path == "/metrics") return {200, kMetricsType, board.metrics_text(), ""};
-  if (path == "/healthz") return {200, kTextType, "ok\n", ""};
+  if (path == "/healthz") {
+    status::Health health;
+    health.set_ok(true);
+    health.set_state(board.status().state());
+    return json(health);
+  }
   if (path == "/events") {
     const Number since = query_number(query, "since", 0, 0, kMaxSince);
     if (since.error) return *since.error;

@@ -16,7 +16,6 @@
 namespace poet {
 
 inline constexpr char kJsonType[] = "application/json";
-inline constexpr char kTextType[] = "text/plain; charset=utf-8";
 inline constexpr char kMetricsType[] = "text/plain; version=0.0.4; charset=utf-8";
 inline constexpr char kAllowedMethods[] = "GET, HEAD";
 

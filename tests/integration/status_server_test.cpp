@@ -339,8 +339,8 @@ TEST_F(StatusServerTest, EveryEndpointAnswersWithJson) {
   const httplib::Result health = http->Get("/healthz");
   ASSERT_TRUE(health);
   EXPECT_EQ(health->status, 200);
-  EXPECT_EQ(health->body, "ok\n");
-  EXPECT_TRUE(health->get_header_value("Content-Type").starts_with("text/plain"));
+  EXPECT_TRUE(contains(health->body, R"("ok":true)")) << health->body;
+  EXPECT_TRUE(health->get_header_value("Content-Type").starts_with("application/json"));
   const httplib::Result head = http->Head("/status");
   ASSERT_TRUE(head);
   EXPECT_EQ(head->status, 200);
