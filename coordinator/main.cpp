@@ -1,6 +1,6 @@
 // poet-coordinator: runs POET (or one of the paper's controls) in a run directory, its rollouts on threads of this
 // process or on poet-worker processes over ZeroMQ.
-//   poet-coordinator --config FILE --run-dir DIR [--threads N] [--iterations N]   a new run
+//   poet-coordinator --config FILE --run-dir DIR [--threads N] [--iterations N] [--start-from POLICY]   a new run
 //   poet-coordinator --run-dir DIR --resume [--iterations N]                       continue it (N may extend it)
 //   ... [--local-workers N] [--listen tcp://HOST:PORT [--curve-keys DIR]] [--status-address HOST:PORT]
 // The state is checkpointed every checkpoint_interval iterations and at the end. SIGINT/SIGTERM abandon the
@@ -35,6 +35,7 @@
 #include "evaluator/local_evaluator.h"
 #include "evaluator/remote_evaluator.h"
 #include "poet/engine.h"
+#include "policy/policy_file.h"
 #include "run/progress_display.h"
 #include "run/run_directory.h"
 #include "status/status_server.h"
@@ -62,6 +63,7 @@ struct Options {
   std::vector<std::string> worker_args;           // passed to every local worker (tests' fault switches)
   std::string status_address = "127.0.0.1:8580";  // the HTTP status socket; empty: none
   std::string curve_keys;                         // CURVE key directory; empty: no authentication
+  std::string start_from;                         // a policy file for the first pair's θ; empty: the init stream
 };
 
 // "iteration 12: pair_created pair=3 env=r0.4 ..." from {"iteration": 12, "event": "pair_created", ...}.
@@ -153,12 +155,23 @@ std::optional<std::pair<RunDirectory, RunState>> start_run(const Options& option
     }
     return continue_run(std::move(resumed), options, config->iterations());
   }
+  std::optional<std::vector<double>> start_theta;
+  if (!options.start_from.empty()) {
+    Expected<PolicyFile> policy = load_policy(options.start_from);
+    if (!policy) {
+      spdlog::error("--start-from {}", policy.error());
+      return std::nullopt;
+    }
+    spdlog::info("the first pair starts from {}{}", options.start_from,
+                 policy->score ? fmt::format(" (score {:.1f} there)", *policy->score) : "");
+    start_theta = std::move(policy->params);
+  }
   Expected<RunDirectory> dir = RunDirectory::create(options.run_dir, *config);
   if (!dir) {
     spdlog::error("{}", dir.error());
     return std::nullopt;
   }
-  RunState state = initial_state(*config);
+  RunState state = initial_state(*config, std::move(start_theta));
   if (auto error = dir->save(state)) {
     spdlog::error("{}", *error);
     return std::nullopt;
@@ -373,6 +386,10 @@ int main(int argc, char** argv) {
       app.add_option("--iterations", iterations, "Override the iteration limit (on resume it may extend it)")
           ->check(CLI::Range(0, INT_MAX));
   app.add_flag("--resume", options.resume, "Continue the run in --run-dir")->excludes(config);
+  app.add_option("--start-from", options.start_from,
+                 "A new run's first pair starts from this policy ([[θ...], score] as written in policies/) instead of "
+                 "random parameters")
+      ->needs(config);
   app.add_flag("--quiet", options.quiet, "No progress line");
   app.add_option("--listen", options.listen,
                  "Run rollouts on workers that connect here (e.g. tcp://0.0.0.0:5555); default with "

@@ -67,7 +67,7 @@ std::vector<double> propose(pb::ProposalKind kind, const std::vector<double>& th
   return sgd_proposal(theta, g, lr, es.l2_coeff);
 }
 
-RunState initial_state(const pb::RunConfig& config) {
+RunState initial_state(const pb::RunConfig& config, std::optional<std::vector<double>> start_theta) {
   RunState state;
   state.config = config;
   const EsSettings es = es_settings(config);
@@ -84,7 +84,9 @@ RunState initial_state(const pb::RunConfig& config) {
     default:
       first.env = EnvDef{named_course("flat").value(), static_cast<uint32_t>(config.seed() % kMaxEnvSeed)};
   }
-  if (config.init_zero()) {
+  if (start_theta) {
+    first.theta = std::move(*start_theta);
+  } else if (config.init_zero()) {
     first.theta = zero_params();
   } else {
     RandomStream init(stream_key(config.seed(), "init", {0}));

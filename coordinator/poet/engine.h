@@ -3,7 +3,9 @@
 // logic: every random number is drawn by address from the run seed, and all rollouts go through the
 // evaluator in whole batches, so the same config gives the same state whatever runs the batches.
 
+#include <optional>
 #include <stdexcept>
+#include <vector>
 
 #include "evaluator/evaluator.h"
 #include "poet/iteration_report.h"
@@ -21,8 +23,9 @@ class RunDiverged : public std::runtime_error {
 
 // The state before iteration 0: one pair on the mode's first environment (flat with seed = run seed mod 10^6
 // for POET; the target for ES alone; flat with the target's seed for the direct path), θ from the run's init
-// stream, a fresh optimizer. Precondition: validate(config) passed.
-RunState initial_state(const pb::RunConfig& config);
+// stream or `start_theta` (a walker that already walks, --start-from), a fresh optimizer. Preconditions:
+// validate(config) passed; start_theta, when given, holds kParamCount finite values.
+RunState initial_state(const pb::RunConfig& config, std::optional<std::vector<double>> start_theta = std::nullopt);
 
 // True when the run has nothing left to do: the iteration limit is reached or a control's stopping rule met.
 bool run_complete(const RunState& state);

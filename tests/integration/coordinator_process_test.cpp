@@ -21,6 +21,9 @@
 #include <vector>
 
 #include "child_process.h"
+#include "policy/mlp.h"
+#include "policy/policy_file.h"
+#include "rng.h"
 #include "run/checkpoint_file.h"
 
 namespace {
@@ -411,6 +414,38 @@ TEST_F(CoordinatorProcessTest, TheSameCommandResumesAnotherConfigIsRefused) {
   EXPECT_EQ(refused.code, 2);
   EXPECT_TRUE(contains(refused.err, "already holds a run of another config")) << refused.err;
   EXPECT_TRUE(read(a / "checkpoint.pb") == checkpoint);
+}
+
+// --start-from: the new run's first pair has the file's θ (here a walker from a random stream, written as the
+// policies/ files are); a bad file is refused naming it, and the option is for new runs only.
+TEST_F(CoordinatorProcessTest, StartFromGivesTheFirstPairThePolicysTheta) {
+  poet::RandomStream stream(poet::stream_key(99, "start-from-test"));
+  const std::vector<double> theta = poet::random_params(stream, 0.3);
+  const fs::path policy = root_ / "walker.json";
+  ASSERT_EQ(poet::save_policy(policy, theta, 250.0), std::nullopt);
+  const fs::path dir = root_ / "S";
+  const Outcome started = run({"--config", config_.string(), "--run-dir", dir.string(), "--quiet", "--iterations", "0",
+                               "--start-from", policy.string()},
+                              "S");
+  ASSERT_EQ(started.code, 0) << started.err;
+  EXPECT_TRUE(contains(started.err, "starts from")) << started.err;
+  const poet::Expected<poet::PolicyFile> first = poet::load_policy(dir / "policies" / "pair-0.json");
+  ASSERT_TRUE(first) << first.error();
+  EXPECT_EQ(first->params, theta);
+  // the run goes on from there like any other
+  const Outcome resumed = run({"--run-dir", dir.string(), "--resume", "--quiet", "--iterations", "1"}, "S2");
+  EXPECT_EQ(resumed.code, 0) << resumed.err;
+  EXPECT_NE(poet::load_policy(dir / "policies" / "pair-0.json")->params, theta);
+
+  std::ofstream(root_ / "bad.json") << "[[1, 2, 3], 5]";
+  const Outcome bad = run({"--config", config_.string(), "--run-dir", (root_ / "B").string(), "--quiet", "--start-from",
+                           (root_ / "bad.json").string()},
+                          "B");
+  EXPECT_EQ(bad.code, 2);
+  EXPECT_TRUE(contains(bad.err, "bad.json")) << bad.err;
+  EXPECT_FALSE(fs::exists(root_ / "B" / "checkpoint.pb"));
+  const Outcome with_resume = run({"--run-dir", dir.string(), "--resume", "--start-from", policy.string()}, "R");
+  EXPECT_EQ(with_resume.code, 2) << with_resume.err;
 }
 
 }  // namespace

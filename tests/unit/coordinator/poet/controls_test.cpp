@@ -14,6 +14,24 @@
 namespace poet::testing {
 namespace {
 
+TEST(InitialState, AStartThetaReplacesTheInitStreamInEveryMode) {
+  const std::vector<double> theta(kParamCount, 0.25);
+  for (auto mode : {pb::RunConfig::POET, pb::RunConfig::ES_ALONE, pb::RunConfig::POET_WITHOUT_TRANSFER}) {
+    pb::RunConfig c = tiny_config();
+    c.set_mode(mode);
+    if (mode == pb::RunConfig::ES_ALONE) *c.mutable_es_alone()->mutable_target() = to_proto(rough(1.0, 3));
+    const RunState from_file = initial_state(c, theta);
+    const RunState random = initial_state(c);
+    ASSERT_EQ(from_file.pairs.size(), 1u);
+    EXPECT_EQ(from_file.pairs[0].theta, theta);
+    EXPECT_EQ(from_file.pairs[0].best_theta, theta);
+    EXPECT_NE(random.pairs[0].theta, theta);
+    EXPECT_EQ(from_file.pairs[0].env.encoding.name, random.pairs[0].env.encoding.name) << "only θ changes";
+    EXPECT_EQ(from_file.pairs[0].env.seed, random.pairs[0].env.seed);
+    EXPECT_EQ(from_file.pairs[0].optimizer.t, 0);
+  }
+}
+
 TEST(EsAlone, OptimisesOnePairOnTheTargetAndNeverReproducesOrTransfers) {
   pb::RunConfig c = tiny_config();
   c.set_mode(pb::RunConfig::ES_ALONE);
