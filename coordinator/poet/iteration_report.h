@@ -26,6 +26,9 @@ struct PairStatsRow {
   double perturbation_max = 0;
   double grad_norm = 0;
   double theta_norm = 0;
+  // the run's counters when this row's evaluation was done (the x axes of a learning curve)
+  int64_t run_rollouts = 0;
+  int64_t run_env_steps = 0;
 };
 
 struct IterationReport {

@@ -72,6 +72,8 @@ void optimise(IterationContext& ctx) {
     row.best_score = p.best_score;
     row.solved = p.solved();
     row.es_steps = p.es_steps;
+    row.run_rollouts = ctx.state.counters.rollouts;
+    row.run_env_steps = ctx.state.counters.env_steps;
   }
   ctx.report.stats = std::move(rows);
 }

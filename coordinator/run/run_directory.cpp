@@ -97,7 +97,7 @@ pb::Checkpoint checkpoint_with_logs(const RunState& state, int64_t events_bytes,
 
 std::string pair_stats_header() {
   return "iteration,pair,env,score,finished,eval_steps,best_score,solved,es_steps,lr,sigma,perturbation_mean,"
-         "perturbation_max,grad_norm,theta_norm\n";
+         "perturbation_max,grad_norm,theta_norm,run_rollouts,run_env_steps\n";
 }
 
 std::string pair_stats_row(const PairStatsRow& row) {
@@ -105,7 +105,8 @@ std::string pair_stats_row(const PairStatsRow& row) {
   line += "," + number(row.score) + "," + (row.finished ? "true" : "false") + "," + std::to_string(row.eval_steps);
   line += "," + number(row.best_score) + "," + (row.solved ? "true" : "false") + "," + std::to_string(row.es_steps);
   line += "," + number(row.lr) + "," + number(row.sigma) + "," + number(row.perturbation_mean);
-  line += "," + number(row.perturbation_max) + "," + number(row.grad_norm) + "," + number(row.theta_norm) + "\n";
+  line += "," + number(row.perturbation_max) + "," + number(row.grad_norm) + "," + number(row.theta_norm);
+  line += "," + std::to_string(row.run_rollouts) + "," + std::to_string(row.run_env_steps) + "\n";
   return line;
 }
 
