@@ -26,6 +26,7 @@
 #include "build_fingerprint.h"
 #include "envgen/named_courses.h"
 #include "es/optimizer.h"
+#include "es_step_fixture.h"
 #include "evaluator/local_evaluator.h"
 #include "evaluator/remote_evaluator.h"
 #include "poet/rollout_batch.h"
@@ -517,31 +518,16 @@ class WorkerProcesses {
   std::vector<pid_t> pids_;
 };
 
-// es_bench's ES step: 64 mirrored perturbations (128 rollouts) of a random θ on r1 (seed 17), Adam after.
-struct EsFixture {
-  static constexpr int kPerturbations = 64;
-  EpisodeSettings episodes{WalkerOptions{}, 2000, false, 1};
-  EsSettings es;
-  EnvDef env{*named_course("r1"), 17};
-  std::vector<double> theta;
-  EsFixture() {
-    RandomStream init(stream_key(2024, "bench-es", {0}));
-    theta = random_params(init, 0.1);
-    es.perturbations = kPerturbations;
-  }
-};
-
 struct EsStepOutcome {
   double seconds = 0;
   std::vector<double> theta;  // after the step: equal through either evaluator, or a result differed
 };
 
-EsStepOutcome es_step(const EsFixture& f, Evaluator& evaluator, uint64_t step) {
+EsStepOutcome es_step(const EsStepFixture& f, Evaluator& evaluator, uint64_t step) {
   const auto t0 = Clock::now();
   RunCounters counters;
   RolloutBatch batch(f.episodes);
-  const size_t handle = batch.add_es_step({share(f.theta), f.env, 0.1, stream_key(2024, "bench-noise", {step})},
-                                          EsFixture::kPerturbations);
+  const size_t handle = f.add_step(batch, step);
   batch.run(evaluator, counters);
   OptimizerState opt = fresh_optimizer(f.es, f.theta.size());
   EsStepOutcome out{0, f.theta};
@@ -555,7 +541,7 @@ EsStepOutcome es_step(const EsFixture& f, Evaluator& evaluator, uint64_t step) {
 // LocalEvaluator with 2 threads; remote/local is the ratio of their summed wall times.
 void BM_EsStepRemoteVsLocal(benchmark::State& state) {
   spdlog::set_level(spdlog::level::warn);
-  const EsFixture f;
+  const EsStepFixture f;
   std::atomic<size_t> connected{0};  // outlives the evaluator, whose socket thread writes it
   DispatchSettings settings;
   settings.heartbeat_ms = 1000;

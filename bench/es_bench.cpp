@@ -9,6 +9,7 @@
 
 #include "envgen/named_courses.h"
 #include "es/optimizer.h"
+#include "es_step_fixture.h"
 #include "evaluator/local_evaluator.h"
 #include "poet/rollout_batch.h"
 #include "policy/mlp.h"
@@ -17,22 +18,10 @@
 namespace poet {
 namespace {
 
-constexpr int kPerturbations = 64;  // 128 rollouts per step; the reference's 256 scales the same way
+using Fixture = EsStepFixture;
 
 using Clock = std::chrono::steady_clock;
 double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
-
-struct Fixture {
-  EpisodeSettings episodes{WalkerOptions{}, 2000, false, 1};
-  EsSettings es;
-  EnvDef env{*named_course("r1"), 17};
-  std::vector<double> theta;
-  Fixture() {
-    RandomStream init(stream_key(2024, "bench-es", {0}));
-    theta = random_params(init, 0.1);
-    es.perturbations = kPerturbations;
-  }
-};
 
 struct StepTimes {
   double rollouts = 0;     // seconds in the evaluator
@@ -45,8 +34,7 @@ StepTimes es_step(Fixture& f, Evaluator& evaluator, uint64_t step) {
   StepTimes times;
   RunCounters counters;
   RolloutBatch batch(f.episodes);
-  const size_t handle =
-      batch.add_es_step({share(f.theta), f.env, 0.1, stream_key(2024, "bench-noise", {step})}, kPerturbations);
+  const size_t handle = f.add_step(batch, step);
   auto t0 = Clock::now();
   batch.run(evaluator, counters);
   times.rollouts = seconds_since(t0);
@@ -70,7 +58,7 @@ void BM_EsStep(benchmark::State& state) {
   int64_t env_steps = 0;
   for (auto _ : state) env_steps += es_step(f, evaluator, step++ % 4).env_steps;
   state.counters["env_steps/s"] = benchmark::Counter(double(env_steps), benchmark::Counter::kIsRate);
-  state.counters["rollouts"] = 2 * kPerturbations;
+  state.counters["rollouts"] = 2 * Fixture::kPerturbations;
 }
 BENCHMARK(BM_EsStep)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(4);
 

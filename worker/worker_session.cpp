@@ -127,9 +127,7 @@ Actions WorkerSession::on_message(const wire::CoordinatorMessage& message, TimeP
       if (!welcomed) break;  // it answers a message sent before this Hello: the Welcome is on its way
       spdlog::warn("the coordinator does not know this worker ({}): dropping its jobs, Hello again",
                    message.rejoin().reason().substr(0, 200));
-      actions.abandon_jobs = true;
-      thetas_.clear();
-      batch_.reset();
+      drop_work(actions);
       state_ = SessionState::kGreeting;
       send(actions, hello(), now);
       next_hello_ = now + settings_.hello_interval;
@@ -230,24 +228,20 @@ Actions WorkerSession::on_send_failed(const wire::WorkerMessage& message, TimePo
 Actions WorkerSession::on_connect_failed(TimePoint now) {
   Actions actions;
   if (state_ == SessionState::kFinished) return actions;
-  actions.abandon_jobs = true;
-  actions.close_socket = true;
-  thetas_.clear();
-  batch_.reset();
-  state_ = SessionState::kWaitingToReconnect;
-  reconnect_at_ = now + backoff_;
   spdlog::warn("could not connect to the coordinator; trying again in {} ms", ms(backoff_));
-  backoff_ = std::min(2 * backoff_, settings_.max_backoff);
+  wait_to_reconnect(actions, now);
   return actions;
 }
 
-void WorkerSession::lose_coordinator(Actions& actions, TimePoint now) {
-  spdlog::warn("nothing from the coordinator for {} ms: it is gone; reconnecting in {} ms", ms(liveness_),
-               ms(backoff_));
+void WorkerSession::drop_work(Actions& actions) {
   actions.abandon_jobs = true;
-  actions.close_socket = true;
   thetas_.clear();
   batch_.reset();
+}
+
+void WorkerSession::wait_to_reconnect(Actions& actions, TimePoint now) {
+  drop_work(actions);
+  actions.close_socket = true;
   state_ = SessionState::kWaitingToReconnect;
   reconnect_at_ = now + backoff_;
   backoff_ = std::min(2 * backoff_, settings_.max_backoff);
@@ -264,7 +258,9 @@ Actions WorkerSession::on_tick(TimePoint now) {
       break;
     case SessionState::kWelcomed:
       if (now - last_received_ >= liveness_) {
-        lose_coordinator(actions, now);
+        spdlog::warn("nothing from the coordinator for {} ms: it is gone; reconnecting in {} ms", ms(liveness_),
+                     ms(backoff_));
+        wait_to_reconnect(actions, now);
         break;
       }
       // a connection that stayed up a whole liveness window earns a fresh backoff
@@ -304,11 +300,9 @@ Actions WorkerSession::on_stop(TimePoint now, std::string reason) {
 }
 
 void WorkerSession::finish(Actions& actions, int exit_code) {
-  actions.abandon_jobs = true;
+  drop_work(actions);
   actions.exit_code = exit_code;
   state_ = SessionState::kFinished;
-  thetas_.clear();
-  batch_.reset();
 }
 
 TimePoint WorkerSession::next_deadline() const {

@@ -130,7 +130,9 @@ class WorkerSession {
   wire::WorkerMessage hello() const;
   void send(Actions& actions, wire::WorkerMessage message, TimePoint now);
   void accept_job(const wire::Job& job, Actions& actions, TimePoint now);
-  void lose_coordinator(Actions& actions, TimePoint now);
+  void drop_work(Actions& actions);  // the jobs in hand, the θ cache and the batch go
+  // no coordinator: close the socket, drop the work, and try again after the backoff (which then doubles)
+  void wait_to_reconnect(Actions& actions, TimePoint now);
   void finish(Actions& actions, int exit_code);
   void drop(uint64_t DropCounts::*reason, std::string_view what, TimePoint now);
 

@@ -267,7 +267,7 @@ void RemoteEvaluator::send(const Outgoing& message) {
     }
   } catch (const zmq::error_t& e) {
     // EHOSTUNREACH: the peer's connection is gone (a killed worker); its jobs go back to the queue
-    if (dispatcher_.worker_count() > 0) dispatcher_.remove_worker(message.worker, /*died=*/true);
+    dispatcher_.remove_worker(message.worker, /*died=*/true);  // a no-op for a peer it does not know
     spdlog::debug("send to {}: {}", printable(message.worker), e.what());
   }
 }
