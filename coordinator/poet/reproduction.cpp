@@ -35,6 +35,17 @@ bool archived(const RunState& state, const EnvEncoding& encoding) {
                      [&](const Pair& p) { return p.env.encoding.same_genes(encoding); });
 }
 
+// The "child" event of a mutation attempt: what was made from which parent, with the 5-vector the metrics read
+// (spec §1.4); duplicate, or the minimal-criterion score and verdict, are added when known.
+nlohmann::ordered_json child_event(const Child& child) {
+  const EnvVector e = env_vector(child.env.encoding);
+  return {{"attempt", child.attempt},
+          {"parent", child.parent},
+          {"env", child.env.encoding.name},
+          {"e", e},
+          {"duplicate", false}};
+}
+
 bool passes_mc(const pb::PoetConfig& poet, double score) { return poet.mc_low() <= score && score <= poet.mc_high(); }
 
 // Step 1.d: for each active pair in creation order, its θ (direct) and then a one-step proposal from it made
@@ -131,13 +142,16 @@ void reproduce(IterationContext& ctx) {
   const MutationOptions mutation = mutation_options(ctx.config);
   RandomStream stream(ctx.key("reproduce", {u(ctx.t)}));
   std::vector<Child> children;
+  std::vector<nlohmann::ordered_json> attempts;  // one "child" event per attempt, in attempt order
   int duplicates = 0;
   for (int a = 0; a < poet.max_children(); ++a) {
     const Pair& parent = state.pairs[eligible[static_cast<size_t>(stream.uniform_int(0, eligible.size()))]];
     Child child{mutate_def(parent.env, mutation, stream), parent.id, a, {}, 0};
     state.counters.children_tried += 1;
+    attempts.push_back(child_event(child));
     if (archived(state, child.env.encoding)) {
       duplicates += 1;
+      attempts.back()["duplicate"] = true;
       continue;
     }
     children.push_back(std::move(child));
@@ -153,8 +167,13 @@ void reproduce(IterationContext& ctx) {
   std::vector<Child> survivors;
   for (size_t c = 0; c < children.size(); ++c) {
     children[c].mc = mc_batch.evaluation(mc_handles[c]);
-    if (passes_mc(poet, children[c].mc.score)) survivors.push_back(std::move(children[c]));
+    const bool passed = passes_mc(poet, children[c].mc.score);
+    nlohmann::ordered_json& event = attempts[static_cast<size_t>(children[c].attempt)];
+    event["mc_score"] = children[c].mc.score;
+    event["passed_mc"] = passed;
+    if (passed) survivors.push_back(std::move(children[c]));
   }
+  for (nlohmann::ordered_json& event : attempts) ctx.event("child", std::move(event));
   state.counters.children_passed_mc += static_cast<int64_t>(survivors.size());
 
   // c. ranking: most novel first against the archive (or lowest MC score first); ties keep generation order

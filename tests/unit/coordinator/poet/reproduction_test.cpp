@@ -69,6 +69,16 @@ TEST(Reproduction, MinimalCriterionKeepsBothBoundsInclusive) {
   EXPECT_EQ(s.counters.children_tried, 6);
   EXPECT_EQ(s.counters.children_passed_mc, 3);  // 50, 300 and 100
   EXPECT_EQ(events_named(r, "reproduction").at(0)["passed_mc"], 3);
+  // one "child" event per attempt, in attempt order, with its MC score, verdict and 5-vector
+  const auto children = events_named(r, "child");
+  ASSERT_EQ(children.size(), 6u);
+  for (size_t i = 0; i < children.size(); ++i) {
+    EXPECT_EQ(children[i]["attempt"], i);
+    EXPECT_EQ(children[i]["mc_score"], mc_scores[i]);
+    EXPECT_EQ(children[i]["passed_mc"], i == 1 || i == 2 || i == 4);
+    EXPECT_EQ(children[i]["e"].size(), 5u);
+    EXPECT_EQ(children[i]["env"], ev.batches[0][i].env.encoding.name);
+  }
 }
 
 TEST(Reproduction, ChildrenEqualToAnyArchivedEnvironmentAreDropped) {
@@ -83,6 +93,10 @@ TEST(Reproduction, ChildrenEqualToAnyArchivedEnvironmentAreDropped) {
   EXPECT_FALSE(is_mc_batch(ev.batches[0]));  // nothing left to evaluate
   EXPECT_EQ(s.counters.children_tried, 6);
   EXPECT_EQ(events_named(r, "reproduction").at(0)["duplicates"], 6);
+  for (const auto& child : events_named(r, "child")) {
+    EXPECT_TRUE(child["duplicate"]);
+    EXPECT_FALSE(child.contains("mc_score"));
+  }
   EXPECT_EQ(s.pairs.size(), 7u);
 }
 
