@@ -22,9 +22,7 @@ EnvVector env_vector(const EnvEncoding& e) {
 
 namespace {
 
-double distance(const EnvEncoding& a, const EnvEncoding& b, bool normalized) {
-  const EnvVector va = env_vector(a);
-  const EnvVector vb = env_vector(b);
+double distance(const EnvVector& va, const EnvVector& vb, bool normalized) {
   double sum = 0.0;
   for (size_t i = 0; i < va.size(); ++i) {
     const double d = normalized ? va[i] / kEnvVectorMax[i] - vb[i] / kEnvVectorMax[i] : va[i] - vb[i];
@@ -36,16 +34,23 @@ double distance(const EnvEncoding& a, const EnvEncoding& b, bool normalized) {
 
 }  // namespace
 
-double euclidean_distance(const EnvEncoding& a, const EnvEncoding& b) { return distance(a, b, false); }
+double euclidean_distance(const EnvEncoding& a, const EnvEncoding& b) {
+  return distance(env_vector(a), env_vector(b), false);
+}
 
-double normalized_distance(const EnvEncoding& a, const EnvEncoding& b) { return distance(a, b, true); }
+double normalized_distance(const EnvEncoding& a, const EnvEncoding& b) {
+  return distance(env_vector(a), env_vector(b), true);
+}
+
+double normalized_distance(const EnvVector& a, const EnvVector& b) { return distance(a, b, true); }
 
 double novelty(const EnvEncoding& candidate, std::span<const EnvEncoding> archive, int k, bool normalized) {
   if (k < 1) throw std::invalid_argument("novelty: k must be >= 1");
   if (archive.empty()) return 0.0;
   std::vector<double> distances;
   distances.reserve(archive.size());
-  for (const EnvEncoding& e : archive) distances.push_back(distance(candidate, e, normalized));
+  const EnvVector c = env_vector(candidate);
+  for (const EnvEncoding& e : archive) distances.push_back(distance(c, env_vector(e), normalized));
   // summing the nearest in ascending order makes the result independent of the archive's order
   std::sort(distances.begin(), distances.end());
   const size_t n = std::min(distances.size(), static_cast<size_t>(k));
@@ -54,13 +59,15 @@ double novelty(const EnvEncoding& candidate, std::span<const EnvEncoding> archiv
   return sum / static_cast<double>(n);
 }
 
-Difficulty difficulty(const EnvEncoding& e) {
+Difficulty difficulty(const EnvVector& e) {
   int met = 0;
-  if (e.stump_height && e.stump_height->hi >= kChallengingStumpHeight) ++met;
-  if (e.pit_gap && e.pit_gap->hi >= kChallengingGap) ++met;
-  if (e.roughness >= kChallengingRoughness) ++met;
+  if (e[4] >= kChallengingStumpHeight) ++met;
+  if (e[2] >= kChallengingGap) ++met;
+  if (e[0] >= kChallengingRoughness) ++met;
   return static_cast<Difficulty>(met);
 }
+
+Difficulty difficulty(const EnvEncoding& e) { return difficulty(env_vector(e)); }
 
 std::string_view to_string(Difficulty d) {
   switch (d) {

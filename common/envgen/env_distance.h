@@ -36,6 +36,10 @@ inline constexpr double kChallengingGap = 6.0;
 inline constexpr double kChallengingRoughness = 4.5;
 
 Difficulty difficulty(const EnvEncoding& encoding);
+Difficulty difficulty(const EnvVector& e);  // the same conditions on a 5-vector (an absent type is [0, 0])
+
+// normalized_distance on 5-vectors.
+double normalized_distance(const EnvVector& a, const EnvVector& b);
 
 // "easy", "challenging", "very challenging", "extremely challenging".
 std::string_view to_string(Difficulty difficulty);

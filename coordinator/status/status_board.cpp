@@ -10,6 +10,7 @@
 #include <unordered_map>
 #include <utility>
 
+#include "csv_fields.h"
 #include "envgen/env_distance.h"
 #include "envgen/env_proto.h"
 #include "poet/engine.h"
@@ -51,39 +52,6 @@ std::string label_value(std::string_view text) {
     out += c;
   }
   return out;
-}
-
-// The fields of one pair_stats.csv line; a field in double quotes may hold commas and doubled quotes.
-std::vector<std::string> csv_fields(std::string_view line) {
-  std::vector<std::string> fields(1);
-  bool quoted = false;
-  for (size_t i = 0; i < line.size(); ++i) {
-    const char c = line[i];
-    if (quoted) {
-      if (c == '"' && i + 1 < line.size() && line[i + 1] == '"') {
-        fields.back() += '"';
-        ++i;
-      } else if (c == '"') {
-        quoted = false;
-      } else {
-        fields.back() += c;
-      }
-    } else if (c == '"') {
-      quoted = true;
-    } else if (c == ',') {
-      fields.emplace_back();
-    } else {
-      fields.back() += c;
-    }
-  }
-  return fields;
-}
-
-template <class T>
-bool parse_number(const std::string& text, T& value) {
-  const char* end = text.data() + text.size();
-  const auto [ptr, ec] = std::from_chars(text.data(), end, value);
-  return ec == std::errc() && ptr == end;
 }
 
 // A counter's rate over the window: (newest − oldest) / seconds between them; 0 without two samples apart.
@@ -536,8 +504,8 @@ void StatusBoard::read_stats_line(std::string_view line) const {
   if (needed < 0 || static_cast<int>(fields.size()) <= needed) return;
   ScoreRow row;
   int pair = 0;
-  if (parse_number(fields[stats_.iteration_column], row.iteration) && parse_number(fields[stats_.pair_column], pair) &&
-      parse_number(fields[stats_.score_column], row.score) && parse_number(fields[stats_.best_column], row.best_score))
+  if (parse_field(fields[stats_.iteration_column], row.iteration) && parse_field(fields[stats_.pair_column], pair) &&
+      parse_field(fields[stats_.score_column], row.score) && parse_field(fields[stats_.best_column], row.best_score))
     stats_.rows[pair].push_back(row);
 }
 

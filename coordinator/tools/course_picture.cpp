@@ -1,12 +1,9 @@
 #include "course_picture.h"
 
-#include <cairo-svg.h>
-#include <cairo.h>
-
 #include <algorithm>
 #include <cmath>
-#include <memory>
 
+#include "canvas.h"
 #include "walker/walker_constants.h"
 
 namespace poet {
@@ -74,65 +71,49 @@ std::string write_course_picture(const std::string& path, const Terrain& terrain
   const double width = (ground.back().x + 1.0 - f.x_min) * f.scale;
   const double height = (f.y_max - (y_min - 1.0)) * f.scale;
 
-  const bool png = path.size() > 4 && path.compare(path.size() - 4, 4, ".png") == 0;
-  using SurfacePtr = std::unique_ptr<cairo_surface_t, decltype(&cairo_surface_destroy)>;
-  SurfacePtr surface(png ? cairo_image_surface_create(CAIRO_FORMAT_RGB24, int(width), int(height))
-                         : cairo_svg_surface_create(path.c_str(), width, height),
-                     &cairo_surface_destroy);
-  if (cairo_surface_status(surface.get()) != CAIRO_STATUS_SUCCESS)
-    return "cannot create picture " + path + ": " + cairo_status_to_string(cairo_surface_status(surface.get()));
-  std::unique_ptr<cairo_t, decltype(&cairo_destroy)> ctx(cairo_create(surface.get()), &cairo_destroy);
-  cairo_t* cr = ctx.get();
-
-  // sky
-  cairo_set_source_rgb(cr, 0.9, 0.9, 1.0);
-  cairo_paint(cr);
-  // ground: filled down to the bottom of the picture, as the reference renders it
-  cairo_move_to(cr, f.px(ground.front().x), height);
-  for (const Point& p : ground) cairo_line_to(cr, f.px(p.x), f.py(p.y));
-  cairo_line_to(cr, f.px(ground.back().x), height);
-  cairo_close_path(cr);
-  cairo_set_source_rgb(cr, 0.4, 0.6, 0.3);
-  cairo_fill(cr);
-  // obstacles: pit walls grey, stumps brown, stairs blue-grey
-  for (const TerrainBox& b : terrain.boxes()) {
-    const double r = b.kind == ObstacleKind::kStump ? 0.55 : b.kind == ObstacleKind::kStair ? 0.45 : 0.6;
-    const double g = b.kind == ObstacleKind::kStump ? 0.35 : b.kind == ObstacleKind::kStair ? 0.5 : 0.6;
-    const double bl = b.kind == ObstacleKind::kStump ? 0.2 : b.kind == ObstacleKind::kStair ? 0.6 : 0.6;
-    cairo_rectangle(cr, f.px(b.x0), f.py(b.y1), (b.x1 - b.x0) * f.scale, (b.y1 - b.y0) * f.scale);
-    cairo_set_source_rgb(cr, r, g, bl);
-    cairo_fill_preserve(cr);
-    cairo_set_source_rgb(cr, 0.2, 0.2, 0.2);
-    cairo_set_line_width(cr, 0.8);
+  return write_picture(path, width, height, [&](cairo_t* cr) {
+    // sky
+    cairo_set_source_rgb(cr, 0.9, 0.9, 1.0);
+    cairo_paint(cr);
+    // ground: filled down to the bottom of the picture, as the reference renders it
+    cairo_move_to(cr, f.px(ground.front().x), height);
+    for (const Point& p : ground) cairo_line_to(cr, f.px(p.x), f.py(p.y));
+    cairo_line_to(cr, f.px(ground.back().x), height);
+    cairo_close_path(cr);
+    cairo_set_source_rgb(cr, 0.4, 0.6, 0.3);
+    cairo_fill(cr);
+    // obstacles: pit walls grey, stumps brown, stairs blue-grey
+    for (const TerrainBox& b : terrain.boxes()) {
+      const double r = b.kind == ObstacleKind::kStump ? 0.55 : b.kind == ObstacleKind::kStair ? 0.45 : 0.6;
+      const double g = b.kind == ObstacleKind::kStump ? 0.35 : b.kind == ObstacleKind::kStair ? 0.5 : 0.6;
+      const double bl = b.kind == ObstacleKind::kStump ? 0.2 : b.kind == ObstacleKind::kStair ? 0.6 : 0.6;
+      cairo_rectangle(cr, f.px(b.x0), f.py(b.y1), (b.x1 - b.x0) * f.scale, (b.y1 - b.y0) * f.scale);
+      cairo_set_source_rgb(cr, r, g, bl);
+      cairo_fill_preserve(cr);
+      cairo_set_source_rgb(cr, 0.2, 0.2, 0.2);
+      cairo_set_line_width(cr, 0.8);
+      cairo_stroke(cr);
+    }
+    // finish line
+    cairo_set_source_rgb(cr, 0.9, 0.2, 0.0);
+    cairo_set_line_width(cr, 2.0);
+    cairo_move_to(cr, f.px(kFinishX), f.py(kTerrainHeight - 1.0));
+    cairo_line_to(cr, f.px(kFinishX), 0);
     cairo_stroke(cr);
-  }
-  // finish line
-  cairo_set_source_rgb(cr, 0.9, 0.2, 0.0);
-  cairo_set_line_width(cr, 2.0);
-  cairo_move_to(cr, f.px(kFinishX), f.py(kTerrainHeight - 1.0));
-  cairo_line_to(cr, f.px(kFinishX), 0);
-  cairo_stroke(cr);
 
-  const auto& traj = episode.trajectory;
-  if (options.snapshot_every > 0)
-    for (size_t i = 0; i < traj.size(); i += static_cast<size_t>(options.snapshot_every))
-      draw_walker(cr, f, traj[i], 0.35);
-  if (!traj.empty()) {
-    cairo_set_source_rgb(cr, 0.8, 0.1, 0.1);
-    cairo_set_line_width(cr, 1.5);
-    cairo_move_to(cr, f.px(traj[0][0].x), f.py(traj[0][0].y));
-    for (const WalkerPose& p : traj) cairo_line_to(cr, f.px(p[0].x), f.py(p[0].y));
-    cairo_stroke(cr);
-    draw_walker(cr, f, traj.back(), 1.0);
-  }
-
-  cairo_surface_flush(surface.get());
-  if (png && cairo_surface_write_to_png(surface.get(), path.c_str()) != CAIRO_STATUS_SUCCESS)
-    return "cannot write " + path;
-  cairo_surface_finish(surface.get());
-  if (cairo_surface_status(surface.get()) != CAIRO_STATUS_SUCCESS)
-    return "cannot write " + path + ": " + cairo_status_to_string(cairo_surface_status(surface.get()));
-  return {};
+    const auto& traj = episode.trajectory;
+    if (options.snapshot_every > 0)
+      for (size_t i = 0; i < traj.size(); i += static_cast<size_t>(options.snapshot_every))
+        draw_walker(cr, f, traj[i], 0.35);
+    if (!traj.empty()) {
+      cairo_set_source_rgb(cr, 0.8, 0.1, 0.1);
+      cairo_set_line_width(cr, 1.5);
+      cairo_move_to(cr, f.px(traj[0][0].x), f.py(traj[0][0].y));
+      for (const WalkerPose& p : traj) cairo_line_to(cr, f.px(p[0].x), f.py(p[0].y));
+      cairo_stroke(cr);
+      draw_walker(cr, f, traj.back(), 1.0);
+    }
+  });
 }
 
 }  // namespace poet

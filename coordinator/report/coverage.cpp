@@ -1,0 +1,43 @@
+#include "report/coverage.h"
+
+#include <algorithm>
+
+#include "rng.h"
+
+namespace poet {
+
+std::vector<CoverageSample> coverage_sample(uint64_t seed, int per_level) {
+  std::vector<CoverageSample> samples;
+  for (int level = 1; level <= 3; ++level) {
+    RandomStream stream(stream_key(seed, "coverage", {static_cast<uint64_t>(level)}));
+    for (int n = 0; n < per_level;) {
+      EnvVector e{};
+      for (size_t i = 0; i < e.size(); ++i) e[i] = stream.uniform(0.0, kEnvVectorMax[i]);
+      if (e[1] > e[2] || e[3] > e[4]) continue;  // lo ≤ hi for the gap and the stump height
+      if (static_cast<int>(difficulty(e)) != level) continue;
+      samples.push_back({level, e, std::nullopt});
+      ++n;
+    }
+  }
+  return samples;
+}
+
+Coverage compute_coverage(const RunState& state, uint64_t seed, int per_level) {
+  Coverage c;
+  c.seed = seed;
+  c.per_level = per_level;
+  for (const Pair& p : state.pairs)
+    if (p.solved() && difficulty(p.env.encoding) != Difficulty::kEasy) c.solved.push_back(env_vector(p.env.encoding));
+  c.samples = coverage_sample(seed, per_level);
+  if (c.solved.empty()) return c;
+  for (CoverageSample& s : c.samples) {
+    double nearest = normalized_distance(s.e, c.solved.front());
+    for (const EnvVector& v : c.solved) nearest = std::min(nearest, normalized_distance(s.e, v));
+    s.distance = nearest;
+    std::optional<double>& sum = c.sum[static_cast<size_t>(s.level - 1)];
+    sum = sum.value_or(0.0) + nearest;
+  }
+  return c;
+}
+
+}  // namespace poet

@@ -1,0 +1,193 @@
+#include "report/report_plots.h"
+
+#include <algorithm>
+#include <cmath>
+#include <functional>
+#include <map>
+
+#include "chart.h"
+
+namespace poet {
+namespace {
+
+constexpr std::array<Rgb, kLevels> kLevelColours = {
+    {{0.35, 0.35, 0.35}, {0.122, 0.467, 0.706}, {1.000, 0.498, 0.055}, {0.839, 0.153, 0.157}}};
+
+std::string short_name(const std::string& name, size_t max = 22) {
+  return name.size() <= max ? name : name.substr(0, max - 1) + "…";
+}
+
+}  // namespace
+
+std::string write_score_plot(const std::string& path, const RunSnapshot& run) {
+  Chart chart;
+  chart.title = "Evaluation score of each pair's agent on its own environment";
+  chart.x_label = "iteration";
+  chart.y_label = "score";
+  chart.integer_x = true;
+  chart.reference_line = {
+      {run.state.config.poet().solved_score(),
+       "solved (finished and ≥ " + std::to_string(static_cast<int>(run.state.config.poet().solved_score())) + ")"}};
+  std::map<int, size_t> series_of;
+  for (const Pair& p : run.state.pairs) {
+    series_of[p.id] = chart.series.size();
+    chart.series.push_back({"#" + std::to_string(p.id) + " " + short_name(p.env.encoding.name),
+                            {},
+                            palette_colour(chart.series.size()),
+                            ChartSeries::Line::kSolid,
+                            false,
+                            1.4});
+  }
+  for (const StatsRow& row : run.stats) {
+    const auto found = series_of.find(row.pair);
+    if (found != series_of.end()) chart.series[found->second].points.emplace_back(row.iteration, row.score);
+  }
+  // a legend entry per pair while they fit; beyond that the colours repeat and the legend would mislead
+  if (chart.series.size() > 20)
+    for (ChartSeries& s : chart.series) s.label.clear();
+  return write_picture(path, 1000, 520, [&](cairo_t* cr) { draw_chart(cr, 0, 0, 1000, 520, chart); });
+}
+
+std::string write_level_plot(const std::string& path, const RunSnapshot& run, const RunMetrics& metrics) {
+  (void)run;
+  Chart chart;
+  chart.title = "Environments per difficulty level (cumulative)";
+  chart.x_label = "iteration";
+  chart.y_label = "environments";
+  chart.y_min = 0;
+  chart.integer_x = true;
+  struct Kind {
+    const char* name;
+    std::function<int64_t(const LevelCounts&, size_t)> count;
+    ChartSeries::Line line;
+    double width;
+  };
+  const Kind kinds[] = {
+      {"created", [](const LevelCounts& c, size_t l) { return c.created[l]; }, ChartSeries::Line::kDashed, 1.2},
+      {"admitted", [](const LevelCounts& c, size_t l) { return c.admitted[l]; }, ChartSeries::Line::kDotted, 1.6},
+      {"solved", [](const LevelCounts& c, size_t l) { return c.solved[l]; }, ChartSeries::Line::kSolid, 3.0},
+  };
+  for (size_t level = 0; level < kLevels; ++level) {
+    for (const Kind& kind : kinds) {
+      if (kind.count(metrics.total, level) == 0) continue;
+      ChartSeries s{std::string(kind.name) + ", " + std::string(to_string(static_cast<Difficulty>(level))),
+                    {},
+                    kLevelColours[level],
+                    kind.line,
+                    true,
+                    kind.width};
+      for (const LevelTimePoint& point : metrics.over_time)
+        s.points.emplace_back(point.iteration, static_cast<double>(kind.count(point.total, level)));
+      chart.series.push_back(std::move(s));
+    }
+  }
+  return write_picture(path, 1000, 480, [&](cairo_t* cr) { draw_chart(cr, 0, 0, 1000, 480, chart); });
+}
+
+std::string write_tree_plot(const std::string& path, const RunSnapshot& run, const RunMetrics& metrics) {
+  const RunState& state = run.state;
+  // rows in depth-first order from the roots, children in creation order, so each subtree is a block of rows
+  std::map<int, std::vector<int>> children;
+  std::vector<int> roots;
+  for (const Pair& p : state.pairs) {
+    if (p.parent_id == kNone || !state.find(p.parent_id))
+      roots.push_back(p.id);
+    else
+      children[p.parent_id].push_back(p.id);
+  }
+  std::map<int, int> row;
+  std::function<void(int)> place = [&](int id) {
+    row[id] = static_cast<int>(row.size());
+    for (int child : children[id]) place(child);
+  };
+  for (int id : roots) place(id);
+
+  const double row_height = 20, top = 46, left = 150, right_margin = 24;
+  const double width = 1100, height = top + row_height * std::max<size_t>(1, state.pairs.size()) + 56;
+  const double last = std::max(1, metrics.iterations_done);
+  const auto px = [&](double iteration) { return left + iteration / last * (width - left - right_margin); };
+  const auto py = [&](int id) { return top + row_height * (row.at(id) + 0.5); };
+
+  return write_picture(path, width, height, [&](cairo_t* cr) {
+    cairo_set_source_rgb(cr, 0.1, 0.1, 0.1);
+    draw_text(cr, "Environment tree: rows are pairs from creation to retirement (green once solved)", width / 2, 20, 14,
+              0.5, true);
+    draw_text(cr, "grey links: parent → child environment; orange arrows: accepted transfers (source → target)",
+              width / 2, 36, 11, 0.5);
+    // iteration axis
+    for (double t : nice_ticks(0, last, 8, true)) {
+      cairo_set_source_rgb(cr, 0.92, 0.92, 0.92);
+      cairo_set_line_width(cr, 1);
+      cairo_move_to(cr, std::round(px(t)) + 0.5, top);
+      cairo_line_to(cr, std::round(px(t)) + 0.5, height - 40);
+      cairo_stroke(cr);
+      cairo_set_source_rgb(cr, 0.3, 0.3, 0.3);
+      draw_text(cr, std::to_string(static_cast<long long>(t)), px(t), height - 26, 11, 0.5);
+    }
+    draw_text(cr, "iteration", (left + width) / 2, height - 8, 12, 0.5);
+
+    for (const Pair& p : state.pairs) {
+      const double y = py(p.id);
+      const double start = px(p.created_iteration);
+      const double end = px(p.active() ? metrics.iterations_done : p.retired_iteration);
+      const int level = static_cast<int>(difficulty(p.env.encoding));
+      // parent link: an elbow from the parent's row down to the child's start
+      if (p.parent_id != kNone && row.count(p.parent_id)) {
+        cairo_set_source_rgb(cr, 0.6, 0.6, 0.6);
+        cairo_set_line_width(cr, 1.2);
+        cairo_move_to(cr, start, py(p.parent_id));
+        cairo_line_to(cr, start, y);
+        cairo_stroke(cr);
+      }
+      // lifeline: grey while unsolved, green from the first solve
+      cairo_set_line_width(cr, 6);
+      cairo_set_line_cap(cr, CAIRO_LINE_CAP_BUTT);
+      cairo_set_source_rgb(cr, 0.78, 0.78, 0.78);
+      cairo_move_to(cr, start, y);
+      cairo_line_to(cr, std::max(end, start + 2), y);
+      cairo_stroke(cr);
+      if (p.solved()) {
+        cairo_set_source_rgb(cr, 0.2, 0.65, 0.25);
+        cairo_move_to(cr, px(p.first_solved_iteration), y);
+        cairo_line_to(cr, std::max(end, px(p.first_solved_iteration) + 2), y);
+        cairo_stroke(cr);
+      }
+      // node: coloured by difficulty level
+      set_colour(cr, kLevelColours[static_cast<size_t>(level)]);
+      cairo_arc(cr, start, y, 4.5, 0, 2 * M_PI);
+      cairo_fill(cr);
+      cairo_set_source_rgb(cr, 0.15, 0.15, 0.15);
+      draw_text(cr, "#" + std::to_string(p.id) + " " + short_name(p.env.encoding.name, 18), left - 8, y + 4, 10, 1);
+    }
+    // transfers, drawn last so they stay visible
+    for (const AcceptedTransfer& t : metrics.accepted_transfers) {
+      if (!row.count(t.source) || !row.count(t.target)) continue;
+      const double x = px(t.iteration), y0 = py(t.source), y1 = py(t.target);
+      const double bend = std::min(40.0, std::abs(y1 - y0) / 3 + 8);
+      cairo_set_source_rgba(cr, 0.95, 0.5, 0.05, 0.85);
+      cairo_set_line_width(cr, 1.4);
+      cairo_move_to(cr, x, y0);
+      cairo_curve_to(cr, x + bend, y0, x + bend, y1, x + 3, y1);
+      cairo_stroke(cr);
+      const double dir = y1 > y0 ? -1 : 1;  // arrow head at the target
+      cairo_move_to(cr, x + 3, y1);
+      cairo_line_to(cr, x + 10, y1 + 3 * dir - 2);
+      cairo_line_to(cr, x + 10, y1 - 3 * dir + 2);
+      cairo_close_path(cr);
+      cairo_fill(cr);
+    }
+    // legend of levels
+    double lx = 12;
+    for (size_t level = 0; level < kLevels; ++level) {
+      set_colour(cr, kLevelColours[level]);
+      cairo_arc(cr, lx + 4, height - 12, 4, 0, 2 * M_PI);
+      cairo_fill(cr);
+      cairo_set_source_rgb(cr, 0.2, 0.2, 0.2);
+      const std::string name(to_string(static_cast<Difficulty>(level)));
+      draw_text(cr, name, lx + 12, height - 8, 10);
+      lx += 24 + 5.5 * static_cast<double>(name.size());
+    }
+  });
+}
+
+}  // namespace poet

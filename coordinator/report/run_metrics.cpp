@@ -1,0 +1,153 @@
+#include "report/run_metrics.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "envgen/env_proto.h"
+
+namespace poet {
+namespace {
+
+int level_of(const EnvVector& e) { return static_cast<int>(difficulty(e)); }
+int level_of(const EnvEncoding& e) { return static_cast<int>(difficulty(e)); }
+
+// The 5-vector of a "child" event; nullopt when the event does not carry one.
+std::optional<EnvVector> child_vector(const nlohmann::json& event) {
+  const auto found = event.find("e");
+  if (found == event.end() || !found->is_array() || found->size() != 5) return std::nullopt;
+  EnvVector v{};
+  for (size_t i = 0; i < 5; ++i) {
+    if (!(*found)[i].is_number()) return std::nullopt;
+    v[i] = (*found)[i].get<double>();
+  }
+  return v;
+}
+
+template <class T>
+T field_or(const nlohmann::json& event, const char* name, T fallback) {
+  const auto found = event.find(name);
+  if (found == event.end() || found->is_null()) return fallback;
+  try {
+    return found->get<T>();
+  } catch (const nlohmann::json::exception&) {
+    return fallback;
+  }
+}
+
+LevelSolveSummary summarise(const std::vector<int>& iterations) {
+  LevelSolveSummary s;
+  s.count = static_cast<int>(iterations.size());
+  if (iterations.empty()) return s;
+  s.min = *std::min_element(iterations.begin(), iterations.end());
+  s.max = *std::max_element(iterations.begin(), iterations.end());
+  double sum = 0;
+  for (int v : iterations) sum += v;
+  s.mean = sum / s.count;
+  if (s.count > 1) {
+    double squares = 0;
+    for (int v : iterations) squares += (v - s.mean) * (v - s.mean);
+    s.sd = std::sqrt(squares / (s.count - 1));
+  }
+  return s;
+}
+
+std::optional<EnvEncoding> own_target(const RunState& state) {
+  const pb::RunConfig& c = state.config;
+  const pb::EnvDef* target = nullptr;
+  if (c.mode() == pb::RunConfig::ES_ALONE) target = &c.es_alone().target();
+  if (c.mode() == pb::RunConfig::DIRECT_PATH) target = &c.direct_path().target();
+  if (!target) return std::nullopt;
+  Expected<EnvEncoding> encoding = encoding_from_proto(target->encoding());
+  if (!encoding) return std::nullopt;
+  return *encoding;
+}
+
+TargetDistance closest_to(const RunState& state, const EnvEncoding& target) {
+  TargetDistance out;
+  out.target_name = target.name;
+  out.target = env_vector(target);
+  const auto consider = [&](const EnvEncoding& solved) {
+    const double d = normalized_distance(env_vector(solved), out.target);
+    if (!out.distance || d < *out.distance) {
+      out.distance = d;
+      out.closest_env = solved.name;
+    }
+  };
+  for (const Pair& p : state.pairs)
+    if (p.solved()) consider(p.env.encoding);
+  for (const CurriculumStage& stage : state.stages)
+    if (stage.solved_iteration != kNone) consider(stage.env.encoding);
+  return out;
+}
+
+}  // namespace
+
+RunMetrics compute_run_metrics(const RunSnapshot& run, const std::optional<EnvEncoding>& target) {
+  const RunState& state = run.state;
+  RunMetrics m;
+  m.iterations_done = state.next_iteration;
+
+  // per-iteration increments, then accumulated
+  std::vector<LevelCounts> added(static_cast<size_t>(std::max(0, m.iterations_done)));
+  const auto at = [&](int iteration) -> LevelCounts* {
+    if (iteration < 0 || iteration >= m.iterations_done) return nullptr;
+    return &added[static_cast<size_t>(iteration)];
+  };
+  for (const nlohmann::json& event : run.events) {
+    const int iteration = event["iteration"].get<int>();
+    const std::string name = event["event"].get<std::string>();
+    if (name == "child") {
+      if (field_or(event, "duplicate", false)) {
+        m.duplicates += 1;
+        continue;
+      }
+      const std::optional<EnvVector> e = child_vector(event);
+      LevelCounts* slot = at(iteration);
+      if (!e || !slot) continue;
+      const size_t level = static_cast<size_t>(level_of(*e));
+      slot->created[level] += 1;
+      if (field_or(event, "passed_mc", false)) slot->passed_mc[level] += 1;
+    } else if (name == "transfer") {
+      m.accepted_transfers.push_back({iteration, field_or(event, "target", -1), field_or(event, "source", -1),
+                                      field_or(event, "proposal", false), field_or(event, "score", 0.0),
+                                      field_or(event, "previous_score", 0.0)});
+    }
+  }
+  for (const Pair& p : state.pairs) {
+    const size_t level = static_cast<size_t>(level_of(p.env.encoding));
+    if (LevelCounts* slot = at(p.created_iteration)) slot->admitted[level] += 1;
+    if (p.solved()) {
+      if (LevelCounts* slot = at(p.first_solved_iteration)) slot->solved[level] += 1;
+      m.solve_times.push_back({p.id, static_cast<int>(level), p.created_iteration, p.first_solved_iteration});
+    }
+    if (p.parent_id != kNone && p.solved()) m.annecs_at_admission += 1;
+    if (!p.active() && p.solved()) m.annecs_at_archiving += 1;
+  }
+  LevelCounts running;
+  for (int t = 0; t < m.iterations_done; ++t) {
+    const LevelCounts& add = added[static_cast<size_t>(t)];
+    for (size_t l = 0; l < kLevels; ++l) {
+      running.created[l] += add.created[l];
+      running.passed_mc[l] += add.passed_mc[l];
+      running.admitted[l] += add.admitted[l];
+      running.solved[l] += add.solved[l];
+    }
+    m.over_time.push_back({t, running});
+  }
+  m.total = running;
+
+  for (int level = 0; level < kLevels; ++level) {
+    std::vector<int> iterations;
+    for (const SolveTime& s : m.solve_times)
+      if (s.level == level) iterations.push_back(s.solved - s.created);
+    m.solve_summary[static_cast<size_t>(level)] = summarise(iterations);
+  }
+  m.transfer_attempts = state.counters.transfer_attempts;
+  m.transfer_successes = state.counters.transfer_successes;
+
+  const std::optional<EnvEncoding> goal = target ? target : own_target(state);
+  if (goal) m.closest_to_target = closest_to(state, *goal);
+  return m;
+}
+
+}  // namespace poet

@@ -1,0 +1,87 @@
+#pragma once
+// The paper's metrics of a run (spec §3, "Metrics the paper reports"), computed from a RunSnapshot: environments
+// created, passed the minimal criterion, admitted and solved per difficulty level over iterations; iterations
+// from creation to solution per level; transfer attempts and accepted transfers; ANNECS in both of its peers'
+// definitions; the closest-to-target solved environment. Coverage is in coverage.h.
+
+#include <array>
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "envgen/env_distance.h"
+#include "report/run_snapshot.h"
+
+namespace poet {
+
+inline constexpr int kLevels = 4;  // Difficulty: easy, challenging, very, extremely challenging
+
+struct LevelCounts {
+  std::array<int64_t, kLevels> created{};    // new environments made by mutation (duplicates of the archive excluded)
+  std::array<int64_t, kLevels> passed_mc{};  // of those, the ones whose parent's θ scored within the MC bounds
+  std::array<int64_t, kLevels> admitted{};   // environments that became pairs
+  std::array<int64_t, kLevels> solved{};     // pairs solved (finished and ≥ solved_score), by first solve
+  friend bool operator==(const LevelCounts&, const LevelCounts&) = default;
+};
+
+// The counts accumulated up to and including an iteration.
+struct LevelTimePoint {
+  int iteration = 0;
+  LevelCounts total;
+};
+
+struct SolveTime {
+  int pair = 0;
+  int level = 0;
+  int created = 0;
+  int solved = 0;  // first-solved iteration
+};
+
+struct LevelSolveSummary {
+  int count = 0;
+  double mean = 0, sd = 0;  // sample standard deviation (0 for fewer than two)
+  int min = 0, max = 0;
+};
+
+struct AcceptedTransfer {
+  int iteration = 0;
+  int target = 0;
+  int source = 0;
+  bool proposal = false;
+  double score = 0;
+  double previous_score = 0;  // the target's latest score before the round
+};
+
+struct TargetDistance {
+  std::string target_name;
+  EnvVector target{};
+  std::optional<double> distance;  // normalised (§1.4); nullopt when nothing was solved
+  std::string closest_env;         // the solved environment nearest the target
+};
+
+struct RunMetrics {
+  int iterations_done = 0;  // the checkpoint's next iteration
+  LevelCounts total;
+  int64_t duplicates = 0;                 // mutation attempts equal to an archived environment
+  std::vector<LevelTimePoint> over_time;  // one point per iteration 0 .. iterations_done - 1
+  std::vector<SolveTime> solve_times;
+  std::array<LevelSolveSummary, kLevels> solve_summary{};
+  int64_t transfer_attempts = 0, transfer_successes = 0;
+  std::vector<AcceptedTransfer> accepted_transfers;
+  int64_t annecs_at_admission = 0, annecs_at_archiving = 0;
+  std::optional<TargetDistance> closest_to_target;
+};
+
+inline constexpr char kAnnecsAtAdmission[] =
+    "environments admitted by reproduction (they passed the minimal criterion when created) and solved since, "
+    "by any agent; counted when solved";
+inline constexpr char kAnnecsAtArchiving[] =
+    "environments retired from the active population (archived) that had been solved by then; counted at "
+    "retirement";
+
+// The metrics of a run. target: the environment to measure closest-to-target against; without one, a control
+// run's own target (ES alone, direct path), and none for POET.
+RunMetrics compute_run_metrics(const RunSnapshot& run, const std::optional<EnvEncoding>& target = std::nullopt);
+
+}  // namespace poet

@@ -1,0 +1,44 @@
+#pragma once
+// A run directory as the analysis tools see it: the state of its checkpoint and the log lines that state has
+// seen, read without changing anything (no file written or truncated; run.lock is only probed). The checkpoint is
+// replaced atomically and records the logs' sizes, so a run being written while it is read gives the
+// consistent picture of its last checkpoint; the lines a live run appended after it are left out.
+
+#include <cstdint>
+#include <filesystem>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "expected.h"
+#include "poet/run_state.h"
+
+namespace poet {
+
+// One row of pair_stats.csv, the columns the analysis reads. run_rollouts and run_env_steps are -1 in runs
+// written before those columns existed.
+struct StatsRow {
+  int iteration = 0;
+  int pair = 0;
+  double score = 0;
+  bool finished = false;
+  double best_score = 0;
+  bool solved = false;
+  int64_t es_steps = 0;
+  int64_t run_rollouts = -1;
+  int64_t run_env_steps = -1;
+};
+
+struct RunSnapshot {
+  std::filesystem::path dir;
+  RunState state;
+  std::vector<nlohmann::json> events;  // events.jsonl up to the checkpoint's size, one object per line
+  std::vector<StatsRow> stats;         // pair_stats.csv up to the checkpoint's size
+  bool live = false;                   // another process holds run.lock: the run is being written
+};
+
+// Reads dir. Errors name the file and say what is wrong: a missing directory or file, a damaged or truncated
+// checkpoint or log, a checkpoint of a newer format than this build reads.
+Expected<RunSnapshot> read_run_snapshot(const std::filesystem::path& dir);
+
+}  // namespace poet

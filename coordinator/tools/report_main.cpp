@@ -1,0 +1,321 @@
+// poet-report: the paper's metrics of a run directory (spec §3) as a table, JSON and PNG plots. Reads a
+// finished, live or resumed run and never changes it: it reads the last checkpoint and the log lines that
+// checkpoint has seen, so a run being written is reported as of its last checkpoint.
+//   poet-report --run-dir DIR [--json FILE|-] [--plots DIR] [--target ENV.json] [--coverage-samples FILE]
+
+#include <CLI/CLI.hpp>
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <nlohmann/json.hpp>
+
+#include "envgen/env_json.h"
+#include "report/coverage.h"
+#include "report/report_plots.h"
+#include "report/run_metrics.h"
+#include "report/run_snapshot.h"
+#include "tool_flags.h"
+
+namespace poet {
+namespace {
+namespace fs = std::filesystem;
+
+const char* mode_name(pb::RunConfig::Mode mode) {
+  switch (mode) {
+    case pb::RunConfig::POET:
+      return "POET";
+    case pb::RunConfig::POET_WITHOUT_TRANSFER:
+      return "POET without transfer";
+    case pb::RunConfig::ES_ALONE:
+      return "ES alone";
+    case pb::RunConfig::DIRECT_PATH:
+      return "direct-path curriculum";
+  }
+  return "?";
+}
+
+std::string level_name(size_t level) { return std::string(to_string(static_cast<Difficulty>(level))); }
+
+// Whether `path` is dir or lies inside it: the report writes nothing there.
+bool inside(const fs::path& path, const fs::path& dir) {
+  std::error_code ec;
+  const fs::path p = fs::weakly_canonical(fs::absolute(path), ec);
+  const fs::path d = fs::weakly_canonical(fs::absolute(dir), ec);
+  auto pi = p.begin();
+  for (auto di = d.begin(); di != d.end(); ++di, ++pi) {
+    if (di->empty()) continue;  // a trailing separator
+    if (pi == p.end() || *pi != *di) return false;
+  }
+  return true;
+}
+
+nlohmann::ordered_json to_json(const RunSnapshot& run, const RunMetrics& m, const Coverage& coverage,
+                               const std::string& samples_file) {
+  const RunState& state = run.state;
+  nlohmann::ordered_json out;
+  out["run_dir"] = run.dir.string();
+  out["mode"] = mode_name(state.config.mode());
+  out["seed"] = state.config.seed();
+  out["iterations_done"] = m.iterations_done;
+  out["iteration_limit"] = state.config.iterations();
+  out["finished"] = state.finished || m.iterations_done >= state.config.iterations();
+  out["live"] = run.live;
+  out["rollouts"] = state.counters.rollouts;
+  out["env_steps"] = state.counters.env_steps;
+  out["levels"] = nlohmann::ordered_json::array();
+  for (size_t l = 0; l < kLevels; ++l) {
+    const LevelSolveSummary& s = m.solve_summary[l];
+    out["levels"].push_back({{"level", level_name(l)},
+                             {"created", m.total.created[l]},
+                             {"passed_mc", m.total.passed_mc[l]},
+                             {"admitted", m.total.admitted[l]},
+                             {"solved", m.total.solved[l]},
+                             {"iterations_to_solve",
+                              {{"count", s.count}, {"mean", s.mean}, {"sd", s.sd}, {"min", s.min}, {"max", s.max}}}});
+  }
+  out["mutation_attempts"] = state.counters.children_tried;
+  out["duplicates"] = m.duplicates;
+  nlohmann::ordered_json over_time = nlohmann::ordered_json::array();
+  for (const LevelTimePoint& p : m.over_time)
+    over_time.push_back({{"iteration", p.iteration},
+                         {"created", p.total.created},
+                         {"passed_mc", p.total.passed_mc},
+                         {"admitted", p.total.admitted},
+                         {"solved", p.total.solved}});
+  out["over_time"] = std::move(over_time);
+  nlohmann::ordered_json solves = nlohmann::ordered_json::array();
+  for (const SolveTime& s : m.solve_times)
+    solves.push_back({{"pair", s.pair},
+                      {"level", level_name(static_cast<size_t>(s.level))},
+                      {"created", s.created},
+                      {"solved", s.solved},
+                      {"iterations", s.solved - s.created}});
+  out["solve_times"] = std::move(solves);
+  nlohmann::ordered_json accepted = nlohmann::ordered_json::array();
+  for (const AcceptedTransfer& t : m.accepted_transfers)
+    accepted.push_back({{"iteration", t.iteration},
+                        {"target", t.target},
+                        {"source", t.source},
+                        {"proposal", t.proposal},
+                        {"score", t.score},
+                        {"previous_score", t.previous_score},
+                        {"gain", t.score - t.previous_score}});
+  out["transfers"] = {{"replacement_attempts", m.transfer_attempts},
+                      {"accepted", m.transfer_successes},
+                      {"accepted_list", std::move(accepted)}};
+  out["annecs"] = {{"at_admission", {{"value", m.annecs_at_admission}, {"definition", kAnnecsAtAdmission}}},
+                   {"at_archiving", {{"value", m.annecs_at_archiving}, {"definition", kAnnecsAtArchiving}}}};
+  nlohmann::ordered_json cov = {{"seed", coverage.seed},
+                                {"samples_per_level", coverage.per_level},
+                                {"solved_at_challenging_or_above", coverage.solved.size()}};
+  for (size_t l = 0; l < 3; ++l)
+    cov["sum"][level_name(l + 1)] = coverage.sum[l] ? nlohmann::ordered_json(*coverage.sum[l]) : nullptr;
+  if (!samples_file.empty()) cov["samples_file"] = samples_file;
+  out["coverage"] = std::move(cov);
+  if (m.closest_to_target) {
+    const TargetDistance& t = *m.closest_to_target;
+    out["closest_to_target"] = {{"target", t.target_name},
+                                {"target_vector", t.target},
+                                {"distance", t.distance ? nlohmann::ordered_json(*t.distance) : nullptr},
+                                {"closest_solved", t.closest_env}};
+  }
+  nlohmann::ordered_json pairs = nlohmann::ordered_json::array();
+  for (const Pair& p : state.pairs)
+    pairs.push_back({{"id", p.id},
+                     {"env", p.env.encoding.name},
+                     {"vector", env_vector(p.env.encoding)},
+                     {"level", level_name(static_cast<size_t>(difficulty(p.env.encoding)))},
+                     {"created", p.created_iteration},
+                     {"parent", p.parent_id},
+                     {"first_theta_from", p.initial_source_pair},
+                     {"solved", p.solved() ? nlohmann::ordered_json(p.first_solved_iteration) : nullptr},
+                     {"retired", p.active() ? nullptr : nlohmann::ordered_json(p.retired_iteration)},
+                     {"best_score", p.best_score},
+                     {"latest_score", p.latest_score},
+                     {"es_steps", p.es_steps},
+                     {"transfers_in", p.transfers.size()}});
+  out["pairs"] = std::move(pairs);
+  return out;
+}
+
+void print_table(const RunSnapshot& run, const RunMetrics& m, const Coverage& coverage,
+                 const std::string& samples_file) {
+  const RunState& state = run.state;
+  std::printf("Run %s: %s, seed %llu, %d of %d iterations done%s\n", run.dir.c_str(), mode_name(state.config.mode()),
+              static_cast<unsigned long long>(state.config.seed()), m.iterations_done, state.config.iterations(),
+              run.live ? " (live: reported as of its last checkpoint)" : "");
+  std::printf("%lld rollouts, %.1f M environment steps\n\n", static_cast<long long>(state.counters.rollouts),
+              static_cast<double>(state.counters.env_steps) / 1e6);
+
+  std::printf(
+      "Environments by difficulty level (spec §1.4; the first environment counts as admitted at iteration 0)\n");
+  std::printf("  %-22s %8s %10s %9s %7s   %s\n", "level", "created", "passed MC", "admitted", "solved",
+              "iterations from creation to solution");
+  for (size_t l = 0; l < kLevels; ++l) {
+    const LevelSolveSummary& s = m.solve_summary[l];
+    char solve[96] = "-";
+    if (s.count > 0)
+      std::snprintf(solve, sizeof solve, "%.1f ± %.1f (min %d, max %d, n %d)", s.mean, s.sd, s.min, s.max, s.count);
+    std::printf("  %-22s %8lld %10lld %9lld %7lld   %s\n", level_name(l).c_str(),
+                static_cast<long long>(m.total.created[l]), static_cast<long long>(m.total.passed_mc[l]),
+                static_cast<long long>(m.total.admitted[l]), static_cast<long long>(m.total.solved[l]), solve);
+  }
+  std::printf("  (%lld mutation attempts, %lld of them duplicates of an archived environment)\n\n",
+              static_cast<long long>(state.counters.children_tried), static_cast<long long>(m.duplicates));
+
+  std::printf("Transfers: %lld replacement attempts, %lld accepted", static_cast<long long>(m.transfer_attempts),
+              static_cast<long long>(m.transfer_successes));
+  if (m.transfer_attempts > 0)
+    std::printf(" (%.1f %%)",
+                100.0 * static_cast<double>(m.transfer_successes) / static_cast<double>(m.transfer_attempts));
+  std::printf("\n");
+  const AcceptedTransfer* largest = nullptr;
+  for (const AcceptedTransfer& t : m.accepted_transfers)
+    if (!largest || t.score - t.previous_score > largest->score - largest->previous_score) largest = &t;
+  if (largest)
+    std::printf("  largest gain: %+.1f (pair %d from pair %d, %s, iteration %d: %.1f → %.1f)\n",
+                largest->score - largest->previous_score, largest->target, largest->source,
+                largest->proposal ? "proposal" : "direct", largest->iteration, largest->previous_score, largest->score);
+  std::printf("\nANNECS at admission: %lld — %s\n", static_cast<long long>(m.annecs_at_admission), kAnnecsAtAdmission);
+  std::printf("ANNECS at archiving: %lld — %s\n\n", static_cast<long long>(m.annecs_at_archiving), kAnnecsAtArchiving);
+
+  std::printf(
+      "Coverage (seed %llu, %d samples per level; sum of normalised distances to the nearest environment "
+      "solved at challenging or above, lower is better)\n",
+      static_cast<unsigned long long>(coverage.seed), coverage.per_level);
+  if (coverage.solved.empty()) {
+    std::printf("  not defined: the run solved no environment at challenging or above\n");
+  } else {
+    for (size_t l = 0; l < 3; ++l)
+      std::printf("  %-22s sum %.1f (mean %.3f)\n", level_name(l + 1).c_str(), *coverage.sum[l],
+                  *coverage.sum[l] / coverage.per_level);
+  }
+  if (!samples_file.empty()) std::printf("  samples and per-sample distances: %s\n", samples_file.c_str());
+  if (m.closest_to_target) {
+    const TargetDistance& t = *m.closest_to_target;
+    if (t.distance)
+      std::printf("\nClosest solved environment to the target %s: %s, normalised distance %.4f\n",
+                  t.target_name.c_str(), t.closest_env.c_str(), *t.distance);
+    else
+      std::printf("\nClosest solved environment to the target %s: none solved\n", t.target_name.c_str());
+  }
+
+  std::printf("\nPairs\n  %4s %-28s %-12s %7s %6s %6s %7s %7s %8s %8s %8s %5s\n", "id", "environment", "level",
+              "created", "parent", "from", "solved", "retired", "best", "latest", "ES steps", "xfers");
+  for (const Pair& p : state.pairs) {
+    const std::string level = level_name(static_cast<size_t>(difficulty(p.env.encoding)));
+    std::printf("  %4d %-28.28s %-12.12s %7d %6s %6s %7s %7s %8.1f %8.1f %8lld %5zu\n", p.id,
+                p.env.encoding.name.c_str(), level.c_str(), p.created_iteration,
+                p.parent_id == kNone ? "-" : std::to_string(p.parent_id).c_str(),
+                p.initial_source_pair == kNone ? "-" : std::to_string(p.initial_source_pair).c_str(),
+                p.solved() ? std::to_string(p.first_solved_iteration).c_str() : "-",
+                p.active() ? "-" : std::to_string(p.retired_iteration).c_str(), p.best_score, p.latest_score,
+                static_cast<long long>(p.es_steps), p.transfers.size());
+  }
+}
+
+std::string write_samples(const std::string& path, const Coverage& coverage) {
+  std::ofstream out(path);
+  if (!out) return "cannot write " + path + ": " + std::strerror(errno);
+  out << "level,roughness,gap_lo,gap_hi,stump_lo,stump_hi,distance\n";
+  char line[256];
+  for (const CoverageSample& s : coverage.samples) {
+    std::snprintf(line, sizeof line, "%s,%.17g,%.17g,%.17g,%.17g,%.17g,",
+                  level_name(static_cast<size_t>(s.level)).c_str(), s.e[0], s.e[1], s.e[2], s.e[3], s.e[4]);
+    out << line;
+    if (s.distance) {
+      std::snprintf(line, sizeof line, "%.17g", *s.distance);
+      out << line;
+    }
+    out << "\n";
+  }
+  out.flush();
+  return out ? "" : "cannot write " + path;
+}
+
+}  // namespace
+}  // namespace poet
+
+int main(int argc, char** argv) {
+  using namespace poet;
+  CLI::App app{"The paper's metrics of a run directory: a table, JSON and plots. Never changes the run."};
+  std::string run_dir, json_path, plots_dir, target_path, samples_path;
+  uint64_t coverage_seed = kDefaultCoverageSeed;
+  int per_level = kDefaultCoveragePerLevel;
+  app.add_option("--run-dir", run_dir, "Run directory (finished, live or resumed)")->required();
+  app.add_option("--json", json_path, "Write the metrics as JSON to this file ('-' for stdout, instead of the table)");
+  app.add_option("--plots", plots_dir, "Write scores.png, levels.png and tree.png into this directory");
+  app.add_option("--target", target_path,
+                 "Environment file (envs/*.env.json form): report the solved environment closest to it (default: a "
+                 "control run's own target)");
+  app.add_option("--coverage-samples", samples_path, "Write the coverage sample and per-sample distances (CSV) here");
+  app.add_option("--coverage-seed", coverage_seed, "Seed of the coverage sample");
+  app.add_option("--coverage-per-level", per_level, "Coverage samples per difficulty level (paper: 1000)")
+      ->check(CLI::Range(1, 1000000));
+  add_fingerprint_flag(app);
+  if (auto code = parse_command_line(app, argc, argv)) return *code;
+
+  for (const std::string* out : {&json_path, &plots_dir, &samples_path})
+    if (!out->empty() && *out != "-" && inside(*out, run_dir)) {
+      std::cerr << "poet-report: " << *out << " is inside the run directory " << run_dir
+                << "; the report never writes there\n";
+      return 2;
+    }
+  std::optional<EnvEncoding> target;
+  if (!target_path.empty()) {
+    Expected<EnvDef> def = load_env_def(target_path);
+    if (!def) {
+      std::cerr << "poet-report: --target: " << def.error() << "\n";
+      return 2;
+    }
+    target = def->encoding;
+  }
+  Expected<RunSnapshot> run = read_run_snapshot(run_dir);
+  if (!run) {
+    std::cerr << "poet-report: " << run.error() << "\n";
+    return 2;
+  }
+  const RunMetrics metrics = compute_run_metrics(*run, target);
+  const Coverage coverage = compute_coverage(run->state, coverage_seed, per_level);
+
+  if (!plots_dir.empty()) {
+    std::error_code ec;
+    fs::create_directories(plots_dir, ec);
+    if (ec) {
+      std::cerr << "poet-report: --plots: cannot make " << plots_dir << ": " << ec.message() << "\n";
+      return 1;
+    }
+    const fs::path dir(plots_dir);
+    for (const std::string& error : {write_score_plot((dir / "scores.png").string(), *run),
+                                     write_level_plot((dir / "levels.png").string(), *run, metrics),
+                                     write_tree_plot((dir / "tree.png").string(), *run, metrics)})
+      if (!error.empty()) {
+        std::cerr << "poet-report: " << error << "\n";
+        return 1;
+      }
+  }
+  if (!samples_path.empty())
+    if (std::string error = write_samples(samples_path, coverage); !error.empty()) {
+      std::cerr << "poet-report: " << error << "\n";
+      return 1;
+    }
+  if (json_path.empty()) {
+    print_table(*run, metrics, coverage, samples_path);
+    return 0;
+  }
+  const std::string text = to_json(*run, metrics, coverage, samples_path).dump(2) + "\n";
+  if (json_path == "-") {
+    std::cout << text;
+    return 0;
+  }
+  std::ofstream out(json_path);
+  if (!(out << text)) {
+    std::cerr << "poet-report: cannot write " << json_path << "\n";
+    return 1;
+  }
+  print_table(*run, metrics, coverage, samples_path);
+  return 0;
+}

@@ -1,0 +1,196 @@
+// poet-report as a real process on real run directories: a finished POET run started from the shipped walker
+// (children admitted and solved, transfers accepted), a live run being written, and damaged, incomplete and
+// newer-format directories. The report never changes a run directory: every test compares its files before and
+// after.
+
+#include <nlohmann/json.hpp>
+
+#include "coordinator_run_fixture.h"
+
+namespace poet::testing {
+namespace {
+
+// Starting from the walker that solves flat, its children are solved at admission within a few iterations.
+constexpr char kWalkerConfig[] = R"(mode: POET
+seed: 3
+iterations: 3
+es { perturbations: 2 init_lr: 0.02 }
+poet { mutation_interval: 1 transfer_interval: 2 repro_threshold: 200 mc_low: 50 mc_high: 340
+       max_children: 4 max_admitted: 2 active_cap: 4 }
+)";
+
+// Every file under dir (relative path → content and modification time).
+std::map<std::string, std::pair<std::string, fs::file_time_type>> files_of(const fs::path& dir) {
+  std::map<std::string, std::pair<std::string, fs::file_time_type>> files;
+  for (const auto& entry : fs::recursive_directory_iterator(dir))
+    if (entry.is_regular_file())
+      files[fs::relative(entry.path(), dir).string()] = {read(entry.path()), entry.last_write_time()};
+  return files;
+}
+
+class ReportProcessTest : public CoordinatorRunTest {
+ protected:
+  // Runs poet-report with args; its exit code, stdout in *out and stderr in *err.
+  int report(std::vector<std::string> args, std::string* out = nullptr, std::string* err = nullptr) {
+    const std::string name = "report" + std::to_string(reports_++);
+    const int code = wait(spawn(POET_REPORT_BIN, std::move(args), name));
+    if (out) *out = read(root_ / (name + ".out"));
+    if (err) *err = read(root_ / (name + ".err"));
+    return code;
+  }
+
+  fs::path walker_run() {
+    const fs::path config = root_ / "walker.textproto";
+    std::ofstream(config) << kWalkerConfig;
+    const fs::path dir = root_ / "walker";
+    const pid_t pid = spawn(POET_COORDINATOR_BIN,
+                            {"--config", config.string(), "--run-dir", dir.string(), "--start-from",
+                             std::string(POET_SOURCE_DIR) + "/data/walkers/flat-walker.json", "--threads", "2",
+                             "--quiet", "--status-address", ""},
+                            "walker");
+    EXPECT_EQ(wait(pid), 0) << read(root_ / "walker.err");
+    return dir;
+  }
+
+  int reports_ = 0;
+};
+
+TEST_F(ReportProcessTest, ReportsTheMetricsTableJsonAndPlotsOfAFinishedRunWithoutChangingIt) {
+  const fs::path run = walker_run();
+  const auto before = files_of(run);
+  std::string table, err;
+  ASSERT_EQ(report({"--run-dir", run.string(), "--json", (root_ / "report.json").string(), "--plots",
+                    (root_ / "plots").string(), "--coverage-samples", (root_ / "coverage.csv").string(),
+                    "--coverage-per-level", "50"},
+                   &table, &err),
+            0)
+      << err;
+  EXPECT_TRUE(before == files_of(run)) << "the run directory changed";
+
+  for (const char* line : {"Environments by difficulty level",
+                           "Transfers:", "ANNECS at admission:", "ANNECS at archiving:", "Coverage (seed", "Pairs"})
+    EXPECT_TRUE(contains(table, line)) << line << "\n" << table;
+
+  const nlohmann::json j = nlohmann::json::parse(read(root_ / "report.json"));
+  EXPECT_EQ(j["iterations_done"], 3);
+  EXPECT_EQ(j["finished"], true);
+  EXPECT_EQ(j["live"], false);
+  ASSERT_EQ(j["levels"].size(), 4u);
+  const nlohmann::json& easy = j["levels"][0];
+  EXPECT_EQ(easy["level"], "easy");
+  // the walker's children pass the MC, are admitted and solved; the pairs list agrees with the counts
+  EXPECT_GE(easy["created"].get<int>(), easy["passed_mc"].get<int>());
+  EXPECT_GE(easy["admitted"].get<int>(), 3);
+  EXPECT_EQ(easy["admitted"].get<size_t>(), j["pairs"].size());
+  EXPECT_GE(easy["solved"].get<int>(), 3);
+  EXPECT_EQ(easy["iterations_to_solve"]["count"], easy["solved"]);
+  EXPECT_EQ(j["over_time"].size(), 3u);
+  EXPECT_EQ(j["over_time"][2]["admitted"][0], easy["admitted"]);
+  EXPECT_GT(j["transfers"]["replacement_attempts"].get<int>(), 0);
+  EXPECT_EQ(j["transfers"]["accepted"].get<size_t>(), j["transfers"]["accepted_list"].size());
+  EXPECT_GE(j["annecs"]["at_admission"]["value"].get<int>(), 2);
+  EXPECT_FALSE(j["annecs"]["at_admission"]["definition"].get<std::string>().empty());
+  EXPECT_FALSE(j["annecs"]["at_archiving"]["definition"].get<std::string>().empty());
+  EXPECT_TRUE(j["coverage"]["sum"]["challenging"].is_null());  // nothing solved at challenging or above
+
+  // coverage sample: a header and 50 samples per level, none with a distance
+  const std::string samples = read(root_ / "coverage.csv");
+  EXPECT_EQ(std::count(samples.begin(), samples.end(), '\n'), 151);
+  EXPECT_TRUE(contains(samples, "very challenging,"));
+  for (const char* plot : {"scores.png", "levels.png", "tree.png"}) {
+    const std::string png = read(root_ / "plots" / plot);
+    ASSERT_GT(png.size(), 1000u) << plot;
+    EXPECT_EQ(png.substr(1, 3), "PNG") << plot;
+  }
+  // the table is the same run: "--json -" prints the same JSON
+  std::string json_out;
+  ASSERT_EQ(report({"--run-dir", run.string(), "--json", "-", "--coverage-per-level", "50", "--coverage-samples",
+                    (root_ / "coverage.csv").string(), "--plots", (root_ / "plots").string()},
+                   &json_out),
+            0);
+  EXPECT_EQ(nlohmann::json::parse(json_out), j);
+}
+
+TEST_F(ReportProcessTest, ReportsALiveRunAsOfItsLastCheckpoint) {
+  std::ofstream(config_) << config_with("iterations: 6", "iterations: 100000");
+  const fs::path run = root_ / "live";
+  const pid_t pid = coordinator(run, {"--threads", "1"}, "live");
+  const auto deadline = std::chrono::steady_clock::now() + 60s;
+  int reported = 0, live = 0, last = -1;
+  while (reported < 5 && std::chrono::steady_clock::now() < deadline) {
+    std::this_thread::sleep_for(200ms);
+    if (!fs::exists(run / "checkpoint.pb")) continue;
+    std::string out, err;
+    ASSERT_EQ(report({"--run-dir", run.string(), "--json", "-", "--coverage-per-level", "5"}, &out, &err), 0) << err;
+    const nlohmann::json j = nlohmann::json::parse(out);
+    EXPECT_GE(j["iterations_done"].get<int>(), last);  // never goes back
+    last = j["iterations_done"].get<int>();
+    live += j["live"].get<bool>() ? 1 : 0;
+    reported += 1;
+  }
+  EXPECT_EQ(reported, 5);
+  EXPECT_EQ(live, 5);
+  // the run went on undisturbed and stops as an interrupted run does (130), with its checkpoint
+  ASSERT_EQ(::kill(pid, SIGTERM), 0);
+  EXPECT_EQ(wait(pid), 130) << read(root_ / "live.err");
+  std::string out;
+  ASSERT_EQ(report({"--run-dir", run.string(), "--json", "-", "--coverage-per-level", "5"}, &out), 0);
+  EXPECT_EQ(nlohmann::json::parse(out)["live"], false);
+}
+
+TEST_F(ReportProcessTest, BadRunDirectoriesGetAClearMessageAndExitTwo) {
+  const fs::path good = threads_run();
+  const auto copy = [&](const std::string& name) {
+    const fs::path dir = root_ / name;
+    fs::copy(good, dir, fs::copy_options::recursive);
+    return dir;
+  };
+  const auto expect_error = [&](const fs::path& dir, const std::string& message) {
+    const auto before = fs::exists(dir) ? files_of(dir) : decltype(files_of(dir)){};
+    std::string err;
+    EXPECT_EQ(report({"--run-dir", dir.string()}, nullptr, &err), 2) << dir;
+    EXPECT_TRUE(contains(err, message)) << "expected \"" << message << "\" in: " << err;
+    if (fs::exists(dir)) EXPECT_TRUE(before == files_of(dir)) << dir << " changed";
+  };
+  expect_error(root_ / "absent", "no such directory");
+  fs::create_directories(root_ / "empty");
+  expect_error(root_ / "empty", "is not a run directory");
+  const fs::path starting = root_ / "starting";
+  fs::create_directories(starting);
+  fs::copy_file(good / "config.textproto", starting / "config.textproto");
+  expect_error(starting, "has not saved its first checkpoint");
+
+  const auto patch = [](const fs::path& file, size_t offset, char value) {
+    std::fstream f(file, std::ios::in | std::ios::out | std::ios::binary);
+    f.seekp(static_cast<std::streamoff>(offset));
+    f.put(value);
+  };
+  const fs::path damaged = copy("damaged");
+  patch(damaged / "checkpoint.pb", 200, '\x5a');
+  expect_error(damaged, "checksum");
+  const fs::path newer = copy("newer");
+  patch(newer / "checkpoint.pb", 8, '\x02');  // format version 2
+  expect_error(newer, "format version 2");
+  const fs::path truncated = copy("truncated");
+  fs::resize_file(truncated / "events.jsonl", fs::file_size(truncated / "events.jsonl") / 2);
+  expect_error(truncated, "truncated or damaged");
+  const fs::path garbled = copy("garbled");
+  patch(garbled / "events.jsonl", 0, '#');
+  expect_error(garbled, "events.jsonl:1: not an event");
+  const fs::path no_stats = copy("no_stats");
+  fs::remove(no_stats / "pair_stats.csv");
+  expect_error(no_stats, "pair_stats.csv: cannot read");
+
+  // outputs inside the run directory are refused before anything is read or written
+  const auto before = files_of(good);
+  std::string err;
+  EXPECT_EQ(report({"--run-dir", good.string(), "--plots", (good / "plots").string()}, nullptr, &err), 2);
+  EXPECT_TRUE(contains(err, "inside the run directory")) << err;
+  EXPECT_EQ(report({"--run-dir", good.string(), "--json", (good / "r.json").string()}, nullptr, &err), 2);
+  EXPECT_TRUE(before == files_of(good));
+  EXPECT_EQ(report({"--run-dir", good.string(), "--target", (root_ / "nope.env.json").string()}, nullptr, &err), 2);
+  EXPECT_TRUE(contains(err, "--target")) << err;
+}
+
+}  // namespace
+}  // namespace poet::testing

@@ -1,0 +1,127 @@
+#include "report/run_metrics.h"
+
+#include <gtest/gtest.h>
+
+namespace poet {
+namespace {
+
+EnvEncoding course(const std::string& name, double roughness, double gap_hi, double stump_hi) {
+  EnvEncoding e;
+  e.name = name;
+  e.roughness = roughness;
+  if (gap_hi > 0) e.pit_gap = Interval{0, gap_hi};
+  if (stump_hi > 0) {
+    e.stump_height = Interval{0, stump_hi};
+    e.stump_width = Interval{1, 2};
+    e.stump_float = Interval{0, 1};
+  }
+  return e;
+}
+
+Pair pair(int id, EnvEncoding env, int created, int parent, int solved = kNone, int retired = kNone) {
+  Pair p;
+  p.id = id;
+  p.env.encoding = std::move(env);
+  p.created_iteration = created;
+  p.parent_id = parent;
+  p.first_solved_iteration = solved;
+  p.retired_iteration = retired;
+  return p;
+}
+
+nlohmann::json child(int iteration, std::array<double, 5> e, bool passed, bool duplicate = false) {
+  nlohmann::json event = {{"iteration", iteration}, {"event", "child"}, {"e", e}, {"duplicate", duplicate}};
+  if (!duplicate) event["passed_mc"] = passed;
+  return event;
+}
+
+// A run of 10 iterations: flat solved at 3; an easy child admitted at 4, solved at 6, retired at 8; a
+// challenging child (roughness 5) admitted at 5, solved at 9; a very challenging one (gap 6.4, stumps 2.6)
+// admitted at 8, unsolved; one accepted transfer.
+RunSnapshot sample_run() {
+  RunSnapshot run;
+  run.state.config.set_iterations(20);
+  run.state.next_iteration = 10;
+  run.state.pairs = {pair(0, course("flat", 0, 0, 0), 0, kNone, 3), pair(1, course("easy", 0.4, 0.8, 0.4), 4, 0, 6, 8),
+                     pair(2, course("rough", 5.0, 0, 0), 5, 1, 9), pair(3, course("very", 0, 6.4, 2.6), 8, 2)};
+  run.state.counters.transfer_attempts = 6;
+  run.state.counters.transfer_successes = 1;
+  run.events = {child(4, {0.4, 0, 0.8, 0, 0.4}, true),
+                child(4, {0.6, 0, 0.8, 0, 0.4}, false),
+                child(4, {0.4, 0, 0.8, 0, 0.4}, false, true),
+                child(5, {5.0, 0, 0, 0, 0}, true),
+                child(8, {0, 0, 6.4, 0, 2.6}, true),
+                {{"iteration", 6},
+                 {"event", "transfer"},
+                 {"target", 1},
+                 {"source", 0},
+                 {"proposal", true},
+                 {"score", 250.0},
+                 {"previous_score", 210.0}}};
+  return run;
+}
+
+TEST(RunMetrics, CountsPerLevelAndOverTime) {
+  const RunMetrics m = compute_run_metrics(sample_run());
+  EXPECT_EQ(m.iterations_done, 10);
+  EXPECT_EQ(m.total.created, (std::array<int64_t, 4>{2, 1, 1, 0}));
+  EXPECT_EQ(m.total.passed_mc, (std::array<int64_t, 4>{1, 1, 1, 0}));
+  EXPECT_EQ(m.total.admitted, (std::array<int64_t, 4>{2, 1, 1, 0}));
+  EXPECT_EQ(m.total.solved, (std::array<int64_t, 4>{2, 1, 0, 0}));
+  EXPECT_EQ(m.duplicates, 1);
+  ASSERT_EQ(m.over_time.size(), 10u);
+  EXPECT_EQ(m.over_time[3].total.solved[0], 1);  // flat at 3
+  EXPECT_EQ(m.over_time[5].total.solved[0], 1);
+  EXPECT_EQ(m.over_time[6].total.solved[0], 2);  // the easy child at 6
+  EXPECT_EQ(m.over_time[4].total.admitted[0], 2);
+  EXPECT_EQ(m.over_time[9].total, m.total);
+}
+
+TEST(RunMetrics, IterationsFromCreationToSolutionPerLevel) {
+  const RunMetrics m = compute_run_metrics(sample_run());
+  ASSERT_EQ(m.solve_times.size(), 3u);
+  EXPECT_EQ(m.solve_summary[0].count, 2);
+  EXPECT_DOUBLE_EQ(m.solve_summary[0].mean, 2.5);  // 3 and 2
+  EXPECT_NEAR(m.solve_summary[0].sd, 0.7071067811865476, 1e-12);
+  EXPECT_EQ(m.solve_summary[0].min, 2);
+  EXPECT_EQ(m.solve_summary[0].max, 3);
+  EXPECT_EQ(m.solve_summary[1].count, 1);
+  EXPECT_DOUBLE_EQ(m.solve_summary[1].mean, 4);
+  EXPECT_EQ(m.solve_summary[1].sd, 0);
+  EXPECT_EQ(m.solve_summary[2].count, 0);
+}
+
+TEST(RunMetrics, TransfersAndBothAnnecsDefinitions) {
+  const RunMetrics m = compute_run_metrics(sample_run());
+  EXPECT_EQ(m.transfer_attempts, 6);
+  EXPECT_EQ(m.transfer_successes, 1);
+  ASSERT_EQ(m.accepted_transfers.size(), 1u);
+  EXPECT_EQ(m.accepted_transfers[0].target, 1);
+  EXPECT_DOUBLE_EQ(m.accepted_transfers[0].score - m.accepted_transfers[0].previous_score, 40);
+  EXPECT_EQ(m.annecs_at_admission, 2);  // children 1 and 2 solved; the first pair is not a child
+  EXPECT_EQ(m.annecs_at_archiving, 1);  // only child 1 retired, solved
+}
+
+TEST(RunMetrics, ClosestToTargetAmongSolvedEnvironments) {
+  const EnvEncoding target = course("target", 6.0, 0, 0);
+  const RunMetrics m = compute_run_metrics(sample_run(), target);
+  ASSERT_TRUE(m.closest_to_target);
+  EXPECT_EQ(m.closest_to_target->closest_env, "rough");
+  ASSERT_TRUE(m.closest_to_target->distance);
+  EXPECT_NEAR(*m.closest_to_target->distance, (1.0 / 8) / std::sqrt(5.0), 1e-12);
+  // POET without a target: none; ES alone: its own target, unsolved
+  EXPECT_FALSE(compute_run_metrics(sample_run()).closest_to_target);
+  RunSnapshot es_alone;
+  es_alone.state.config.set_mode(pb::RunConfig::ES_ALONE);
+  es_alone.state.config.mutable_es_alone()->mutable_target()->mutable_encoding()->set_name("hard");
+  es_alone.state.config.mutable_es_alone()->mutable_target()->mutable_encoding()->set_roughness(3);
+  es_alone.state.next_iteration = 2;
+  es_alone.state.pairs = {pair(0, course("hard", 3, 0, 0), 0, kNone)};
+  const RunMetrics alone = compute_run_metrics(es_alone);
+  ASSERT_TRUE(alone.closest_to_target);
+  EXPECT_EQ(alone.closest_to_target->target_name, "hard");
+  EXPECT_FALSE(alone.closest_to_target->distance);
+}
+
+}  // namespace
+}  // namespace poet
