@@ -452,15 +452,19 @@ TEST_F(CoordinatorProcessTest, StartFromGivesTheFirstPairThePolicysTheta) {
 
 // The README's main job, cut short: the quick preset admits children (iteration 6) and accepts a transfer
 // (iteration 8) within its first nine iterations.
-TEST_F(CoordinatorProcessTest, QuickPresetAdmitsChildrenAndAcceptsTransfers) {
+// The README's main job: from the shipped walker, children with obstacles are admitted and solved (walkers on
+// courses harder than flat) and transfers accepted within its first reproductions.
+TEST_F(CoordinatorProcessTest, QuickPresetFromTheWalkerSolvesChildrenAndAcceptsTransfers) {
   const fs::path dir = root_ / "quick";
-  const Outcome outcome = run({"--config", preset("quick.textproto"), "--run-dir", dir.string(), "--threads", "2",
+  const Outcome outcome = run({"--config", preset("quick.textproto"), "--run-dir", dir.string(), "--start-from",
+                               std::string(POET_SOURCE_DIR) + "/data/walkers/flat-walker.json", "--threads", "2",
                                "--quiet", "--iterations", "9"},
                               "quick");
   ASSERT_EQ(outcome.code, 0) << outcome.err;
   const std::string events = read(dir / "events.jsonl");
   EXPECT_TRUE(contains(events, R"("event":"pair_created")")) << events;
   EXPECT_TRUE(contains(events, R"("event":"transfer")")) << events;
+  EXPECT_TRUE(contains(events, R"("event":"solved","pair":1)")) << events;
   EXPECT_TRUE(fs::exists(dir / "envs" / "pair-1.env.json"));
   EXPECT_TRUE(fs::exists(dir / "policies" / "pair-1.best.json"));
 }
