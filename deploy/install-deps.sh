@@ -1,17 +1,58 @@
 #!/usr/bin/env bash
-# Installs every build and test dependency of poet from Debian's archive. Idempotent: packages already
-# present are left alone, so the README, CI and the Dockerfile can all call it unconditionally.
+# Installs the dependencies of poet from Debian's archive. Idempotent: packages already present are left alone,
+# so the README, CI and the Dockerfile can all call it unconditionally.
+#   install-deps.sh             every build and test dependency (the default)
+#   install-deps.sh --runtime   only the shared libraries the built binaries load (the Docker image's runtime stage)
+#   add --list to print the selected packages, one a line, and install nothing
+# The runtime names carry the libraries' sonames of Debian 12 (bookworm); tests/deploy checks them against the
+# libraries the binaries actually link.
 set -euo pipefail
 
-packages=(
+build_packages=(
   build-essential cmake pkg-config
   libbox2d-dev libeigen3-dev
   libprotobuf-dev protobuf-compiler zlib1g-dev
   libzmq3-dev cppzmq-dev libcpp-httplib-dev
   libspdlog-dev libfmt-dev
-  nlohmann-json3-dev libcli11-dev libcairo2-dev
+  nlohmann-json3-dev libcli11-dev libcairo2-dev libgif-dev
   libgtest-dev libgmock-dev libbenchmark-dev
+  # the deploy tests: the compose file is checked with Debian's docker-compose, the manifests with PyYAML, and
+  # the coordinator's healthcheck (curl on /healthz) is run as written
+  docker-compose python3-yaml curl
 )
+
+runtime_packages=(
+  libc6 libgcc-s1 libstdc++6 zlib1g
+  libbox2d2 libprotobuf32 libzmq5 libcpp-httplib0.11
+  libspdlog1.10 libfmt9 libcairo2 libgif7
+)
+
+runtime=0
+list=0
+for arg in "$@"; do
+  case "$arg" in
+    --runtime) runtime=1 ;;
+    --list) list=1 ;;
+    -h | --help)
+      sed -n '2,8p' "$0" | sed 's/^# \{0,1\}//'
+      exit 0
+      ;;
+    *)
+      echo "install-deps: unknown option $arg (expected --runtime, --list)" >&2
+      exit 2
+      ;;
+  esac
+done
+
+if [ "$runtime" -eq 1 ]; then
+  packages=("${runtime_packages[@]}")
+else
+  packages=("${build_packages[@]}")
+fi
+if [ "$list" -eq 1 ]; then
+  printf '%s\n' "${packages[@]}"
+  exit 0
+fi
 
 missing=()
 for p in "${packages[@]}"; do
