@@ -19,7 +19,7 @@ std::string short_name(const std::string& name, size_t max = 22) {
 
 }  // namespace
 
-std::string write_score_plot(const std::string& path, const RunSnapshot& run) {
+Expected<std::string> render_score_plot(PictureFormat format, const RunSnapshot& run) {
   Chart chart;
   chart.title = "Evaluation score of each pair's agent on its own environment";
   chart.x_label = "iteration";
@@ -45,11 +45,10 @@ std::string write_score_plot(const std::string& path, const RunSnapshot& run) {
   // a legend entry per pair while they fit; beyond that the colours repeat and the legend would mislead
   if (chart.series.size() > 20)
     for (ChartSeries& s : chart.series) s.label.clear();
-  return write_picture(path, 1000, 520, [&](cairo_t* cr) { draw_chart(cr, 0, 0, 1000, 520, chart); });
+  return render_picture(format, 1000, 520, [&](cairo_t* cr) { draw_chart(cr, 0, 0, 1000, 520, chart); });
 }
 
-std::string write_level_plot(const std::string& path, const RunSnapshot& run, const RunMetrics& metrics) {
-  (void)run;
+Expected<std::string> render_level_plot(PictureFormat format, const RunMetrics& metrics) {
   Chart chart;
   chart.title = "Environments per difficulty level (cumulative)";
   chart.x_label = "iteration";
@@ -81,10 +80,10 @@ std::string write_level_plot(const std::string& path, const RunSnapshot& run, co
       chart.series.push_back(std::move(s));
     }
   }
-  return write_picture(path, 1000, 480, [&](cairo_t* cr) { draw_chart(cr, 0, 0, 1000, 480, chart); });
+  return render_picture(format, 1000, 480, [&](cairo_t* cr) { draw_chart(cr, 0, 0, 1000, 480, chart); });
 }
 
-std::string write_tree_plot(const std::string& path, const RunSnapshot& run, const RunMetrics& metrics) {
+Expected<std::string> render_tree_plot(PictureFormat format, const RunSnapshot& run, const RunMetrics& metrics) {
   const RunState& state = run.state;
   // rows in depth-first order from the roots, children in creation order, so each subtree is a block of rows
   std::map<int, std::vector<int>> children;
@@ -108,7 +107,7 @@ std::string write_tree_plot(const std::string& path, const RunSnapshot& run, con
   const auto px = [&](double iteration) { return left + iteration / last * (width - left - right_margin); };
   const auto py = [&](int id) { return top + row_height * (row.at(id) + 0.5); };
 
-  return write_picture(path, width, height, [&](cairo_t* cr) {
+  return render_picture(format, width, height, [&](cairo_t* cr) {
     cairo_set_source_rgb(cr, 0.1, 0.1, 0.1);
     draw_text(cr, "Environment tree: rows are pairs from creation to retirement (green once solved)", width / 2, 20, 14,
               0.5, true);
@@ -186,6 +185,65 @@ std::string write_tree_plot(const std::string& path, const RunSnapshot& run, con
       const std::string name(to_string(static_cast<Difficulty>(level)));
       draw_text(cr, name, lx + 12, height - 8, 10);
       lx += 24 + 5.5 * static_cast<double>(name.size());
+    }
+  });
+}
+
+Expected<std::string> render_rose_plot(PictureFormat format, const RunSnapshot& run) {
+  const RunState& state = run.state;
+  const int n = static_cast<int>(state.pairs.size());
+  const int columns = std::min(std::max(n, 1), 6);
+  const int rows = std::max(1, (n + columns - 1) / columns);
+  const double cell = 170, top = 40;
+  const double width = columns * cell, height = top + rows * cell;
+  static const char* const kAxes[5] = {"roughness", "gap lo", "gap hi", "stump lo", "stump hi"};
+  return render_picture(format, width, height, [&](cairo_t* cr) {
+    cairo_set_source_rgb(cr, 0.1, 0.1, 0.1);
+    draw_text(cr, "Environment parameters per pair (axes scaled to the maxima 8, 8, 8, 3, 3; green: solved)", width / 2,
+              22, 13, 0.5, true);
+    for (int i = 0; i < n; ++i) {
+      const Pair& p = state.pairs[static_cast<size_t>(i)];
+      const double cx = (i % columns + 0.5) * cell, cy = top + (i / columns + 0.5) * cell + 6;
+      const double radius = cell * 0.32;
+      const auto corner = [&](size_t axis, double fraction) {
+        const double angle = -M_PI / 2 + 2 * M_PI * static_cast<double>(axis) / 5;
+        return std::pair{cx + std::cos(angle) * radius * fraction, cy + std::sin(angle) * radius * fraction};
+      };
+      // rings and spokes
+      cairo_set_line_width(cr, 0.8);
+      cairo_set_source_rgb(cr, 0.85, 0.85, 0.85);
+      for (double ring : {0.25, 0.5, 0.75, 1.0}) {
+        for (size_t a = 0; a <= 5; ++a) {
+          const auto [x, y] = corner(a % 5, ring);
+          a == 0 ? cairo_move_to(cr, x, y) : cairo_line_to(cr, x, y);
+        }
+        cairo_stroke(cr);
+      }
+      for (size_t a = 0; a < 5; ++a) {
+        const auto [x, y] = corner(a, 1.0);
+        cairo_move_to(cr, cx, cy);
+        cairo_line_to(cr, x, y);
+        cairo_stroke(cr);
+        const auto [lx, ly] = corner(a, 1.28);
+        cairo_set_source_rgb(cr, 0.45, 0.45, 0.45);
+        draw_text(cr, kAxes[a], lx, ly + 3, 8.5, 0.5);
+        cairo_set_source_rgb(cr, 0.85, 0.85, 0.85);
+      }
+      // the environment's 5-vector
+      const EnvVector e = env_vector(p.env.encoding);
+      for (size_t a = 0; a <= 5; ++a) {
+        const auto [x, y] = corner(a % 5, std::clamp(e[a % 5] / kEnvVectorMax[a % 5], 0.0, 1.0));
+        a == 0 ? cairo_move_to(cr, x, y) : cairo_line_to(cr, x, y);
+      }
+      const Rgb colour = p.solved() ? Rgb{0.2, 0.65, 0.25} : Rgb{0.55, 0.55, 0.55};
+      set_colour(cr, colour, 0.35);
+      cairo_fill_preserve(cr);
+      set_colour(cr, colour);
+      cairo_set_line_width(cr, 1.5);
+      cairo_stroke(cr);
+      cairo_set_source_rgb(cr, 0.15, 0.15, 0.15);
+      draw_text(cr, "#" + std::to_string(p.id) + (p.active() ? "" : " (retired)"), cx, cy - cell * 0.5 + 14, 10, 0.5,
+                true);
     }
   });
 }

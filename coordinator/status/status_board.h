@@ -23,6 +23,7 @@
 #include "expected.h"
 #include "poet/run_state.h"
 #include "status.pb.h"
+#include "status/run_picture_cache.h"
 
 namespace poet {
 
@@ -115,6 +116,8 @@ class StatusBoard {
   std::string metrics_text() const;
 
   const std::filesystem::path& run_dir() const { return run_dir_; }
+  // GET /pictures/... and /pairs/{id}/episode: rendered from the run directory's last checkpoint.
+  const RunPictureCache& pictures() const { return pictures_; }
 
  private:
   // A pair without its θ and optimizer, and the environment's difficulty, computed once.
@@ -168,6 +171,7 @@ class StatusBoard {
   void read_stats_line(std::string_view line) const;
 
   const std::filesystem::path run_dir_;
+  const RunPictureCache pictures_{run_dir_};
   const Clock clock_;
   const std::chrono::steady_clock::time_point created_;
 

@@ -3,13 +3,19 @@
 #include <algorithm>
 #include <charconv>
 #include <exception>
+#include <functional>
 #include <optional>
 #include <string_view>
+
+#include "status/dashboard.h"
 
 namespace poet {
 namespace {
 
-constexpr char kEndpoints[] = "/status, /pairs, /pairs/{id}, /archive, /workers, /events?since=N, /metrics, /healthz";
+constexpr char kEndpoints[] =
+    "/, /status, /pairs, /pairs/{id}, /pairs/{id}/episode, /archive, /workers, /events?since=N, /metrics, /healthz, "
+    "/pictures/{scores,levels,tree,rose}.{png,svg}, /pictures/pairs/{id}/{course,filmstrip}.{png,svg}, "
+    "/pictures/pairs/{id}/walk.gif";
 constexpr int64_t kMaxSince = int64_t{1} << 50;  // far beyond any events file; keeps since + limit exact
 
 StatusResponse json(const google::protobuf::Message& message) { return {200, kJsonType, status_json(message), ""}; }
@@ -25,6 +31,48 @@ std::optional<int> pair_id(std::string_view path) {
   const auto [end, ec] = std::from_chars(digits.data(), digits.data() + digits.size(), id);
   if (ec != std::errc() || end != digits.data() + digits.size()) return std::nullopt;
   return id;
+}
+
+// "/pairs/17/episode" → 17.
+std::optional<int> episode_pair(std::string_view path) {
+  constexpr std::string_view kSuffix = "/episode";
+  if (!path.ends_with(kSuffix)) return std::nullopt;
+  return pair_id(path.substr(0, path.size() - kSuffix.size()));
+}
+
+// "/pictures/tree.svg" or "/pictures/pairs/3/walk.gif" → the request; nullopt for any other path. A known
+// kind in an encoding it has not is still a request (the renderer names the problem).
+std::optional<PictureRequest> picture_path(std::string_view path) {
+  constexpr std::string_view kPrefix = "/pictures/";
+  if (!path.starts_with(kPrefix)) return std::nullopt;
+  std::string_view rest = path.substr(kPrefix.size());
+  PictureRequest request;
+  if (rest.starts_with("pairs/")) {
+    const size_t slash = rest.find('/', 6);
+    if (slash == std::string_view::npos) return std::nullopt;
+    const std::optional<int> id = pair_id(std::string("/pairs/") + std::string(rest.substr(6, slash - 6)));
+    if (!id) return std::nullopt;
+    request.pair = *id;
+    rest = rest.substr(slash + 1);
+  }
+  const size_t dot = rest.rfind('.');
+  if (dot == std::string_view::npos) return std::nullopt;
+  const std::optional<PictureKind> kind = picture_kind(rest.substr(0, dot));
+  const std::optional<PictureEncoding> encoding = picture_encoding(rest.substr(dot + 1));
+  if (!kind || !encoding || needs_pair(*kind) != (request.pair >= 0)) return std::nullopt;
+  request.kind = *kind;
+  request.encoding = *encoding;
+  return request;
+}
+
+// A picture or an episode: 404 for a pair the run does not have, 503 while the run directory has no checkpoint
+// to draw from (or cannot be read).
+StatusResponse rendered(const StatusBoard& board, int pair, const std::function<Expected<std::string>()>& render,
+                        const std::string& content_type) {
+  if (pair >= 0 && !board.pair(pair)) return error_response(404, "no pair " + std::to_string(pair));
+  Expected<std::string> bytes = render();
+  if (!bytes) return error_response(503, bytes.error());
+  return {200, content_type, std::move(*bytes), ""};
 }
 
 // A query parameter that must be a whole number in [lo, hi] when given: the value, the fallback when absent, or
@@ -67,6 +115,15 @@ StatusResponse get(const StatusBoard& board, const std::string& path, const Quer
     if (!events) return error_response(500, events.error());
     return json(*events);
   }
+  if (path == "/") return {200, kHtmlType, std::string(dashboard_html()), ""};
+  if (const std::optional<PictureRequest> picture = picture_path(path)) {
+    if (std::optional<std::string> problem = encoding_problem(*picture)) return error_response(400, *problem);
+    return rendered(
+        board, picture->pair, [&] { return board.pictures().picture(*picture); }, mime_type(picture->encoding));
+  }
+  if (const std::optional<int> episode = episode_pair(path))
+    return rendered(
+        board, *episode, [&] { return board.pictures().episode_json(*episode); }, kJsonType);
   const std::optional<int> id = pair_id(path);
   const std::optional<status::PairDetail> detail = board.pair(*id);  // the caller checked the path is known
   if (!detail) return error_response(404, "no pair " + std::to_string(*id));
@@ -87,7 +144,7 @@ StatusResponse status_response(const StatusBoard& board, const std::string& meth
                                const QueryParams& query) {
   static constexpr std::string_view kPaths[] = {"/status", "/pairs",   "/archive", "/workers",
                                                 "/events", "/metrics", "/healthz"};
-  bool known = pair_id(path).has_value();
+  bool known = path == "/" || pair_id(path) || episode_pair(path) || picture_path(path);
   for (std::string_view p : kPaths) known = known || path == p;
   if (!known) {
     // the path is echoed only in part: it is the client's text

@@ -2,8 +2,12 @@
 // The status socket's endpoints as a pure function: a request's method, path and query in, the response out.
 // No sockets here (status_server.h carries it over HTTP), so every route, error and header is tested directly.
 //
-//   GET /status /pairs /pairs/{id} /archive /workers /events?since=N[&limit=M]   application/json
-//   GET /metrics (Prometheus text format 0.0.4)  /healthz ("ok")                   text/plain
+//   GET /                                                       the dashboard (text/html, every asset inside it)
+//   GET /status /pairs /pairs/{id} /pairs/{id}/episode /archive /workers /events?since=N[&limit=M] /healthz
+//                                                               application/json
+//   GET /metrics                                                Prometheus text format 0.0.4
+//   GET /pictures/{scores,levels,tree,rose}.{png,svg}           the run's plots (report_plots.h)
+//   GET /pictures/pairs/{id}/{course,filmstrip}.{png,svg}, /pictures/pairs/{id}/walk.gif   a pair's episode
 //
 // HEAD is GET without the body. Another method on one of these paths is 405 with Allow: GET, HEAD; any other
 // path is 404; a bad query value is 400. Every error has a JSON body: {"status": 404, "error": "..."}.
@@ -16,6 +20,7 @@
 namespace poet {
 
 inline constexpr char kJsonType[] = "application/json";
+inline constexpr char kHtmlType[] = "text/html; charset=utf-8";
 inline constexpr char kMetricsType[] = "text/plain; version=0.0.4; charset=utf-8";
 inline constexpr char kAllowedMethods[] = "GET, HEAD";
 

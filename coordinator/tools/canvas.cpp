@@ -3,6 +3,10 @@
 #include <cairo-svg.h>
 
 #include <array>
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
+#include <fstream>
 #include <memory>
 
 namespace poet {
@@ -22,18 +26,33 @@ Rgb palette_colour(size_t index) {
   return kPalette[index % kPalette.size()];
 }
 
-std::string write_picture(const std::string& path, double width, double height,
-                          const std::function<void(cairo_t*)>& draw) {
+PictureFormat format_of(const std::string& path) {
+  return path.size() > 4 && path.compare(path.size() - 4, 4, ".png") == 0 ? PictureFormat::kPng : PictureFormat::kSvg;
+}
+
+namespace {
+
+cairo_status_t append_bytes(void* closure, const unsigned char* data, unsigned int length) {
+  static_cast<std::string*>(closure)->append(reinterpret_cast<const char*>(data), length);
+  return CAIRO_STATUS_SUCCESS;
+}
+
+}  // namespace
+
+Expected<std::string> render_picture(PictureFormat format, double width, double height,
+                                     const std::function<void(cairo_t*)>& draw) {
   if (!(width >= 1 && height >= 1 && width <= 32768 && height <= 32768))
-    return "cannot draw " + path + ": size " + std::to_string(width) + " × " + std::to_string(height) + " out of range";
-  const bool png = path.size() > 4 && path.compare(path.size() - 4, 4, ".png") == 0;
+    return Unexpected{"picture size " + std::to_string(width) + " × " + std::to_string(height) + " out of range"};
+  std::string bytes;
+  const bool png = format == PictureFormat::kPng;
   using SurfacePtr = std::unique_ptr<cairo_surface_t, decltype(&cairo_surface_destroy)>;
   SurfacePtr surface(
       png ? cairo_image_surface_create(CAIRO_FORMAT_RGB24, static_cast<int>(width), static_cast<int>(height))
-          : cairo_svg_surface_create(path.c_str(), width, height),
+          : cairo_svg_surface_create_for_stream(append_bytes, &bytes, width, height),
       &cairo_surface_destroy);
   if (cairo_surface_status(surface.get()) != CAIRO_STATUS_SUCCESS)
-    return "cannot create " + path + ": " + cairo_status_to_string(cairo_surface_status(surface.get()));
+    return Unexpected{std::string("cannot make a picture: ") +
+                      cairo_status_to_string(cairo_surface_status(surface.get()))};
   {
     std::unique_ptr<cairo_t, decltype(&cairo_destroy)> ctx(cairo_create(surface.get()), &cairo_destroy);
     cairo_set_source_rgb(ctx.get(), 1, 1, 1);
@@ -41,12 +60,40 @@ std::string write_picture(const std::string& path, double width, double height,
     draw(ctx.get());
   }
   cairo_surface_flush(surface.get());
-  if (png && cairo_surface_write_to_png(surface.get(), path.c_str()) != CAIRO_STATUS_SUCCESS)
-    return "cannot write " + path;
+  if (png && cairo_surface_write_to_png_stream(surface.get(), append_bytes, &bytes) != CAIRO_STATUS_SUCCESS)
+    return Unexpected{"cannot encode the PNG"};
   cairo_surface_finish(surface.get());
   if (cairo_surface_status(surface.get()) != CAIRO_STATUS_SUCCESS)
-    return "cannot write " + path + ": " + cairo_status_to_string(cairo_surface_status(surface.get()));
+    return Unexpected{std::string("cannot draw the picture: ") +
+                      cairo_status_to_string(cairo_surface_status(surface.get()))};
+  return bytes;
+}
+
+std::string write_bytes(const std::string& path, const std::string& bytes) {
+  const std::string temporary = path + ".tmp";
+  {
+    std::ofstream out(temporary, std::ios::binary | std::ios::trunc);
+    if (!out) return "cannot write " + path + ": " + std::strerror(errno);
+    out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+    out.flush();
+    if (!out) {
+      std::remove(temporary.c_str());
+      return "cannot write " + path + ": " + std::strerror(errno);
+    }
+  }
+  if (std::rename(temporary.c_str(), path.c_str()) != 0) {
+    const std::string reason = std::strerror(errno);
+    std::remove(temporary.c_str());
+    return "cannot write " + path + ": " + reason;
+  }
   return {};
+}
+
+std::string write_picture(const std::string& path, double width, double height,
+                          const std::function<void(cairo_t*)>& draw) {
+  Expected<std::string> bytes = render_picture(format_of(path), width, height, draw);
+  if (!bytes) return "cannot draw " + path + ": " + bytes.error();
+  return write_bytes(path, *bytes);
 }
 
 void draw_text(cairo_t* cr, const std::string& text, double x, double y, double size, double anchor_x, bool bold) {

@@ -4,6 +4,8 @@
 
 #include <string>
 
+#include "canvas.h"
+#include "expected.h"
 #include "rollout.h"
 #include "walker/terrain.h"
 
@@ -13,6 +15,10 @@ struct PictureOptions {
   double pixels_per_metre = 20.0;
   int snapshot_every = 50;  // draw the walker's outline every this many steps (0: never)
 };
+
+// The picture's bytes in the given format, or an error message.
+Expected<std::string> render_course_picture(PictureFormat format, const Terrain& terrain, const RolloutResult& episode,
+                                            const PictureOptions& options = {});
 
 // Writes an SVG file (or PNG when the path ends in ".png"). Returns an error message, or empty on success.
 std::string write_course_picture(const std::string& path, const Terrain& terrain, const RolloutResult& episode,

@@ -2,6 +2,7 @@
 //   poetctl [--address HOST:PORT] [--json] status | pairs | pair ID | archive | workers | events [--since N]
 //           [--limit M] | metrics
 //   poetctl keygen DIR coordinator|worker [--authorize]
+//   poetctl picture KIND OUT [--pair ID] [--run-dir DIR]   a picture of the live run, or of a run directory's files
 // Prints a table for people, or with --json the server's JSON as it came (/metrics is always its text). The
 // address is --address, else $POET_STATUS, else 127.0.0.1:8580. Exit codes: 0 done, 1 the coordinator cannot be
 // reached or answered with an error (the message names the address), 2 bad command line or address.
@@ -24,7 +25,9 @@
 #include <string>
 #include <vector>
 
+#include "canvas.h"
 #include "curve_keys.h"
+#include "report/run_pictures.h"
 #include "status.pb.h"
 #include "status/status_server.h"
 #include "tool_flags.h"
@@ -280,6 +283,7 @@ std::string failure(httplib::Error error) {
 struct Command {
   std::string path;                                    // with its query
   std::function<bool(const std::string& body)> print;  // false: the body could not be read
+  std::function<int(const std::string& body)> save;    // instead of printing: keeps the body (an exit code)
 };
 
 int run(const std::string& address, const Command& command, bool json) {
@@ -306,6 +310,7 @@ int run(const std::string& address, const Command& command, bool json) {
     std::fprintf(stderr, "poetctl: %s: %d %s\n", what.c_str(), result->status, message.c_str());
     return kExitUnreachable;
   }
+  if (command.save) return command.save(result->body);
   if (json || !command.print) {
     std::fwrite(result->body.data(), 1, result->body.size(), stdout);
     return 0;
@@ -320,6 +325,61 @@ std::function<bool(const std::string&)> printer(void (*print)(const Message&), c
     if (message) print(*message);
     return message.has_value();
   };
+}
+
+// poetctl picture: the request an output path asks for, or the message saying why not.
+Expected<PictureRequest> picture_request(const std::string& kind_name, const std::string& out, int pair) {
+  const std::optional<PictureKind> kind = picture_kind(kind_name);
+  if (!kind) return Unexpected{"no picture \"" + kind_name + "\"; one of " + picture_kind_names()};
+  const size_t dot = out.rfind('.');
+  const std::optional<PictureEncoding> encoding =
+      dot == std::string::npos ? std::nullopt : picture_encoding(out.substr(dot + 1));
+  if (!encoding) return Unexpected{out + ": the file name must end in .png, .svg or .gif"};
+  if (needs_pair(*kind) && pair < 0) return Unexpected{kind_name + " is a pair's picture: give --pair ID"};
+  if (!needs_pair(*kind) && pair >= 0) return Unexpected{kind_name + " is the run's picture: no --pair"};
+  const PictureRequest request{*kind, *encoding, pair};
+  if (std::optional<std::string> problem = encoding_problem(request)) return Unexpected{*problem};
+  return request;
+}
+
+// The picture from a run directory's files (read only), written to out.
+int picture_from_files(const std::string& run_dir, const PictureRequest& request, const std::string& out) {
+  std::error_code ec;
+  const auto canonical_out = std::filesystem::weakly_canonical(std::filesystem::absolute(out), ec);
+  const auto canonical_dir = std::filesystem::weakly_canonical(std::filesystem::absolute(run_dir), ec);
+  if (canonical_out.parent_path().string().starts_with(canonical_dir.string())) {
+    std::fprintf(stderr, "poetctl picture: %s is inside the run directory; pictures are written elsewhere\n",
+                 out.c_str());
+    return kExitUsage;
+  }
+  Expected<RunSnapshot> run = read_run_snapshot(run_dir);
+  if (!run) {
+    std::fprintf(stderr, "poetctl picture: %s\n", run.error().c_str());
+    return kExitUsage;
+  }
+  if (request.pair >= 0 && !run->state.find(request.pair)) {
+    std::fprintf(stderr, "poetctl picture: no pair %d in %s (pairs 0 to %zu)\n", request.pair, run_dir.c_str(),
+                 run->state.pairs.size() - 1);
+    return kExitUsage;
+  }
+  Expected<std::string> bytes = render_run_picture(*run, request);
+  if (!bytes) {
+    std::fprintf(stderr, "poetctl picture: %s\n", bytes.error().c_str());
+    return kExitUnreachable;
+  }
+  if (std::string error = write_bytes(out, *bytes); !error.empty()) {
+    std::fprintf(stderr, "poetctl picture: %s\n", error.c_str());
+    return kExitUnreachable;
+  }
+  std::printf("%s: %s, %zu bytes\n", out.c_str(), mime_type(request.encoding), bytes->size());
+  return 0;
+}
+
+// The path of the status socket's picture endpoint for a request.
+std::string picture_path(const std::string& kind_name, const std::string& out, const PictureRequest& request) {
+  const std::string extension = out.substr(out.rfind('.') + 1);
+  if (request.pair >= 0) return "/pictures/pairs/" + std::to_string(request.pair) + "/" + kind_name + "." + extension;
+  return "/pictures/" + kind_name + "." + extension;
 }
 
 // poetctl keygen: a fresh pair from libzmq's generator, written without replacing any key.
@@ -396,8 +456,28 @@ int main(int argc, char** argv) {
       ->required()
       ->check(CLI::IsMember({"coordinator", "worker"}));
   keygen->add_flag("--authorize", authorize, "Also copy the public key into DIR/authorized/ (workers only)");
+  std::string picture_kind_name, picture_out, picture_run_dir;
+  int picture_pair = -1;
+  auto* picture = app.add_subcommand(
+      "picture",
+      "A picture of the run: scores, levels, tree, rose (.png/.svg) or a pair's course, filmstrip (.png/.svg) "
+      "or walk (.gif); from the live coordinator, or from a run directory's files with --run-dir");
+  picture->add_option("kind", picture_kind_name, "scores, levels, tree, rose, course, filmstrip or walk")->required();
+  picture->add_option("out", picture_out, "The file to write: .png, .svg or .gif")->required();
+  picture->add_option("--pair", picture_pair, "The pair (course, filmstrip, walk)")->check(CLI::Range(0, 999'999'999));
+  picture->add_option("--run-dir", picture_run_dir, "Draw from this run directory's files instead (never changed)");
   if (const std::optional<int> code = parse_command_line(app, argc, argv)) return *code;
   if (keygen->parsed()) return make_keys(key_dir, key_name, authorize);
+  std::optional<PictureRequest> picture_request_made;
+  if (picture->parsed()) {
+    Expected<PictureRequest> request = picture_request(picture_kind_name, picture_out, picture_pair);
+    if (!request) {
+      std::fprintf(stderr, "poetctl picture: %s\n", request.error().c_str());
+      return kExitUsage;
+    }
+    if (!picture_run_dir.empty()) return picture_from_files(picture_run_dir, *request, picture_out);
+    picture_request_made = *request;
+  }
 
   if (address.empty()) {
     const char* from_environment = std::getenv(kAddressVariable);
@@ -418,5 +498,16 @@ int main(int argc, char** argv) {
     command = {path, printer(&print_events, "/events")};
   }
   if (metrics->parsed()) command = {"/metrics", nullptr};
+  if (picture_request_made) {
+    command.path = picture_path(picture_kind_name, picture_out, *picture_request_made);
+    command.save = [&](const std::string& body) {
+      if (std::string error = write_bytes(picture_out, body); !error.empty()) {
+        std::fprintf(stderr, "poetctl picture: %s\n", error.c_str());
+        return kExitUnreachable;
+      }
+      std::printf("%s: %zu bytes from %s\n", picture_out.c_str(), body.size(), command.path.c_str());
+      return 0;
+    };
+  }
   return run(address, command, json);
 }

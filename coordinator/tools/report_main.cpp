@@ -289,13 +289,18 @@ int main(int argc, char** argv) {
       return 1;
     }
     const fs::path dir(plots_dir);
-    for (const std::string& error : {write_score_plot((dir / "scores.png").string(), *run),
-                                     write_level_plot((dir / "levels.png").string(), *run, metrics),
-                                     write_tree_plot((dir / "tree.png").string(), *run, metrics)})
+    const std::pair<const char*, Expected<std::string>> plots[] = {
+        {"scores.png", render_score_plot(PictureFormat::kPng, *run)},
+        {"levels.png", render_level_plot(PictureFormat::kPng, metrics)},
+        {"tree.png", render_tree_plot(PictureFormat::kPng, *run, metrics)}};
+    for (const auto& [name, bytes] : plots) {
+      const std::string path = (dir / name).string();
+      const std::string error = bytes ? write_bytes(path, *bytes) : "cannot draw " + path + ": " + bytes.error();
       if (!error.empty()) {
         std::cerr << "poet-report: " << error << "\n";
         return 1;
       }
+    }
   }
   if (!samples_path.empty())
     if (std::string error = write_samples(samples_path, coverage); !error.empty()) {

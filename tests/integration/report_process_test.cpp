@@ -1,9 +1,10 @@
-// poet-report as a real process on real run directories: a finished POET run started from the shipped walker
-// (children admitted and solved, transfers accepted), a live run being written, and damaged, incomplete and
-// newer-format directories. The report never changes a run directory: every test compares its files before and
-// after.
+// poet-report and `poetctl picture` as real processes on real run directories: a finished POET run started from
+// the shipped walker (children admitted and solved, transfers accepted), a live run being written (pictures from
+// its status socket), and damaged, incomplete and newer-format directories. Neither changes a run directory:
+// every test compares its files before and after.
 
 #include <nlohmann/json.hpp>
+#include <tuple>
 
 #include "coordinator_run_fixture.h"
 
@@ -30,13 +31,19 @@ std::map<std::string, std::pair<std::string, fs::file_time_type>> files_of(const
 
 class ReportProcessTest : public CoordinatorRunTest {
  protected:
-  // Runs poet-report with args; its exit code, stdout in *out and stderr in *err.
-  int report(std::vector<std::string> args, std::string* out = nullptr, std::string* err = nullptr) {
-    const std::string name = "report" + std::to_string(reports_++);
-    const int code = wait(spawn(POET_REPORT_BIN, std::move(args), name));
+  // Runs a tool with args to its end; its exit code, stdout in *out and stderr in *err.
+  int tool(const char* binary, std::vector<std::string> args, std::string* out, std::string* err) {
+    const std::string name = "tool" + std::to_string(runs_++);
+    const int code = wait(spawn(binary, std::move(args), name));
     if (out) *out = read(root_ / (name + ".out"));
     if (err) *err = read(root_ / (name + ".err"));
     return code;
+  }
+  int report(std::vector<std::string> args, std::string* out = nullptr, std::string* err = nullptr) {
+    return tool(POET_REPORT_BIN, std::move(args), out, err);
+  }
+  int poetctl(std::vector<std::string> args, std::string* out = nullptr, std::string* err = nullptr) {
+    return tool(POETCTL_BIN, std::move(args), out, err);
   }
 
   fs::path walker_run() {
@@ -52,8 +59,15 @@ class ReportProcessTest : public CoordinatorRunTest {
     return dir;
   }
 
-  int reports_ = 0;
+  int runs_ = 0;
 };
+
+// The magic bytes of each picture format.
+bool is_png(const std::string& bytes) { return bytes.size() > 100 && bytes.compare(0, 8, "\x89PNG\r\n\x1a\n") == 0; }
+bool is_svg(const std::string& bytes) { return bytes.size() > 100 && contains(bytes.substr(0, 200), "<svg"); }
+bool is_gif(const std::string& bytes) {
+  return bytes.size() > 1000 && bytes.compare(0, 6, "GIF89a") == 0 && contains(bytes, "NETSCAPE2.0");
+}
 
 TEST_F(ReportProcessTest, ReportsTheMetricsTableJsonAndPlotsOfAFinishedRunWithoutChangingIt) {
   const fs::path run = walker_run();
@@ -190,6 +204,89 @@ TEST_F(ReportProcessTest, BadRunDirectoriesGetAClearMessageAndExitTwo) {
   EXPECT_TRUE(before == files_of(good));
   EXPECT_EQ(report({"--run-dir", good.string(), "--target", (root_ / "nope.env.json").string()}, nullptr, &err), 2);
   EXPECT_TRUE(contains(err, "--target")) << err;
+}
+
+TEST_F(ReportProcessTest, PicturesOfEveryKindFromARunDirectoryWithoutChangingIt) {
+  const fs::path run = walker_run();
+  const auto before = files_of(run);
+  const fs::path out = root_ / "pictures";
+  fs::create_directories(out);
+  for (const auto& [kind, file, pair] :
+       std::vector<std::tuple<std::string, std::string, std::string>>{{"scores", "scores.png", ""},
+                                                                      {"levels", "levels.svg", ""},
+                                                                      {"tree", "tree.png", ""},
+                                                                      {"rose", "rose.svg", ""},
+                                                                      {"course", "course.png", "1"},
+                                                                      {"filmstrip", "filmstrip.svg", "2"},
+                                                                      {"walk", "walk.gif", "1"}}) {
+    std::vector<std::string> args = {"picture", kind, (out / file).string(), "--run-dir", run.string()};
+    if (!pair.empty()) args.insert(args.end(), {"--pair", pair});
+    std::string err;
+    ASSERT_EQ(poetctl(args, nullptr, &err), 0) << kind << ": " << err;
+    const std::string bytes = read(out / file);
+    if (file.ends_with(".png")) EXPECT_TRUE(is_png(bytes)) << file;
+    if (file.ends_with(".svg")) EXPECT_TRUE(is_svg(bytes)) << file;
+    if (file.ends_with(".gif")) EXPECT_TRUE(is_gif(bytes)) << file;
+  }
+  EXPECT_TRUE(before == files_of(run)) << "the run directory changed";
+
+  // bad requests: a clear message and a non-zero exit, nothing written
+  const auto refused = [&](std::vector<std::string> args, const std::string& message) {
+    std::string err;
+    EXPECT_NE(poetctl(args, nullptr, &err), 0) << message;
+    EXPECT_TRUE(contains(err, message)) << "expected \"" << message << "\" in: " << err;
+  };
+  refused({"picture", "course", (out / "x.png").string(), "--pair", "99", "--run-dir", run.string()}, "no pair 99");
+  refused({"picture", "walk", (out / "x.png").string(), "--pair", "1", "--run-dir", run.string()}, "GIF");
+  refused({"picture", "tree", (out / "x.png").string(), "--pair", "1", "--run-dir", run.string()}, "no --pair");
+  refused({"picture", "course", (out / "x.png").string(), "--run-dir", run.string()}, "give --pair");
+  refused({"picture", "bogus", (out / "x.png").string(), "--run-dir", run.string()}, "one of scores");
+  fs::create_directories(root_ / "empty");
+  refused({"picture", "tree", (out / "x.png").string(), "--run-dir", (root_ / "empty").string()},
+          "is not a run directory");
+  const fs::path damaged = root_ / "damaged";
+  fs::copy(run, damaged, fs::copy_options::recursive);
+  {
+    std::fstream f(damaged / "checkpoint.pb", std::ios::in | std::ios::out | std::ios::binary);
+    f.seekp(300);
+    f.put('\x17');
+  }
+  refused({"picture", "tree", (out / "x.png").string(), "--run-dir", damaged.string()}, "checksum");
+  refused({"picture", "tree", (run / "tree.png").string(), "--run-dir", run.string()}, "inside the run directory");
+  EXPECT_FALSE(fs::exists(out / "x.png"));
+  EXPECT_TRUE(before == files_of(run));
+}
+
+TEST_F(ReportProcessTest, PicturesFromALiveCoordinatorsStatusSocket) {
+  std::ofstream(config_) << config_with("iterations: 6", "iterations: 100000");
+  const fs::path run = root_ / "live";
+  const pid_t pid = coordinator(run, {"--threads", "1"}, "live");
+  const std::string port = await_log("live", "status: http://127\\.0\\.0\\.1:([0-9]+)/status");
+  ASSERT_FALSE(port.empty());
+  const std::string address = "127.0.0.1:" + port;
+  const auto deadline = std::chrono::steady_clock::now() + 60s;
+  while (!fs::exists(run / "checkpoint.pb") && std::chrono::steady_clock::now() < deadline)
+    std::this_thread::sleep_for(50ms);
+  for (const auto& [kind, file, pair] : std::vector<std::tuple<std::string, std::string, std::string>>{
+           {"tree", "tree.svg", ""}, {"scores", "scores.png", ""}, {"walk", "walk.gif", "0"}}) {
+    std::vector<std::string> args = {"--address", address, "picture", kind, (root_ / file).string()};
+    if (!pair.empty()) args.insert(args.end(), {"--pair", pair});
+    std::string err;
+    ASSERT_EQ(poetctl(args, nullptr, &err), 0) << kind << ": " << err;
+  }
+  EXPECT_TRUE(is_svg(read(root_ / "tree.svg")));
+  EXPECT_TRUE(is_png(read(root_ / "scores.png")));
+  EXPECT_TRUE(is_gif(read(root_ / "walk.gif")));
+  std::string err;
+  EXPECT_EQ(
+      poetctl({"--address", address, "picture", "course", (root_ / "c.svg").string(), "--pair", "4242"}, nullptr, &err),
+      1);
+  EXPECT_TRUE(contains(err, "404")) << err;
+  ASSERT_EQ(::kill(pid, SIGTERM), 0);
+  EXPECT_EQ(wait(pid), 130);
+  // the coordinator gone: a clear message, not a hang
+  EXPECT_EQ(poetctl({"--address", address, "picture", "tree", (root_ / "t.svg").string()}, nullptr, &err), 1);
+  EXPECT_TRUE(contains(err, "cannot reach the coordinator")) << err;
 }
 
 }  // namespace

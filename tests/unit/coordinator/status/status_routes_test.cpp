@@ -106,8 +106,26 @@ TEST_F(StatusRoutesTest, EventsTakeSinceAndLimit) {
 }
 
 TEST_F(StatusRoutesTest, UnknownPathsAre404) {
-  for (const char* path : {"/", "/nope", "/status/", "/pairs/", "/pairs/x", "/pairs/-1", "/pairs/01",
-                           "/pairs/1234567890", "/STATUS", "/events/1", "/pairs/0/x"}) {
+  for (const char* path : {"/nope",
+                           "/status/",
+                           "/pairs/",
+                           "/pairs/x",
+                           "/pairs/-1",
+                           "/pairs/01",
+                           "/pairs/1234567890",
+                           "/STATUS",
+                           "/events/1",
+                           "/pairs/0/x",
+                           "/pictures/",
+                           "/pictures/nope.png",
+                           "/pictures/tree",
+                           "/pictures/tree.jpg",
+                           "/pictures/course.svg",
+                           "/pictures/pairs/0/tree.svg",
+                           "/pictures/pairs/x/walk.gif",
+                           "/pictures/pairs/0/walk",
+                           "/pairs/x/episode",
+                           "/pairs/0/episode/"}) {
     const StatusResponse r = get(path);
     EXPECT_EQ(r.status, 404) << path;
     const json body = error_body(r);
@@ -120,6 +138,26 @@ TEST_F(StatusRoutesTest, UnknownPathsAre404) {
   // a client's bytes that are not UTF-8 still make a JSON body
   EXPECT_EQ(get("/x\xff").status, 404);
   error_body(get("/x\xff"));
+}
+
+TEST_F(StatusRoutesTest, TheDashboardIsServedAtTheRoot) {
+  const StatusResponse r = get("/");
+  EXPECT_EQ(r.status, 200);
+  EXPECT_EQ(r.content_type, kHtmlType);
+  EXPECT_NE(r.body.find("<html"), std::string::npos);
+  for (const char* remote : {"src=\"http", "href=\"http", "url(http", "@import", "fetch(\"http", "//cdn"})
+    EXPECT_EQ(r.body.find(remote), std::string::npos) << "the page loads nothing from elsewhere: " << remote;
+}
+
+TEST_F(StatusRoutesTest, PicturesAndEpisodesNeedACheckpointAndAKnownPair) {
+  // the board's run directory holds no checkpoint yet: 503, saying why
+  const StatusResponse early = get("/pictures/tree.svg");
+  EXPECT_EQ(early.status, 503);
+  EXPECT_NE(error_body(early)["error"].get<std::string>().find("checkpoint.pb"), std::string::npos) << early.body;
+  EXPECT_EQ(get("/pictures/pairs/7/walk.gif").status, 404);  // no such pair
+  EXPECT_EQ(get("/pairs/7/episode").status, 404);
+  EXPECT_EQ(get("/pictures/pairs/0/walk.png").status, 400);  // the walk is a GIF
+  EXPECT_EQ(get("/pictures/tree.gif").status, 400);
 }
 
 TEST_F(StatusRoutesTest, OtherMethodsOnKnownPathsAre405) {

@@ -1,0 +1,102 @@
+#include "report/run_pictures.h"
+
+#include <array>
+
+#include "config/run_config.h"
+#include "course_picture.h"
+#include "poet/rollout_batch.h"
+#include "report/pair_episode.h"
+#include "report/report_plots.h"
+#include "report/run_metrics.h"
+#include "walker_pictures.h"
+
+namespace poet {
+namespace {
+
+constexpr std::array<std::pair<PictureKind, std::string_view>, 7> kKinds = {{{PictureKind::kScores, "scores"},
+                                                                             {PictureKind::kLevels, "levels"},
+                                                                             {PictureKind::kTree, "tree"},
+                                                                             {PictureKind::kRose, "rose"},
+                                                                             {PictureKind::kCourse, "course"},
+                                                                             {PictureKind::kFilmstrip, "filmstrip"},
+                                                                             {PictureKind::kWalk, "walk"}}};
+
+}  // namespace
+
+std::optional<PictureKind> picture_kind(std::string_view name) {
+  for (const auto& [kind, text] : kKinds)
+    if (text == name) return kind;
+  return std::nullopt;
+}
+
+std::optional<PictureEncoding> picture_encoding(std::string_view extension) {
+  if (extension == "png") return PictureEncoding::kPng;
+  if (extension == "svg") return PictureEncoding::kSvg;
+  if (extension == "gif") return PictureEncoding::kGif;
+  return std::nullopt;
+}
+
+bool needs_pair(PictureKind kind) {
+  return kind == PictureKind::kCourse || kind == PictureKind::kFilmstrip || kind == PictureKind::kWalk;
+}
+
+std::string picture_kind_names() {
+  std::string names;
+  for (const auto& [kind, text] : kKinds) names += (names.empty() ? "" : ", ") + std::string(text);
+  return names;
+}
+
+const char* mime_type(PictureEncoding encoding) {
+  switch (encoding) {
+    case PictureEncoding::kPng:
+      return "image/png";
+    case PictureEncoding::kSvg:
+      return "image/svg+xml";
+    case PictureEncoding::kGif:
+      return "image/gif";
+  }
+  return "application/octet-stream";
+}
+
+Expected<RolloutResult> pair_episode(const RunSnapshot& run, int pair) {
+  const Pair* p = run.state.find(pair);
+  if (!p) return Unexpected{"no pair " + std::to_string(pair) + " in " + run.dir.string()};
+  RolloutLimits limits;
+  limits.max_steps = episode_settings(run.state.config).max_steps;
+  limits.record_trajectory = true;
+  return rollout(p->theta, p->env, walker_options(run.state.config), limits);
+}
+
+std::optional<std::string> encoding_problem(const PictureRequest& request) {
+  const bool gif = request.encoding == PictureEncoding::kGif;
+  if (gif == (request.kind == PictureKind::kWalk)) return std::nullopt;
+  return gif ? "only the walk is a GIF (the others are .png or .svg)" : "the walk is a GIF (.gif)";
+}
+
+Expected<std::string> render_run_picture(const RunSnapshot& run, const PictureRequest& request) {
+  if (std::optional<std::string> problem = encoding_problem(request)) return Unexpected{*problem};
+  const PictureFormat format = request.encoding == PictureEncoding::kSvg ? PictureFormat::kSvg : PictureFormat::kPng;
+  switch (request.kind) {
+    case PictureKind::kScores:
+      return render_score_plot(format, run);
+    case PictureKind::kLevels:
+      return render_level_plot(format, compute_run_metrics(run));
+    case PictureKind::kTree:
+      return render_tree_plot(format, run, compute_run_metrics(run));
+    case PictureKind::kRose:
+      return render_rose_plot(format, run);
+    case PictureKind::kCourse:
+    case PictureKind::kFilmstrip:
+    case PictureKind::kWalk:
+      break;
+  }
+  Expected<RolloutResult> episode = pair_episode(run, request.pair);
+  if (!episode) return Unexpected{episode.error()};
+  const Pair& pair = *run.state.find(request.pair);
+  const Terrain terrain = Terrain::generate(pair.env);
+  if (request.kind == PictureKind::kFilmstrip) return render_filmstrip(format, terrain, *episode);
+  if (request.kind == PictureKind::kWalk) return render_walk_gif(terrain, *episode);
+  return render_course_picture(format, terrain, *episode);
+}
+
+}  // namespace poet
