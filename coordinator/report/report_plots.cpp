@@ -194,7 +194,7 @@ Expected<std::string> render_rose_plot(PictureFormat format, const RunSnapshot& 
   const int n = static_cast<int>(state.pairs.size());
   const int columns = std::min(std::max(n, 1), 6);
   const int rows = std::max(1, (n + columns - 1) / columns);
-  const double cell = 170, top = 40;
+  const double cell = 180, top = 40;
   const double width = columns * cell, height = top + rows * cell;
   static const char* const kAxes[5] = {"roughness", "gap lo", "gap hi", "stump lo", "stump hi"};
   return render_picture(format, width, height, [&](cairo_t* cr) {
@@ -203,7 +203,7 @@ Expected<std::string> render_rose_plot(PictureFormat format, const RunSnapshot& 
               22, 13, 0.5, true);
     for (int i = 0; i < n; ++i) {
       const Pair& p = state.pairs[static_cast<size_t>(i)];
-      const double cx = (i % columns + 0.5) * cell, cy = top + (i / columns + 0.5) * cell + 6;
+      const double cx = (i % columns + 0.5) * cell, cy = top + (i / columns + 0.5) * cell - 4;
       const double radius = cell * 0.32;
       const auto corner = [&](size_t axis, double fraction) {
         const double angle = -M_PI / 2 + 2 * M_PI * static_cast<double>(axis) / 5;
@@ -242,8 +242,9 @@ Expected<std::string> render_rose_plot(PictureFormat format, const RunSnapshot& 
       cairo_set_line_width(cr, 1.5);
       cairo_stroke(cr);
       cairo_set_source_rgb(cr, 0.15, 0.15, 0.15);
-      draw_text(cr, "#" + std::to_string(p.id) + (p.active() ? "" : " (retired)"), cx, cy - cell * 0.5 + 14, 10, 0.5,
-                true);
+      draw_text(
+          cr, "#" + std::to_string(p.id) + " " + short_name(p.env.encoding.name, 20) + (p.active() ? "" : " (retired)"),
+          cx, cy + cell * 0.47, 9.5, 0.5, true);
     }
   });
 }
