@@ -37,6 +37,10 @@ struct RunSnapshot {
   bool live = false;                   // another process holds run.lock: the run is being written
 };
 
+// Whether path is dir or lies inside it (both made absolute, symbolic links resolved where they exist): the
+// analysis tools write nothing there.
+bool is_inside(const std::filesystem::path& path, const std::filesystem::path& dir);
+
 // Reads dir. Errors name the file and say what is wrong: a missing directory or file, a damaged or truncated
 // checkpoint or log, a checkpoint of a newer format than this build reads.
 Expected<RunSnapshot> read_run_snapshot(const std::filesystem::path& dir);

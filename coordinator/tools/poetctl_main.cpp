@@ -28,6 +28,7 @@
 #include "canvas.h"
 #include "curve_keys.h"
 #include "report/run_pictures.h"
+#include "report/run_snapshot.h"
 #include "status.pb.h"
 #include "status/status_server.h"
 #include "tool_flags.h"
@@ -344,10 +345,7 @@ Expected<PictureRequest> picture_request(const std::string& kind_name, const std
 
 // The picture from a run directory's files (read only), written to out.
 int picture_from_files(const std::string& run_dir, const PictureRequest& request, const std::string& out) {
-  std::error_code ec;
-  const auto canonical_out = std::filesystem::weakly_canonical(std::filesystem::absolute(out), ec);
-  const auto canonical_dir = std::filesystem::weakly_canonical(std::filesystem::absolute(run_dir), ec);
-  if (canonical_out.parent_path().string().starts_with(canonical_dir.string())) {
+  if (is_inside(out, run_dir)) {
     std::fprintf(stderr, "poetctl picture: %s is inside the run directory; pictures are written elsewhere\n",
                  out.c_str());
     return kExitUsage;

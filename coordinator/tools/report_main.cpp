@@ -39,19 +39,6 @@ const char* mode_name(pb::RunConfig::Mode mode) {
 
 std::string level_name(size_t level) { return std::string(to_string(static_cast<Difficulty>(level))); }
 
-// Whether `path` is dir or lies inside it: the report writes nothing there.
-bool inside(const fs::path& path, const fs::path& dir) {
-  std::error_code ec;
-  const fs::path p = fs::weakly_canonical(fs::absolute(path), ec);
-  const fs::path d = fs::weakly_canonical(fs::absolute(dir), ec);
-  auto pi = p.begin();
-  for (auto di = d.begin(); di != d.end(); ++di, ++pi) {
-    if (di->empty()) continue;  // a trailing separator
-    if (pi == p.end() || *pi != *di) return false;
-  }
-  return true;
-}
-
 nlohmann::ordered_json to_json(const RunSnapshot& run, const RunMetrics& m, const Coverage& coverage,
                                const std::string& samples_file) {
   const RunState& state = run.state;
@@ -259,7 +246,7 @@ int main(int argc, char** argv) {
   if (auto code = parse_command_line(app, argc, argv)) return *code;
 
   for (const std::string* out : {&json_path, &plots_dir, &samples_path})
-    if (!out->empty() && *out != "-" && inside(*out, run_dir)) {
+    if (!out->empty() && *out != "-" && is_inside(*out, run_dir)) {
       std::cerr << "poet-report: " << *out << " is inside the run directory " << run_dir
                 << "; the report never writes there\n";
       return 2;
