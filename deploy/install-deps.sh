@@ -19,6 +19,8 @@ build_packages=(
   # the deploy tests: the compose file is checked with Debian's docker-compose, the manifests with PyYAML, and
   # the coordinator's healthcheck (curl on /healthz) is run as written
   docker-compose python3-yaml curl
+  # the dashboard tests: the status page in headless chromium, driven by its WebDriver (same version)
+  chromium chromium-driver
 )
 
 runtime_packages=(
