@@ -104,8 +104,20 @@ TEST(RunConfig, QuickPresetIsSmall) {
   EXPECT_LE(c.poet().mutation_interval(), 10);
   EXPECT_LE(c.poet().transfer_interval(), 10);
   EXPECT_LT(c.poet().mutation_interval(), c.iterations());
-  EXPECT_LE(c.poet().active_cap(), 5);
+  EXPECT_LE(c.poet().active_cap(), 6);
   EXPECT_GE(c.poet().max_admitted(), 1);
+}
+
+// The small preset keeps the paper's criteria and shrinks only the budget.
+TEST(RunConfig, SmallPresetKeepsThePapersCriteria) {
+  const pb::RunConfig c = load_preset("small.textproto");
+  EXPECT_EQ(c.mode(), pb::RunConfig::POET);
+  EXPECT_EQ(c.poet().repro_threshold(), 200);
+  EXPECT_EQ(c.poet().mc_low(), 50);
+  EXPECT_EQ(c.poet().mc_high(), 300);
+  EXPECT_EQ(c.poet().solved_score(), 230);
+  EXPECT_LE(c.es().perturbations(), 64);
+  EXPECT_LE(c.poet().active_cap(), 5);
 }
 
 TEST(RunConfig, ControlPresetsHaveTheirModes) {
