@@ -33,7 +33,9 @@ import time
 import urllib.error
 import urllib.request
 
-EXIT_SKIP = 77
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
+from check_support import EXIT_SKIP, Failed, Skipped, free_port, missing_tool  # noqa: E402
+
 DEADLINE_S = 240  # the whole check, inside ctest's TIMEOUT
 HOSTILE_ENV = '<img src=x onerror="window.__xss=1">'
 HOSTILE_DIR = 'run <svg onload="window.__xss2=1"> &amp; "quotes"'
@@ -60,29 +62,11 @@ es_alone { target { encoding { name: %s roughness: 0 } seed: 0 } }
 """ % json.dumps(HOSTILE_ENV)  # a JSON string is a valid text-format string here (quotes escaped by \\)
 
 
-class Failed(Exception):
-    pass
-
-
-class Skipped(Exception):
-    pass
-
-
-def in_ci():
-    return os.environ.get("CI", "").strip().lower() in ("1", "true", "yes")
-
-
 def log(message):
     print(f"[{time.monotonic() - STARTED:6.1f} s] {message}", flush=True)
 
 
 STARTED = time.monotonic()
-
-
-def free_port():
-    with socket.socket() as s:
-        s.bind(("127.0.0.1", 0))
-        return s.getsockname()[1]
 
 
 def http_json(url, timeout=5):
@@ -174,10 +158,7 @@ class Browser:
         chromedriver = os.environ.get("POET_CHROMEDRIVER") or shutil.which("chromedriver") or "/usr/bin/chromedriver"
         for path, package in ((chromium, "chromium"), (chromedriver, "chromium-driver")):
             if not os.access(path, os.X_OK):
-                message = f"{path} is missing (Debian package {package})"
-                if in_ci():
-                    raise Failed(message + " (CI=true: deploy/install-deps.sh installs it)")
-                raise Skipped(message + " (run deploy/install-deps.sh)")
+                missing_tool(f"{path} is missing (Debian package {package})")
         return chromium, chromedriver
 
     def __init__(self, root, processes, width=1400, height=1000):

@@ -26,41 +26,23 @@ import re
 import shlex
 import shutil
 import signal
-import socket
 import subprocess
 import sys
 import tempfile
 import time
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
+from check_support import EXIT_SKIP, Failed, Skipped, free_port, missing_tool  # noqa: E402
 
 try:
     import yaml
 except ImportError:  # reported by main(): the test fails under CI, skips elsewhere
     yaml = None
 
-EXIT_SKIP = 77
 SYSTEM_PATHS = ["/dev", "/proc", "/tmp"]  # in every container; the same on this machine
 IMAGE_DEFAULT_PATH = ["/usr/local/sbin", "/usr/local/bin", "/usr/sbin", "/usr/bin", "/sbin", "/bin"]
 RUN_DEADLINE_S = 150  # the whole compose_run, well inside ctest's TIMEOUT
 RUN_TIMEOUT_S = 60  # one run of 2 or 3 iterations of the quick preset (about 5 s on 2 busy cores)
-
-
-class Failed(Exception):
-    pass
-
-
-class Skipped(Exception):
-    pass
-
-
-def in_ci():
-    return os.environ.get("CI", "").strip().lower() in ("1", "true", "yes")
-
-
-def missing_tool(message):
-    """A tool the checks need is absent: a failure under CI (install-deps installs it), a skip elsewhere."""
-    if in_ci():
-        raise Failed(message + " (CI=true: deploy/install-deps.sh installs it)")
-    raise Skipped(message + " (run deploy/install-deps.sh)")
 
 
 class Checker:
@@ -841,12 +823,6 @@ def check_references(args, binaries):
 
 # ---------------------------------------------------------------------------------------------------------
 # the compose topology as processes
-
-
-def free_port():
-    with socket.socket(socket.AF_INET, socket.SOCK_STREAM) as s:
-        s.bind(("127.0.0.1", 0))
-        return s.getsockname()[1]
 
 
 def _die_with_parent():
