@@ -4,10 +4,12 @@
 # score of at least 230: spec §1.4's "solved").
 # Usage: bash bench/learning_curve.sh BUILD_DIR CONFIG ITERATIONS OUT_DIR [coordinator flags...]
 #   e.g. bash bench/learning_curve.sh build data/walkers/flat-walker.textproto 400 runs/curve-128 --threads 2
-# OUT_DIR/run is the run directory (kept: resume it with poet-coordinator --resume), OUT_DIR/curve.csv the curve:
+# OUT_DIR/run is the run directory, OUT_DIR/curve.csv the curve:
 #   es_step,score,finished,env_steps,rollouts,wall_s
-# Wall time is sampled twice a second from the moment a step's row appears in pair_stats.csv, so it is good to
-# half a second; a resumed run restarts the clock (the numbers stay those of an uninterrupted run).
+# Run it again with the same OUT_DIR (and a larger ITERATIONS, if the limit was reached) and it resumes the run
+# from its checkpoint: the numbers stay those of an uninterrupted run and the clock continues from the last
+# recorded step. Wall time is sampled twice a second from the moment a step's row appears in pair_stats.csv, so
+# it is good to half a second; the time between an interruption and its last checkpoint is not counted.
 set -euo pipefail
 usage="usage: bash bench/learning_curve.sh BUILD_DIR CONFIG ITERATIONS OUT_DIR [coordinator flags...]"
 build=${1:?$usage}
@@ -19,6 +21,8 @@ coordinator_bin=$build/coordinator/poet-coordinator
 [[ -x $coordinator_bin ]] || { echo "no $coordinator_bin: build first" >&2; exit 2; }
 [[ -f $config ]] || { echo "no config $config" >&2; exit 2; }
 mkdir -p "$out"
+stats=$out/run/pair_stats.csv
+times=$out/wall.csv
 
 coordinator=
 cleanup() {
@@ -30,15 +34,23 @@ cleanup() {
 trap cleanup EXIT
 trap 'exit 130' INT TERM
 
-"$coordinator_bin" --config "$config" --run-dir "$out/run" --iterations "$iterations" --quiet \
-  --status-address "" "$@" >"$out/coordinator.out" 2>"$out/coordinator.log" &
-coordinator=$!
+if [[ -f $out/run/checkpoint.pb ]]; then
+  [[ -f $times ]] || { echo "$out/run exists but $times does not: not a learning-curve directory" >&2; exit 2; }
+  run_source=(--resume)
+  # steps already timed keep their times (a step past the checkpoint is recomputed with the same numbers)
+  seen=$(($(wc -l <"$times") - 1))
+  elapsed=$(awk -F, 'NR > 1 { last = $2 } END { print (last == "" ? 0 : last) }' "$times")
+else
+  run_source=(--config "$config")
+  echo "iteration,wall_s" >"$times"
+  seen=0
+  elapsed=0
+fi
+start=$(awk -v now="$(date +%s.%N)" -v e="$elapsed" 'BEGIN { printf "%.2f", now - e }')
 
-stats=$out/run/pair_stats.csv
-times=$out/wall.csv
-echo "iteration,wall_s" >"$times"
-start=$(date +%s.%N)
-seen=0
+"$coordinator_bin" "${run_source[@]}" --run-dir "$out/run" --iterations "$iterations" --quiet \
+  --status-address "" "$@" >>"$out/coordinator.out" 2>>"$out/coordinator.log" &
+coordinator=$!
 record() {  # the wall time of every row that appeared since the last look
   [[ -f $stats ]] || return 0
   local rows now

@@ -157,8 +157,9 @@ TEST_F(DistributedRunTest, TheStatusSocketAnswersDuringARun) {
     const auto response = client.Get(path);
     ASSERT_TRUE(response) << path;
     EXPECT_EQ(response->status, 200) << path << ": " << response->body;
-    if (std::string_view(path) != "/metrics")  // Prometheus text; every other endpoint answers JSON
+    if (std::string_view(path) != "/metrics") {  // Prometheus text; every other endpoint answers JSON
       EXPECT_TRUE(nlohmann::json::accept(response->body)) << path << ": " << response->body;
+    }
   }
   std::string body;
   for (int i = 0; i < 50 && !contains(body, R"("workers":1)"); ++i) {  // the dispatcher publishes twice a second

@@ -164,7 +164,9 @@ TEST_F(ReportProcessTest, BadRunDirectoriesGetAClearMessageAndExitTwo) {
     std::string err;
     EXPECT_EQ(report({"--run-dir", dir.string()}, nullptr, &err), 2) << dir;
     EXPECT_TRUE(contains(err, message)) << "expected \"" << message << "\" in: " << err;
-    if (fs::exists(dir)) EXPECT_TRUE(before == files_of(dir)) << dir << " changed";
+    if (fs::exists(dir)) {
+      EXPECT_TRUE(before == files_of(dir)) << dir << " changed";
+    }
   };
   expect_error(root_ / "absent", "no such directory");
   fs::create_directories(root_ / "empty");
@@ -224,9 +226,15 @@ TEST_F(ReportProcessTest, PicturesOfEveryKindFromARunDirectoryWithoutChangingIt)
     std::string err;
     ASSERT_EQ(poetctl(args, nullptr, &err), 0) << kind << ": " << err;
     const std::string bytes = read(out / file);
-    if (file.ends_with(".png")) EXPECT_TRUE(is_png(bytes)) << file;
-    if (file.ends_with(".svg")) EXPECT_TRUE(is_svg(bytes)) << file;
-    if (file.ends_with(".gif")) EXPECT_TRUE(is_gif(bytes)) << file;
+    if (file.ends_with(".png")) {
+      EXPECT_TRUE(is_png(bytes)) << file;
+    }
+    if (file.ends_with(".svg")) {
+      EXPECT_TRUE(is_svg(bytes)) << file;
+    }
+    if (file.ends_with(".gif")) {
+      EXPECT_TRUE(is_gif(bytes)) << file;
+    }
   }
   EXPECT_TRUE(before == files_of(run)) << "the run directory changed";
 

@@ -1,5 +1,6 @@
 // Tests the command-line tools as real processes: every bad command line exits 2, --fingerprint prints the same
-// text in every tool (and in this test binary, built with the same flags), poet-rollout names the policy it runs.
+// text in every tool (and in this test binary, built with the same flags), poet-rollout names the policy it runs,
+// poet-curves summarises and draws learning curves and names a bad field.
 
 #include <fcntl.h>
 #include <gtest/gtest.h>
@@ -32,13 +33,10 @@ struct Tool {
 };
 
 // Every binary of the project, poet-coordinator and poet-worker included: the same rules for all.
-const Tool kTools[] = {{"poet-coordinator", POET_COORDINATOR_BIN},
-                       {"poet-rollout", POET_ROLLOUT_BIN},
-                       {"poet-eval", POET_EVAL_BIN},
-                       {"poet-fidelity", POET_FIDELITY_BIN},
-                       {"poet-lineage", POET_LINEAGE_BIN},
-                       {"poet-worker", POET_WORKER_BIN},
-                       {"poetctl", POETCTL_BIN}};
+const Tool kTools[] = {
+    {"poet-coordinator", POET_COORDINATOR_BIN}, {"poet-rollout", POET_ROLLOUT_BIN}, {"poet-eval", POET_EVAL_BIN},
+    {"poet-fidelity", POET_FIDELITY_BIN},       {"poet-lineage", POET_LINEAGE_BIN}, {"poet-report", POET_REPORT_BIN},
+    {"poet-curves", POET_CURVES_BIN},           {"poet-worker", POET_WORKER_BIN},   {"poetctl", POETCTL_BIN}};
 
 std::string read(const fs::path& path) {
   std::ifstream in(path, std::ios::binary);
@@ -128,6 +126,7 @@ TEST_F(ToolsProcessTest, BadValueExitsTwo) {
       {POET_EVAL_BIN, {"--policy", "none.json", "--push-scale", "-1"}},
       {POET_FIDELITY_BIN, {"--threads", "0"}},
       {POET_LINEAGE_BIN, {"--run-dir", "none", "--pair", "seventeen"}},
+      {POET_CURVES_BIN, {"a=none.csv", "--solved-score", "lots"}},
       {POET_COORDINATOR_BIN, {"--run-dir", "none", "--threads", "0"}},
       {POET_COORDINATOR_BIN, {"--run-dir", "none", "--log-level", "loud"}},
   };
@@ -161,6 +160,57 @@ TEST_F(ToolsProcessTest, RolloutWithoutPolicySaysItRunsRandomTheta) {
     const std::string file = entry.path().filename().string();
     EXPECT_TRUE(file == "rollout.out" || file == "rollout.err") << file;
   }
+}
+
+void write_text(const fs::path& path, const std::string& text) { std::ofstream(path, std::ios::binary) << text; }
+
+TEST_F(ToolsProcessTest, CurvesSayWhenEachSolvedAndDrawThem) {
+  write_text(root_ / "small.csv",
+             "es_step,score,finished,env_steps,rollouts,wall_s\n"
+             "1,-30.5,false,100000,64,2.0\n2,120.0,false,250000,128,4.5\n3,231.5,true,400000,192,7.0\n"
+             "4,260.0,true,520000,256,9.5\n");
+  // columns by name, in another order, and a step the curve script saw no time for
+  write_text(root_ / "large.csv",
+             "wall_s,es_step,score,finished,rollouts,env_steps\n3.0,1,-20.0,false,512,900000\n,2,229.9,true,1024,"
+             "1800000\n9.0,3,240.0,false,1536,2700000\n");
+  const Outcome o = run(POET_CURVES_BIN, {"64=small.csv", "512=large.csv", "--plot", "curves.png"}, "curves");
+  ASSERT_EQ(o.code, 0) << o.err;
+  EXPECT_TRUE(contains(o.out, "solved at ES step 3: score 231.5, 0.4 M environment steps, 192 rollouts, 7 s")) << o.out;
+  // 229.9 is below the solved score and 240.0 did not finish
+  EXPECT_TRUE(contains(o.out, "not solved by ES step 3: score 240.0, 2.7 M environment steps, 1536 rollouts, 9 s"))
+      << o.out;
+  EXPECT_EQ(read(root_ / "curves.png").substr(0, 8), "\x89PNG\r\n\x1a\n");
+
+  const Outcome lower = run(POET_CURVES_BIN, {"512=large.csv", "--solved-score", "225"}, "lower");
+  ASSERT_EQ(lower.code, 0) << lower.err;
+  EXPECT_TRUE(contains(lower.out, "solved at ES step 2: score 229.9")) << lower.out;
+}
+
+TEST_F(ToolsProcessTest, CurvesNameTheBadField) {
+  const std::string header = "es_step,score,finished,env_steps,rollouts,wall_s\n";
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {"es_step,score,finished\n1,2,true\n", "bad0.csv:1: no column env_steps"},
+      {header + "1,-3,false,10,1,0.5\n2,minus,false,20,2,1\n", "bad1.csv:3: score: not a number: \"minus\""},
+      {header + "1,-3,maybe,10,1,0.5\n", "bad2.csv:2: finished: expected true or false, got \"maybe\""},
+      {header + "2,-3,false,10,1,0.5\n2,-3,false,20,2,1\n", "bad3.csv:3: es_step 2 after 2: steps must increase"},
+      {header + "1,-3,false,10\n", "bad4.csv:2: 4 fields, the header has 6"},
+      {header, "bad5.csv: no steps after the header"},
+      {"", "bad6.csv: empty"},
+  };
+  for (size_t i = 0; i < cases.size(); ++i) {
+    const std::string file = "bad" + std::to_string(i) + ".csv";
+    write_text(root_ / file, cases[i].first);
+    const Outcome o = run(POET_CURVES_BIN, {"a=" + file, "--plot", "never.png"}, "bad" + std::to_string(i));
+    EXPECT_EQ(o.code, 2) << file << "\n" << o.err;
+    EXPECT_TRUE(contains(o.err, cases[i].second)) << o.err;
+    EXPECT_FALSE(fs::exists(root_ / "never.png")) << file;
+  }
+  const Outcome missing = run(POET_CURVES_BIN, {"a=absent.csv"}, "missing");
+  EXPECT_EQ(missing.code, 2);
+  EXPECT_TRUE(contains(missing.err, "absent.csv: cannot be read")) << missing.err;
+  const Outcome unlabelled = run(POET_CURVES_BIN, {"small.csv"}, "unlabelled");
+  EXPECT_EQ(unlabelled.code, 2);
+  EXPECT_TRUE(contains(unlabelled.err, "\"small.csv\" is not LABEL=CURVE.csv")) << unlabelled.err;
 }
 
 }  // namespace
