@@ -281,6 +281,12 @@ status::PairList StatusBoard::pairs() const {
   return list;
 }
 
+bool StatusBoard::has_pair(int id) const {
+  const View v = view();
+  return v.run && std::any_of(v.run->pairs.begin(), v.run->pairs.end(),
+                              [id](const PairInfo& info) { return info.pair.id == id; });
+}
+
 std::optional<status::PairDetail> StatusBoard::pair(int id) const {
   const View v = view();
   if (!v.run) return std::nullopt;

@@ -104,6 +104,8 @@ class StatusBoard {
   status::PairList pairs() const;
   // GET /pairs/{id}: the pair with its scores (from pair_stats.csv) and lineage; nullopt for an unknown id.
   std::optional<status::PairDetail> pair(int id) const;
+  // Whether the run has a pair with this id: pair(id) without reading its scores.
+  bool has_pair(int id) const;
   // GET /archive.
   status::Archive archive() const;
   // GET /workers.

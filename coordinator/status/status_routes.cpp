@@ -69,7 +69,7 @@ std::optional<PictureRequest> picture_path(std::string_view path) {
 // to draw from (or cannot be read).
 StatusResponse rendered(const StatusBoard& board, int pair, const std::function<Expected<std::string>()>& render,
                         const std::string& content_type) {
-  if (pair >= 0 && !board.pair(pair)) return error_response(404, "no pair " + std::to_string(pair));
+  if (pair >= 0 && !board.has_pair(pair)) return error_response(404, "no pair " + std::to_string(pair));
   Expected<std::string> bytes = render();
   if (!bytes) return error_response(503, bytes.error());
   return {200, content_type, std::move(*bytes), ""};

@@ -98,6 +98,7 @@ TEST_F(StatusBoardTest, BeforeAnyPublishTheBoardIsStarting) {
   EXPECT_EQ(status["workers"], 0);
   EXPECT_TRUE(parse(board.pairs()).contains("pairs"));
   EXPECT_FALSE(board.pair(0).has_value());
+  EXPECT_FALSE(board.has_pair(0));
   EXPECT_EQ(parse(board.workers())["workers"].size(), 0u);
   EXPECT_EQ(parse(board.archive())["pairs"].size(), 0u);
 }
@@ -194,6 +195,10 @@ TEST_F(StatusBoardTest, PairDetailHasLineageAndScoresFromTheCsv) {
   EXPECT_EQ(d["scores"][3]["best_score"], 111.0);
   EXPECT_TRUE(parse(*board.pair(0))["lineage"]["ancestors"].empty());
   EXPECT_FALSE(board.pair(3).has_value());
+  EXPECT_TRUE(board.has_pair(0));
+  EXPECT_TRUE(board.has_pair(2));
+  EXPECT_FALSE(board.has_pair(3));
+  EXPECT_FALSE(board.has_pair(-1));
 
   // rows appended later are read on; a partial last line waits for its newline
   PairStatsRow row;
