@@ -2,6 +2,7 @@
 # Installs the dependencies of poet from Debian's archive. Idempotent: packages already present are left alone,
 # so the README, CI and the Dockerfile can all call it unconditionally.
 #   install-deps.sh             every build and test dependency (the default)
+#   install-deps.sh --build     what a build without tests and benchmarks needs (the Docker image's build stage)
 #   install-deps.sh --runtime   only the shared libraries the built binaries load (the Docker image's runtime stage)
 #   add --list to print the selected packages, one a line, and install nothing
 # The runtime names carry the libraries' sonames of Debian 12 (bookworm); tests/deploy checks them against the
@@ -15,6 +16,9 @@ build_packages=(
   libzmq3-dev cppzmq-dev libcpp-httplib-dev
   libspdlog-dev libfmt-dev
   nlohmann-json3-dev libcli11-dev libcairo2-dev libgif-dev
+)
+
+test_packages=(
   libgtest-dev libgmock-dev libbenchmark-dev
   # the deploy tests: the compose file is checked with Debian's docker-compose, the manifests with PyYAML, and
   # the coordinator's healthcheck (curl on /healthz) is run as written
@@ -29,28 +33,29 @@ runtime_packages=(
   libspdlog1.10 libfmt9 libcairo2 libgif7
 )
 
-runtime=0
+set_name=all
 list=0
 for arg in "$@"; do
   case "$arg" in
-    --runtime) runtime=1 ;;
+    --build) set_name=build ;;
+    --runtime) set_name=runtime ;;
     --list) list=1 ;;
     -h | --help)
-      sed -n '2,8p' "$0" | sed 's/^# \{0,1\}//'
+      sed -n '2,9p' "$0" | sed 's/^# \{0,1\}//'
       exit 0
       ;;
     *)
-      echo "install-deps: unknown option $arg (expected --runtime, --list)" >&2
+      echo "install-deps: unknown option $arg (expected --build, --runtime, --list)" >&2
       exit 2
       ;;
   esac
 done
 
-if [ "$runtime" -eq 1 ]; then
-  packages=("${runtime_packages[@]}")
-else
-  packages=("${build_packages[@]}")
-fi
+case "$set_name" in
+  build) packages=("${build_packages[@]}") ;;
+  runtime) packages=("${runtime_packages[@]}") ;;
+  all) packages=("${build_packages[@]}" "${test_packages[@]}") ;;
+esac
 if [ "$list" -eq 1 ]; then
   printf '%s\n' "${packages[@]}"
   exit 0

@@ -717,8 +717,8 @@ def check_references(args, binaries):
                  f"Dockerfile: stages {[(s['name'], s['base']) for s in dockerfile.stages]}")
     check.expect(final is not build, "Dockerfile: the final stage is the build stage")
     build_runs = dockerfile.instructions(build, "RUN") if build else []
-    check.expect(any(re.search(r"install-deps\.sh(\s*$|\s*&&)", r) for r in build_runs),
-                 "Dockerfile: the build stage does not run deploy/install-deps.sh (the default set)")
+    check.expect(any(re.search(r"install-deps\.sh\s+--build(\s*$|\s*&&)", r) for r in build_runs),
+                 "Dockerfile: the build stage does not run deploy/install-deps.sh --build")
     check.expect(any("CMAKE_BUILD_TYPE=Release" in r for r in build_runs),
                  "Dockerfile: the build stage does not build Release")
     final_runs = dockerfile.instructions(final, "RUN")
@@ -751,7 +751,8 @@ def check_references(args, binaries):
                 check.expect(not any(fnmatch.fnmatch(top, p) for p in patterns),
                              f".dockerignore excludes {top}, which the Dockerfile copies")
 
-    # install-deps.sh: --runtime provides every library the binaries load; the default has the test tools
+    # install-deps.sh: --runtime provides every library the binaries load; the default has the test tools, and
+    # --build is the default without them (and without the test libraries, which the image does not build)
     listing = subprocess.run(["bash", os.path.join(args.source, "deploy", "install-deps.sh"), "--runtime", "--list"],
                              capture_output=True, text=True, timeout=30)
     runtime = set(listing.stdout.split())
@@ -760,6 +761,14 @@ def check_references(args, binaries):
                           capture_output=True, text=True, timeout=30).stdout.split()
     for p in ("docker-compose", "python3-yaml", "curl"):
         check.expect(p in full, f"install-deps.sh does not install {p} (the deploy tests need it)")
+    build_set = subprocess.run(["bash", os.path.join(args.source, "deploy", "install-deps.sh"), "--build", "--list"],
+                               capture_output=True, text=True, timeout=30).stdout.split()
+    check.expect(bool(build_set) and set(build_set) < set(full),
+                 f"install-deps.sh --build is not a part of the default set: {sorted(set(build_set) - set(full))}")
+    for p in ("build-essential", "cmake", "libbox2d-dev", "libcairo2-dev"):
+        check.expect(p in build_set, f"install-deps.sh --build does not install {p}")
+    for p in ("chromium", "docker-compose", "libgtest-dev", "libbenchmark-dev"):
+        check.expect(p not in build_set, f"install-deps.sh --build installs {p}, a test tool")
     check.expect(not (runtime & {"build-essential", "cmake"}) and not any(p.endswith("-dev") for p in runtime),
                  f"install-deps.sh --runtime installs build packages: {sorted(runtime)}")
     if shutil.which("dpkg") is None or shutil.which("ldd") is None:
