@@ -301,6 +301,7 @@ int run(const Options& options, StopSignals& signals) {
       snapshot.dropped_frames = d.dropped();
       snapshot.workers_joined = d.workers_joined();
       snapshot.workers_lost = d.workers_lost();
+      snapshot.backup_jobs = d.backup_jobs();
       const bool waiting = d.ready_workers() == 0 && d.queue_depth() > 0;
       board.publish_dispatch(std::move(snapshot));
       board.set_state(waiting ? RunPhase::kWaitingForWorkers : RunPhase::kRunning,

@@ -68,7 +68,15 @@ void Dispatcher::remove_worker(const WorkerId& id, bool died) {
   workers_.erase(it);
   std::erase(arrival_, id);
   // back to the front, in their order, so the batch finishes in the order it was cut
-  for (auto job = held.rbegin(); job != held.rend(); ++job) requeue(*job, died);
+  for (auto job = held.rbegin(); job != held.rend(); ++job) release(*job, id, died);
+}
+
+void Dispatcher::release(uint64_t job_id, const WorkerId& id, bool died) {
+  const auto it = jobs_.find(job_id);
+  if (it == jobs_.end()) return;
+  std::erase_if(it->second.leases, [&](const Lease& lease) { return lease.worker == id; });
+  // a backed-up job still held by its other worker stays with it: that worker's result will do
+  if (it->second.leases.empty()) requeue(job_id, died);
 }
 
 void Dispatcher::requeue(uint64_t job_id, bool died) {
@@ -76,7 +84,7 @@ void Dispatcher::requeue(uint64_t job_id, bool died) {
   if (it == jobs_.end()) return;
   Job job = it->second;
   jobs_.erase(it);
-  job.holder.reset();
+  job.leases.clear();
   if (!died) {
     jobs_.emplace(job.id, job);
     queue_.push_front(job.id);
@@ -94,7 +102,7 @@ void Dispatcher::requeue(uint64_t job_id, bool died) {
                    " workers when they died; the run stops rather than lose more workers to it";
       continue;
     }
-    Job part{next_job_id_++, t, t + 1, deaths, std::nullopt};
+    Job part{next_job_id_++, t, t + 1, deaths, {}};
     jobs_.emplace(part.id, part);
     parts.push_back(part.id);
   }
@@ -104,23 +112,29 @@ void Dispatcher::requeue(uint64_t job_id, bool died) {
 void Dispatcher::on_result(const WorkerId& id, const wire::Result& result, Millis now) {
   const auto worker = workers_.find(id);
   const auto job = jobs_.find(result.job_id());
-  if (worker == workers_.end() || job == jobs_.end() || job->second.holder != id) {
-    count_drop("unexpected_result");  // a stranger, or a job this worker no longer holds (re-queued, or done)
+  const auto lease = job == jobs_.end() ? std::vector<Lease>::iterator{}
+                                        : std::find_if(job->second.leases.begin(), job->second.leases.end(),
+                                                       [&](const Lease& l) { return l.worker == id; });
+  if (worker == workers_.end() || job == jobs_.end() || lease == job->second.leases.end()) {
+    // a job its backup finished first; or a stranger, or a job this worker no longer holds (re-queued, or done)
+    count_drop(worker != workers_.end() && worker->second.beaten.erase(result.job_id()) ? "late_result"
+                                                                                        : "unexpected_result");
     return;
   }
+  const Millis took = now - lease->since;
   worker->second.view.last_heard = now;
   worker->second.jobs.erase(job->first);
   if (result.has_error()) {
     if (result.missing_theta()) {  // the worker dropped θs it was sent: send them again
       worker->second.thetas_sent.clear();
-      requeue(job->first, false);
+      release(job->first, id, false);
       return;
     }
     if (!failure_)
       failure_ = "worker " + worker->second.view.name + " refused " + describe_task(job->second.begin) +
                  (job->second.end - job->second.begin > 1 ? " (or a later task of its job)" : "") + ": " +
                  result.error();
-    requeue(job->first, false);
+    release(job->first, id, false);
     return;
   }
   const Job& j = job->second;
@@ -134,7 +148,7 @@ void Dispatcher::on_result(const WorkerId& id, const wire::Result& result, Milli
   }
   if (!valid) {  // a worker that sends nonsense is treated as one that died with the job
     count_drop("bad_result");
-    requeue(job->first, true);
+    release(job->first, id, true);
     return;
   }
   for (size_t k = 0; k < count; ++k) {
@@ -145,7 +159,19 @@ void Dispatcher::on_result(const WorkerId& id, const wire::Result& result, Milli
   ready_ranges_.emplace_back(j.begin, j.end);
   worker->second.view.jobs_done += 1;
   worker->second.view.results_done += static_cast<int64_t>(count);
+  for (const Lease& other : j.leases) {  // the other holder's result, when it comes, is late
+    if (other.worker == id) continue;
+    Worker& loser = workers_.at(other.worker);
+    loser.jobs.erase(j.id);
+    loser.beaten.insert(j.id);
+  }
   jobs_.erase(job);
+
+  job_times_.push_back(took);
+  std::vector<Millis> times = job_times_;
+  const auto middle = times.begin() + static_cast<std::ptrdiff_t>(times.size() / 2);
+  std::nth_element(times.begin(), middle, times.end());
+  backup_after_ = std::max(settings_.backup_min_ms, static_cast<Millis>(settings_.backup_factor * *middle));
 }
 
 std::vector<WorkerId> Dispatcher::expire(Millis now) {
@@ -174,6 +200,27 @@ wire::Job Dispatcher::job_message(const Job& job, Worker& worker) const {
   return out;
 }
 
+void Dispatcher::send(Job& job, const WorkerId& id, Millis now, std::vector<Outgoing>& out) {
+  Worker& worker = workers_.at(id);
+  job.leases.push_back({id, now});
+  worker.jobs.insert(job.id);
+  Outgoing message{id, {}};
+  *message.message.mutable_job() = job_message(job, worker);
+  out.push_back(std::move(message));
+  worker.last_sent = now;
+}
+
+Dispatcher::Job* Dispatcher::straggler(const WorkerId& id, Millis now) {
+  if (settings_.backup_factor <= 0) return nullptr;
+  const Millis after = backup_after_ > 0 ? backup_after_ : settings_.liveness_ms;
+  Job* oldest = nullptr;
+  for (auto& [job_id, job] : jobs_) {
+    if (job.leases.size() != 1 || job.leases[0].worker == id || now - job.leases[0].since < after) continue;
+    if (oldest == nullptr || job.leases[0].since < oldest->leases[0].since) oldest = &job;
+  }
+  return oldest;
+}
+
 std::vector<Outgoing> Dispatcher::outgoing(Millis now) {
   std::vector<Outgoing> out;
   // one job per worker per pass, so a batch spreads over every worker before any gets a second
@@ -181,15 +228,17 @@ std::vector<Outgoing> Dispatcher::outgoing(Millis now) {
     assigned = false;
     for (const WorkerId& id : arrival_) {
       Worker& worker = workers_.at(id);
-      if (queue_.empty() || !worker.ready || worker.jobs.size() >= static_cast<size_t>(settings_.jobs_ahead)) continue;
-      Job& job = jobs_.at(queue_.front());
-      queue_.pop_front();
-      job.holder = id;
-      worker.jobs.insert(job.id);
-      Outgoing message{id, {}};
-      *message.message.mutable_job() = job_message(job, worker);
-      out.push_back(std::move(message));
-      worker.last_sent = now;
+      if (!worker.ready || worker.jobs.size() >= static_cast<size_t>(settings_.jobs_ahead)) continue;
+      Job* job = nullptr;
+      if (!queue_.empty()) {
+        job = &jobs_.at(queue_.front());
+        queue_.pop_front();
+      } else if ((job = straggler(id, now)) != nullptr) {
+        backups_ += 1;
+      } else {
+        continue;
+      }
+      send(*job, id, now, out);
       assigned = true;
     }
   }
@@ -230,14 +279,19 @@ void Dispatcher::start_batch(std::span<const RolloutTask> tasks) {
   const size_t per_job = std::clamp<size_t>((tasks.size() + 4 * std::max(threads, 1) - 1) / (4 * std::max(threads, 1)),
                                             1, static_cast<size_t>(settings_.max_chunk));
   for (size_t begin = 0; begin < tasks.size(); begin += per_job) {
-    const Job job{next_job_id_++, begin, std::min(begin + per_job, tasks.size()), 0, std::nullopt};
+    const Job job{next_job_id_++, begin, std::min(begin + per_job, tasks.size()), 0, {}};
     jobs_.emplace(job.id, job);
     queue_.push_back(job.id);
   }
 }
 
 void Dispatcher::abandon_batch() {
-  for (auto& [id, worker] : workers_) worker.jobs.clear();  // their late results will be dropped
+  for (auto& [id, worker] : workers_) {  // their late results will be dropped
+    worker.jobs.clear();
+    worker.beaten.clear();
+  }
+  job_times_.clear();
+  backup_after_ = 0;
   jobs_.clear();
   queue_.clear();
   tasks_.clear();

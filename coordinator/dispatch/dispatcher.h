@@ -1,7 +1,10 @@
 #pragma once
 // The scheduling logic of the remote evaluator, without sockets: a batch of rollout tasks cut into jobs, a queue,
 // leases held by workers, liveness by heartbeat (the zguide's Paranoid Pirate), re-queueing of the jobs of a dead
-// or departed worker, results matched by job id with duplicates and strangers dropped, and the poison-job rule.
+// or departed worker, results matched by job id with duplicates and strangers dropped, the poison-job rule, and
+// backup jobs: once the queue is empty, a job held much longer than this batch's jobs take is also sent to a
+// worker with a free slot, and the first result wins (every worker computes the same numbers), so a worker that
+// heartbeats but never answers, or a slow machine, delays a batch by a bounded time instead of stopping the run.
 // Time is a parameter (milliseconds on any monotonic clock), so tests drive it with a fake clock. Not
 // thread-safe: the remote evaluator's socket thread owns it under its lock.
 
@@ -25,11 +28,15 @@ using Millis = int64_t;
 using WorkerId = std::string;  // the ROUTER's routing id of the worker's socket
 
 struct DispatchSettings {
-  Millis heartbeat_ms = 1000;       // send something to each worker at least this often (and ask the same of them)
-  Millis liveness_ms = 5000;        // a worker silent this long is dead; its jobs go back to the queue
-  int max_attempts = 3;             // a task whose worker died this many times stops the run (the first + 2 retries)
-  int jobs_ahead = 2;               // jobs a worker holds at once: one running, one arriving
-  int max_chunk = 64;               // tasks per job at most
+  Millis heartbeat_ms = 1000;  // send something to each worker at least this often (and ask the same of them)
+  Millis liveness_ms = 5000;   // a worker silent this long is dead; its jobs go back to the queue
+  int max_attempts = 3;        // a task whose worker died this many times stops the run (the first + 2 retries)
+  int jobs_ahead = 2;          // jobs a worker holds at once: one running, one arriving
+  int max_chunk = 64;          // tasks per job at most
+  // A job is backed up once held longer than backup_factor × the median time of this batch's finished jobs (at
+  // least backup_min_ms), or than liveness_ms while none has finished. 0: never.
+  double backup_factor = 4;
+  Millis backup_min_ms = 1000;
   size_t max_workers = 4096;        // Hellos beyond this many connected workers are refused
   uint64_t fingerprint_digest = 0;  // workers of another build are refused (0: accept any, for tests)
 };
@@ -93,26 +100,37 @@ class Dispatcher {
   const std::map<std::string, int64_t>& dropped() const { return dropped_; }
   int64_t workers_joined() const { return joined_; }  // Welcomes given
   int64_t workers_lost() const { return lost_; }      // workers removed for silence
+  int64_t backup_jobs() const { return backups_; }    // jobs sent to a second worker
   void count_drop(const std::string& reason) { dropped_[reason] += 1; }
   const DispatchSettings& settings() const { return settings_; }
 
  private:
+  struct Lease {
+    WorkerId worker;
+    Millis since = 0;
+  };
   struct Job {
     uint64_t id = 0;
     size_t begin = 0;  // tasks [begin, end) of the batch
     size_t end = 0;
-    int deaths = 0;  // workers that died holding it
-    std::optional<WorkerId> holder;
+    int deaths = 0;             // workers that died holding it
+    std::vector<Lease> leases;  // its holders: none while queued, a second once backed up
   };
   struct Worker {
     WorkerView view;
     std::set<uint64_t> jobs;         // held
+    std::set<uint64_t> beaten;       // held, then finished by the other holder first: its result is late
     std::set<uint64_t> thetas_sent;  // this batch
     Millis last_sent = 0;
     bool ready = false;  // has sent something since its Hello
   };
 
+  // The worker no longer holds the job; a job no one holds any more goes back to the queue.
+  void release(uint64_t job_id, const WorkerId& id, bool died);
   void requeue(uint64_t job_id, bool died);
+  void send(Job& job, const WorkerId& id, Millis now, std::vector<Outgoing>& out);
+  // The job to back up on worker id, if any is held past the backup time.
+  Job* straggler(const WorkerId& id, Millis now);
   wire::Job job_message(const Job& job, Worker& worker) const;
   std::string describe_task(size_t index) const;
 
@@ -133,11 +151,14 @@ class Dispatcher {
   std::map<uint64_t, Job> jobs_;  // open jobs by id
   std::deque<uint64_t> queue_;
   uint64_t next_job_id_ = 1;
+  std::vector<Millis> job_times_;  // how long this batch's finished jobs took, from send to result
+  Millis backup_after_ = 0;        // the backup time from job_times_ (0: none finished yet)
 
   std::optional<std::string> failure_;
   std::map<std::string, int64_t> dropped_;
   int64_t joined_ = 0;
   int64_t lost_ = 0;
+  int64_t backups_ = 0;
 };
 
 }  // namespace poet

@@ -446,6 +446,9 @@ std::string StatusBoard::metrics_text() const {
   sample("poet_workers_joined_total", dispatch.workers_joined);
   family("poet_workers_lost_total", "counter", "Workers removed for being silent longer than the liveness window.");
   sample("poet_workers_lost_total", dispatch.workers_lost);
+  family("poet_backup_jobs_total", "counter",
+         "Jobs also sent to a second worker because their first held them far longer than the batch's jobs take.");
+  sample("poet_backup_jobs_total", dispatch.backup_jobs);
   family("poet_dropped_frames_total", "counter", "Frames and Hellos the dispatcher dropped or refused, by reason.");
   std::map<std::string, int64_t> dropped;
   for (const char* reason : kDropReasonNames) dropped[reason] = 0;

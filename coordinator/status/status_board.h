@@ -46,6 +46,7 @@ struct DispatchSnapshot {
   std::map<std::string, int64_t> dropped_frames;  // by reason (kDropReasonNames and any other the dispatcher counts)
   int64_t workers_joined = 0;                     // Welcomes given since the coordinator started
   int64_t workers_lost = 0;                       // workers removed for silence
+  int64_t backup_jobs = 0;                        // jobs also sent to a second worker (dispatcher.h)
 };
 
 // The drop reasons /metrics always lists (as 0 until counted), so a dashboard's series exist from the start.
@@ -57,6 +58,7 @@ inline constexpr const char* kDropReasonNames[] = {
     "worker_limit",       // a Hello beyond the coordinator's limit of workers
     "unknown_peer",       // a Heartbeat or Result from a peer that never said Hello
     "unexpected_result",  // a Result for a job the peer does not hold
+    "late_result",        // a Result for a job its backup on another worker finished first
     "bad_result",         // a Result of the wrong size or with non-finite numbers
     "unauthorised_key",   // CURVE: a handshake with a key not in authorized/
 };

@@ -483,19 +483,19 @@ int main(int argc, char** argv) {
   }
 
   Command command;
-  if (status->parsed()) command = {"/status", printer(&print_status, "/status")};
-  if (pairs->parsed()) command = {"/pairs", printer(&print_pairs, "/pairs")};
+  if (status->parsed()) command = {"/status", printer(&print_status, "/status"), nullptr};
+  if (pairs->parsed()) command = {"/pairs", printer(&print_pairs, "/pairs"), nullptr};
   if (pair->parsed()) {
     const std::string path = "/pairs/" + std::to_string(pair_id);
-    command = {path, printer(&print_pair, path)};
+    command = {path, printer(&print_pair, path), nullptr};
   }
-  if (archive->parsed()) command = {"/archive", printer(&print_archive, "/archive")};
-  if (workers->parsed()) command = {"/workers", printer(&print_workers, "/workers")};
+  if (archive->parsed()) command = {"/archive", printer(&print_archive, "/archive"), nullptr};
+  if (workers->parsed()) command = {"/workers", printer(&print_workers, "/workers"), nullptr};
   if (events->parsed()) {
     const std::string path = "/events?since=" + std::to_string(since) + "&limit=" + std::to_string(limit);
-    command = {path, printer(&print_events, "/events")};
+    command = {path, printer(&print_events, "/events"), nullptr};
   }
-  if (metrics->parsed()) command = {"/metrics", nullptr};
+  if (metrics->parsed()) command = {"/metrics", nullptr, nullptr};
   if (picture_request_made) {
     command.path = picture_path(picture_kind_name, picture_out, *picture_request_made);
     command.save = [&](const std::string& body) {

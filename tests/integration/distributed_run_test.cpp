@@ -1,8 +1,9 @@
 // The coordinator with ZeroMQ workers, as real processes on loopback: runs with 1, 2 or 3 local workers end in
 // the files of a run on threads, byte for byte; a worker killed with SIGKILL mid-run changes nothing; a run
 // started with no worker waits and completes once one connects, and one whose every worker leaves waits for the
-// next; a coordinator killed with SIGKILL and started again finds its workers back and ends in the same files; a
-// job that kills every worker stops the run naming the task; the status socket answers during a run.
+// next; a worker that heartbeats but never answers only delays the run (its jobs are backed up on the other); a
+// coordinator killed with SIGKILL and started again finds its workers back and ends in the same files; a job that
+// kills every worker stops the run naming the task; the status socket answers during a run.
 
 #include <arpa/inet.h>
 #include <fcntl.h>
@@ -92,6 +93,25 @@ TEST_F(DistributedRunTest, ARunWhoseWorkersAllLeaveWaitsForTheNext) {
   EXPECT_EQ(wait(pid), 0) << read(root_ / "L.err");
   expect_same_run(reference, root_ / "L");
   EXPECT_EQ(wait(second), 0);
+}
+
+TEST_F(DistributedRunTest, AWorkerThatNeverAnswersOnlyDelaysTheRun) {
+  std::ofstream(config_, std::ios::trunc) << config_with("iterations: 6", "iterations: 4");  // each batch waits
+  const fs::path reference = threads_run();
+  const pid_t pid = coordinator(root_ / "S", {"--listen", "tcp://127.0.0.1:*"}, "S");
+  const std::string endpoint = await_log("S", "workers connect to (tcp://[0-9.]+:[0-9]+)");
+  ASSERT_FALSE(endpoint.empty());
+  // it joins first, so the first jobs of the run are its
+  const pid_t silent =
+      spawn(POET_WORKER_BIN,
+            {"--connect", endpoint, "--threads", "1", "--fault", "ignore-jobs", "--log-level", "debug"}, "silent");
+  await_log("silent", "(welcomed) by the coordinator");
+  const pid_t healthy = spawn(POET_WORKER_BIN, {"--connect", endpoint, "--threads", "2"}, "healthy");
+  EXPECT_EQ(wait(pid), 0) << read(root_ / "S.err");
+  expect_same_run(reference, root_ / "S");
+  EXPECT_TRUE(contains(read(root_ / "silent.err"), "ignored (--fault ignore-jobs)")) << "it held jobs and kept them";
+  EXPECT_EQ(wait(silent), 0);
+  EXPECT_EQ(wait(healthy), 0);
 }
 
 // A loopback port free at the time of asking (the kernel's choice), for a coordinator that must come back on the

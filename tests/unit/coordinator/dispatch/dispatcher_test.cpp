@@ -1,10 +1,13 @@
 // Tests coordinator/dispatch/dispatcher.cpp with a fake clock and no sockets: hellos and refusals, a batch cut
 // into jobs spread over workers, θ sent once per worker and batch, results in task order, duplicates and
-// strangers dropped, re-queueing on departure and on silence, and the poison-job rule naming the task.
+// strangers dropped, re-queueing on departure and on silence, the poison-job rule naming the task, and backup jobs
+// for a worker that holds its jobs far longer than the batch's jobs take.
 
 #include "dispatch/dispatcher.h"
 
 #include <gtest/gtest.h>
+
+#include <set>
 
 #include "envgen/named_courses.h"
 #include "policy/mlp.h"
@@ -220,6 +223,119 @@ TEST(Dispatcher, HellosBeyondTheWorkerLimitAreRefusedAndCounted) {
   const wire::CoordinatorMessage refused = d.on_hello("w9", hello(), 1);
   ASSERT_TRUE(refused.has_refused());
   EXPECT_TRUE(contains(refused.refused().reason(), "limit")) << refused.refused().reason();
+}
+
+// Two workers, a batch of 4 one-task jobs: a holds jobs 1 and 3, b answers its 2 and 4 at time 20; a beats but
+// never answers. Returns a's jobs.
+std::vector<wire::Job> batch_with_a_silent_holder(Dispatcher& d) {
+  join(d, "a", hello(), 0);
+  join(d, "b", hello(), 0);
+  d.start_batch(batch(4));
+  std::vector<wire::Job> held_by_a;
+  for (const Outgoing& o : jobs_in(d.outgoing(1))) {
+    if (o.worker == "a") held_by_a.push_back(o.message.job());
+    if (o.worker == "b") d.on_result("b", answer(o.message.job()), 20);
+  }
+  return held_by_a;
+}
+
+// a's jobs as sent to b once the backup time has passed, b and a beating until then.
+std::vector<wire::Job> backups_at(Dispatcher& d, Millis until) {
+  std::vector<wire::Job> to_b;
+  for (Millis now = 50; now <= until; now += 50) {
+    d.heard_from("a", now);
+    d.heard_from("b", now);
+    EXPECT_TRUE(d.expire(now).empty());
+    for (const Outgoing& o : jobs_in(d.outgoing(now))) {
+      EXPECT_EQ(o.worker, "b");
+      to_b.push_back(o.message.job());
+    }
+  }
+  return to_b;
+}
+
+TEST(Dispatcher, AJobHeldFarLongerThanTheBatchsJobsGoesToAnIdleWorkerToo) {
+  Dispatcher d(settings());  // backups after 4 × the median job time, at least 1000 ms
+  const std::vector<wire::Job> held_by_a = batch_with_a_silent_holder(d);
+  ASSERT_EQ(held_by_a.size(), 2u);
+  EXPECT_TRUE(backups_at(d, 950).empty());  // b's jobs took 19 ms, but not before backup_min_ms
+  const std::vector<wire::Job> to_b = backups_at(d, 1050);
+  ASSERT_EQ(to_b.size(), 2u);
+  EXPECT_EQ(d.backup_jobs(), 2);
+  for (size_t i = 0; i < 2; ++i) {
+    EXPECT_EQ(to_b[i].job_id(), held_by_a[i].job_id());  // the longest held first
+    EXPECT_EQ(to_b[i].tasks(0).env().seed(), held_by_a[i].tasks(0).env().seed());
+  }
+  for (const wire::Job& job : to_b) d.on_result("b", answer(job), 1100);
+  ASSERT_TRUE(d.batch_done());
+  // a's answers come late: dropped and counted, the results unchanged
+  for (const wire::Job& job : held_by_a) d.on_result("a", answer(job), 1200);
+  EXPECT_EQ(d.dropped().at("late_result"), 2);
+  EXPECT_FALSE(d.dropped().contains("unexpected_result"));
+  const std::vector<RolloutResult> results = d.take_results();
+  ASSERT_EQ(results.size(), 4u);
+  for (size_t i = 0; i < results.size(); ++i) EXPECT_EQ(results[i].total_reward, static_cast<double>(i));
+}
+
+TEST(Dispatcher, TheFirstHolderToAnswerABackedUpJobWins) {
+  Dispatcher d(settings());
+  const std::vector<wire::Job> held_by_a = batch_with_a_silent_holder(d);
+  const std::vector<wire::Job> to_b = backups_at(d, 1050);
+  ASSERT_EQ(to_b.size(), 2u);
+  d.on_result("a", answer(held_by_a[0]), 1060);  // a answers one after all
+  d.on_result("b", answer(to_b[0]), 1070);
+  d.on_result("b", answer(to_b[1]), 1080);
+  d.on_result("a", answer(held_by_a[1]), 1090);
+  ASSERT_TRUE(d.batch_done());
+  EXPECT_EQ(d.dropped().at("late_result"), 2);  // one from each
+  EXPECT_EQ(d.in_flight(), 0);
+  const std::vector<RolloutResult> results = d.take_results();
+  for (size_t i = 0; i < results.size(); ++i) EXPECT_EQ(results[i].total_reward, static_cast<double>(i));
+}
+
+TEST(Dispatcher, AHolderLostWhileItsBackupRunsLeavesTheJobToTheBackup) {
+  Dispatcher d(settings());
+  batch_with_a_silent_holder(d);
+  const std::vector<wire::Job> to_b = backups_at(d, 1050);
+  ASSERT_EQ(to_b.size(), 2u);
+  d.remove_worker("a", /*died=*/true);
+  EXPECT_EQ(d.queue_depth(), 0);  // nothing re-queued: b holds both
+  EXPECT_TRUE(jobs_in(d.outgoing(1100)).empty());
+  for (const wire::Job& job : to_b) d.on_result("b", answer(job), 1150);
+  ASSERT_TRUE(d.batch_done());
+  EXPECT_FALSE(d.failure());
+}
+
+TEST(Dispatcher, NoBackupsWhenTurnedOffOrWhileJobsWait) {
+  DispatchSettings off = settings();
+  off.backup_factor = 0;
+  Dispatcher d(off);
+  batch_with_a_silent_holder(d);
+  EXPECT_TRUE(backups_at(d, 3000).empty());
+  EXPECT_EQ(d.backup_jobs(), 0);
+
+  // jobs still queued go out before any backup: b's jobs take 1 ms, and when b next asks, long after a's jobs
+  // are due a backup, it gets the queue's next jobs
+  Dispatcher e(settings());
+  join(e, "a", hello(), 0);
+  join(e, "b", hello(), 0);
+  e.start_batch(batch(8));  // one task a job: a holds 1 and 3, b 2 and 4, 5 to 8 wait
+  std::set<uint64_t> held_by_a;
+  for (const Outgoing& o : jobs_in(e.outgoing(1))) {
+    if (o.worker == "a") held_by_a.insert(o.message.job().job_id());
+    if (o.worker == "b") e.on_result("b", answer(o.message.job()), 2);
+  }
+  ASSERT_EQ(held_by_a.size(), 2u);
+  e.heard_from("a", 4000);
+  e.heard_from("b", 4000);
+  const std::vector<Outgoing> next = jobs_in(e.outgoing(4000));
+  ASSERT_EQ(next.size(), 2u);
+  for (const Outgoing& o : next) {
+    EXPECT_EQ(o.worker, "b");
+    EXPECT_FALSE(held_by_a.contains(o.message.job().job_id()));
+  }
+  EXPECT_EQ(e.queue_depth(), 2);
+  EXPECT_EQ(e.backup_jobs(), 0);
 }
 
 }  // namespace
