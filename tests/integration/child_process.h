@@ -1,5 +1,6 @@
 #pragma once
-// What the process tests share: starting a binary with its output in files, exit codes, reading files back.
+// What the process tests share: starting a binary with its output in files, exit codes, reading files back and
+// looking for text in them.
 
 #include <fcntl.h>
 #include <spawn.h>
@@ -11,6 +12,7 @@
 #include <fstream>
 #include <iterator>
 #include <string>
+#include <string_view>
 #include <vector>
 
 extern char** environ;
@@ -21,6 +23,8 @@ inline std::string read_file(const std::filesystem::path& path) {
   std::ifstream in(path, std::ios::binary);
   return std::string(std::istreambuf_iterator<char>(in), {});
 }
+
+inline bool contains(const std::string& text, std::string_view part) { return text.find(part) != std::string::npos; }
 
 // The exit status, or 128 + the signal that ended the process (as a shell reports it).
 inline int exit_code(int status) { return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status); }

@@ -56,7 +56,7 @@ using poet::testing::exit_code;
 using poet::testing::spawn_child;
 std::string read(const fs::path& path) { return poet::testing::read_file(path); }
 
-bool contains(const std::string& text, std::string_view part) { return text.find(part) != std::string::npos; }
+using poet::testing::contains;
 
 struct Outcome {
   int code = -1;  // the exit status, or 128 + signal

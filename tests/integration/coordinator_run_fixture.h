@@ -37,8 +37,6 @@ const char* const kRunFiles[] = {"checkpoint.pb", "events.jsonl", "pair_stats.cs
 
 inline std::string read(const fs::path& path) { return read_file(path); }
 
-inline bool contains(const std::string& text, std::string_view part) { return text.find(part) != std::string::npos; }
-
 // The children of a process (its local workers), from /proc.
 inline std::vector<pid_t> children_of(pid_t pid) {
   std::vector<pid_t> out;

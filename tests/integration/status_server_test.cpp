@@ -31,6 +31,7 @@
 #include <vector>
 
 #include "build_fingerprint.h"
+#include "child_process.h"
 #include "poet/run_state.h"
 #include "run/run_directory.h"
 #include "status/status_board.h"
@@ -43,6 +44,9 @@ namespace {
 namespace fs = std::filesystem;
 using namespace std::chrono_literals;
 using nlohmann::json;
+using poet::testing::contains;
+using poet::testing::exit_code;
+using poet::testing::read_file;
 using Clock = std::chrono::steady_clock;
 
 constexpr auto kReadTimeout = 1000ms;  // the server's, in these tests
@@ -136,13 +140,6 @@ Received receive(int fd, std::chrono::milliseconds timeout, bool until_response 
   }
   return r;
 }
-
-std::string read_file(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  return std::string(std::istreambuf_iterator<char>(in), {});
-}
-
-bool contains(const std::string& text, std::string_view part) { return text.find(part) != std::string::npos; }
 
 struct Outcome {
   int code = -1;  // the exit status, or 128 + signal; -1 when it could not be started or did not finish
@@ -291,7 +288,7 @@ class StatusServerTest : public ::testing::Test {
       std::this_thread::sleep_for(5ms);
     }
     std::erase(children_, pid);
-    return {WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status), read_file(out), read_file(err)};
+    return {exit_code(status), read_file(out), read_file(err)};
   }
 
   std::string address() const { return "127.0.0.1:" + std::to_string(port_); }

@@ -19,6 +19,7 @@
 #include <vector>
 
 #include "build_fingerprint.h"
+#include "child_process.h"
 
 extern char** environ;
 
@@ -26,6 +27,9 @@ namespace {
 
 namespace fs = std::filesystem;
 using namespace std::chrono_literals;
+using poet::testing::contains;
+using poet::testing::exit_code;
+using poet::testing::read_file;
 
 struct Tool {
   const char* name;
@@ -37,13 +41,6 @@ const Tool kTools[] = {
     {"poet-coordinator", POET_COORDINATOR_BIN}, {"poet-rollout", POET_ROLLOUT_BIN}, {"poet-eval", POET_EVAL_BIN},
     {"poet-fidelity", POET_FIDELITY_BIN},       {"poet-lineage", POET_LINEAGE_BIN}, {"poet-report", POET_REPORT_BIN},
     {"poet-curves", POET_CURVES_BIN},           {"poet-worker", POET_WORKER_BIN},   {"poetctl", POETCTL_BIN}};
-
-std::string read(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  return std::string(std::istreambuf_iterator<char>(in), {});
-}
-
-bool contains(const std::string& text, std::string_view part) { return text.find(part) != std::string::npos; }
 
 struct Outcome {
   int code = -1;  // the exit status, or 128 + signal; -1 when it could not be started or did not finish
@@ -102,7 +99,7 @@ class ToolsProcessTest : public ::testing::Test {
       std::this_thread::sleep_for(5ms);
     }
     std::erase(children_, pid);
-    return {WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status), read(out), read(err)};
+    return {exit_code(status), read_file(out), read_file(err)};
   }
 
   fs::path root_;
@@ -179,7 +176,7 @@ TEST_F(ToolsProcessTest, CurvesSayWhenEachSolvedAndDrawThem) {
   // 229.9 is below the solved score and 240.0 did not finish
   EXPECT_TRUE(contains(o.out, "not solved by ES step 3: score 240.0, 2.7 M environment steps, 1536 rollouts, 9 s"))
       << o.out;
-  EXPECT_EQ(read(root_ / "curves.png").substr(0, 8), "\x89PNG\r\n\x1a\n");
+  EXPECT_EQ(read_file(root_ / "curves.png").substr(0, 8), "\x89PNG\r\n\x1a\n");
 
   const Outcome lower = run(POET_CURVES_BIN, {"512=large.csv", "--solved-score", "225"}, "lower");
   ASSERT_EQ(lower.code, 0) << lower.err;

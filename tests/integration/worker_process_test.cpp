@@ -27,6 +27,7 @@
 #include <zmq.hpp>
 
 #include "build_fingerprint.h"
+#include "child_process.h"
 #include "envgen/named_courses.h"
 #include "policy/mlp.h"
 #include "rng.h"
@@ -40,21 +41,15 @@ namespace {
 
 namespace fs = std::filesystem;
 using namespace std::chrono_literals;
+using poet::testing::contains;
+using poet::testing::exit_code;
+using poet::testing::read_file;
 using Clock = std::chrono::steady_clock;
 using Millis = std::chrono::milliseconds;
 
 // The Welcome the fake coordinator gives: short, so liveness tests take a second, not minutes.
 constexpr uint32_t kHeartbeatMs = 100;
 constexpr uint32_t kLivenessMs = 600;
-
-std::string read(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  return std::string(std::istreambuf_iterator<char>(in), {});
-}
-
-bool contains(const std::string& text, std::string_view part) { return text.find(part) != std::string::npos; }
-
-int exit_code(int status) { return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status); }
 
 double seconds_since(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
 
@@ -206,7 +201,7 @@ class WorkerProcessTest : public ::testing::Test {
     return rc == 0 ? pid : -1;
   }
 
-  std::string err(const std::string& name = "worker") { return read(root_ / (name + ".err")); }
+  std::string err(const std::string& name = "worker") { return read_file(root_ / (name + ".err")); }
 
   // Sends one frame to a worker; false when it is gone.
   bool send_raw(const std::string& peer, const std::string& bytes) {
@@ -625,7 +620,7 @@ TEST_F(WorkerProcessTest, BadCommandLinesExit2AndFingerprintMatchesThisBuild) {
   }
   const pid_t pid = spawn_raw({POET_WORKER_BIN, "--fingerprint"}, "fingerprint");
   EXPECT_EQ(wait_exit(pid, 10s), 0);
-  EXPECT_EQ(read(root_ / "fingerprint.out"), build_fingerprint());
+  EXPECT_EQ(read_file(root_ / "fingerprint.out"), build_fingerprint());
 }
 
 }  // namespace
