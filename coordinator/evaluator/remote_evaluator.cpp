@@ -171,7 +171,13 @@ void RemoteEvaluator::loop() {
       shutdown_requested_ = false;
       shutting_down_ = true;
     }
+    const int64_t backups_before = dispatcher_.backup_jobs();
     for (const Outgoing& message : dispatcher_.outgoing(now)) send(message);
+    if (const int64_t backups = dispatcher_.backup_jobs() - backups_before; backups > 0) {
+      if (const auto held_back = log_backups_.admit(now))
+        spdlog::warn("{} job(s) held far longer than this batch's jobs take: sent to a second worker too{}", backups,
+                     LogThrottle::held_back_note(*held_back));
+    }
     if (dispatcher_.batch_done() || dispatcher_.failure()) changed_.notify_all();
     if (publish_ && now - last_publish >= 500) {
       publish_(dispatcher_);

@@ -91,6 +91,7 @@ class RemoteEvaluator final : public Evaluator {
   LogThrottle log_joined_{5};
   LogThrottle log_left_{5};
   LogThrottle log_lost_{5};
+  LogThrottle log_backups_{1};
   LogThrottle log_refused_{5};
   std::thread thread_;
 };

@@ -110,6 +110,7 @@ TEST_F(DistributedRunTest, AWorkerThatNeverAnswersOnlyDelaysTheRun) {
   EXPECT_EQ(wait(pid), 0) << read(root_ / "S.err");
   expect_same_run(reference, root_ / "S");
   EXPECT_TRUE(contains(read(root_ / "silent.err"), "ignored (--fault ignore-jobs)")) << "it held jobs and kept them";
+  EXPECT_TRUE(contains(read(root_ / "S.err"), "sent to a second worker too")) << read(root_ / "S.err");
   EXPECT_EQ(wait(silent), 0);
   EXPECT_EQ(wait(healthy), 0);
 }
