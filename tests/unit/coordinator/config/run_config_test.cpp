@@ -16,7 +16,9 @@
 #include <fstream>
 #include <future>
 #include <limits>
+#include <map>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "envgen/env_proto.h"
@@ -72,6 +74,29 @@ TEST(RunConfig, BenchWorkloadParsesAndValidates) {
   const Expected<pb::RunConfig> config = load_run_config(path);
   ASSERT_TRUE(config) << config.error();
   EXPECT_EQ(config->es().perturbations(), 1024);
+}
+
+// The learning curves of docs/RESULTS.md (bench/learning_curve.sh): ES alone on flat from the same θ₀ (seed 11),
+// each with the population and learning rate RESULTS gives it.
+TEST(RunConfig, LearningCurveConfigsParseAndValidate) {
+  const std::map<std::string, std::pair<int, double>> mirrored_pairs_and_lr = {
+      {"bench/curves/flat-64.textproto", {32, 0.02}},
+      {"data/walkers/flat-walker.textproto", {64, 0.02}},
+      {"bench/curves/flat-512.textproto", {256, 0.01}},
+      {"bench/curves/flat-512-lr02.textproto", {256, 0.02}}};
+  for (const auto& entry : fs::directory_iterator(source_dir() / "bench" / "curves"))
+    EXPECT_TRUE(mirrored_pairs_and_lr.count("bench/curves/" + entry.path().filename().string()))
+        << entry.path() << " is not listed here";
+  for (const auto& [path, numbers] : mirrored_pairs_and_lr) {
+    SCOPED_TRACE(path);
+    const Expected<pb::RunConfig> config = load_run_config((source_dir() / path).string());
+    ASSERT_TRUE(config) << config.error();
+    EXPECT_EQ(config->mode(), pb::RunConfig::ES_ALONE);
+    EXPECT_EQ(config->es_alone().target().encoding().name(), "flat");
+    EXPECT_EQ(config->seed(), 11u);
+    EXPECT_EQ(config->es().perturbations(), numbers.first);
+    EXPECT_DOUBLE_EQ(config->es().init_lr(), numbers.second);
+  }
 }
 
 TEST(RunConfig, PaperPresetHasThePapersNumbers) {
