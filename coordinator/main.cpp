@@ -38,6 +38,7 @@
 #include "policy/policy_file.h"
 #include "run/progress_display.h"
 #include "run/run_directory.h"
+#include "run/wall_times.h"
 #include "status/status_server.h"
 #include "stop_signals.h"
 #include "tool_flags.h"
@@ -264,6 +265,9 @@ int run(const Options& options, StopSignals& signals) {
   std::optional<std::pair<RunDirectory, RunState>> opened = options.resume ? resume_run(options) : start_run(options);
   if (!opened) return kExitUsage;
   auto& [dir, state] = *opened;
+  std::string wall_warning;
+  WallTimes wall_times = WallTimes::open(options.run_dir, state.next_iteration, &wall_warning);
+  if (!wall_warning.empty()) spdlog::warn("{}", wall_warning);
 
   // the status socket: a snapshot published after each iteration, read by the server's own threads
   StatusBoard board(options.run_dir);
@@ -309,6 +313,7 @@ int run(const Options& options, StopSignals& signals) {
     });
   }
   ProgressDisplay progress(!options.quiet);
+  auto elapsed = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count(); };
   const int interval = state.config.checkpoint_interval();
   int saved_iteration = state.next_iteration;
   auto save = [&]() {
@@ -318,9 +323,10 @@ int run(const Options& options, StopSignals& signals) {
       return false;
     }
     saved_iteration = state.next_iteration;
+    // the times are the run's record of its machine, not its state: a failed write is reported, not fatal
+    if (auto error = wall_times.record(state.next_iteration - 1, elapsed())) spdlog::warn("{}", *error);
     return true;
   };
-  auto elapsed = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count(); };
 
   signals.loop_started();
   while (!run_complete(state) && !signals.stop_requested()) {

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
+#include <tuple>
 
 #include "envgen/env_proto.h"
 
@@ -80,12 +82,38 @@ TargetDistance closest_to(const RunState& state, const EnvEncoding& target) {
   return out;
 }
 
+// The cost of the run at each iteration: the counters of its last pair_stats row, and its wall time.
+class CostByIteration {
+ public:
+  explicit CostByIteration(const RunSnapshot& run) {
+    for (const StatsRow& row : run.stats) counters_[row.iteration] = {row.run_rollouts, row.run_env_steps};
+    for (const WallTime& w : run.wall_times) wall_[w.iteration] = w.seconds;
+  }
+
+  Milestone at(int iteration) const {
+    Milestone m;
+    m.iteration = iteration;
+    if (const auto c = counters_.find(iteration); c != counters_.end()) std::tie(m.rollouts, m.env_steps) = c->second;
+    if (const auto w = wall_.find(iteration); w != wall_.end()) m.wall_s = w->second;
+    return m;
+  }
+
+ private:
+  std::map<int, std::pair<int64_t, int64_t>> counters_;
+  std::map<int, double> wall_;
+};
+
+void keep_first(std::optional<Milestone>& slot, int iteration, const CostByIteration& cost) {
+  if (!slot || iteration < slot->iteration) slot = cost.at(iteration);
+}
+
 }  // namespace
 
 RunMetrics compute_run_metrics(const RunSnapshot& run, const std::optional<EnvEncoding>& target) {
   const RunState& state = run.state;
   RunMetrics m;
   m.iterations_done = state.next_iteration;
+  const CostByIteration cost(run);
 
   // per-iteration increments, then accumulated
   std::vector<LevelCounts> added(static_cast<size_t>(std::max(0, m.iterations_done)));
@@ -106,6 +134,7 @@ RunMetrics compute_run_metrics(const RunSnapshot& run, const std::optional<EnvEn
       if (!e || !slot) continue;
       const size_t level = static_cast<size_t>(level_of(*e));
       slot->created[level] += 1;
+      keep_first(m.firsts[level].created, iteration, cost);
       if (field_or(event, "passed_mc", false)) slot->passed_mc[level] += 1;
     } else if (name == "transfer") {
       m.accepted_transfers.push_back({iteration, field_or(event, "target", -1), field_or(event, "source", -1),
@@ -115,9 +144,15 @@ RunMetrics compute_run_metrics(const RunSnapshot& run, const std::optional<EnvEn
   }
   for (const Pair& p : state.pairs) {
     const size_t level = static_cast<size_t>(level_of(p.env.encoding));
-    if (LevelCounts* slot = at(p.created_iteration)) slot->admitted[level] += 1;
+    if (LevelCounts* slot = at(p.created_iteration)) {
+      slot->admitted[level] += 1;
+      keep_first(m.firsts[level].admitted, p.created_iteration, cost);
+    }
     if (p.solved()) {
-      if (LevelCounts* slot = at(p.first_solved_iteration)) slot->solved[level] += 1;
+      if (LevelCounts* slot = at(p.first_solved_iteration)) {
+        slot->solved[level] += 1;
+        keep_first(m.firsts[level].solved, p.first_solved_iteration, cost);
+      }
       m.solve_times.push_back({p.id, static_cast<int>(level), p.created_iteration, p.first_solved_iteration});
     }
     if (p.parent_id != kNone && p.solved()) m.annecs_at_admission += 1;

@@ -44,6 +44,21 @@ struct LevelSolveSummary {
   int min = 0, max = 0;
 };
 
+// The first time a level was reached, and what the run had spent by then: its counters as of that iteration's
+// ES steps (pair_stats.csv; -1 when the run's log predates those columns) and its wall time when that iteration
+// was saved (wall_times.csv; absent when the run has none).
+struct Milestone {
+  int iteration = 0;
+  int64_t rollouts = -1;
+  int64_t env_steps = -1;
+  std::optional<double> wall_s;
+};
+
+// Per level: the first environment created by mutation (not a duplicate), the first admitted, the first solved.
+struct LevelFirsts {
+  std::optional<Milestone> created, admitted, solved;
+};
+
 struct AcceptedTransfer {
   int iteration = 0;
   int target = 0;
@@ -67,6 +82,7 @@ struct RunMetrics {
   std::vector<LevelTimePoint> over_time;  // one point per iteration 0 .. iterations_done - 1
   std::vector<SolveTime> solve_times;
   std::array<LevelSolveSummary, kLevels> solve_summary{};
+  std::array<LevelFirsts, kLevels> firsts{};
   int64_t transfer_attempts = 0, transfer_successes = 0;
   std::vector<AcceptedTransfer> accepted_transfers;
   int64_t annecs_at_admission = 0, annecs_at_archiving = 0;

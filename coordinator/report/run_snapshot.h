@@ -12,6 +12,7 @@
 
 #include "expected.h"
 #include "poet/run_state.h"
+#include "run/wall_times.h"
 
 namespace poet {
 
@@ -35,6 +36,10 @@ struct RunSnapshot {
   std::vector<nlohmann::json> events;  // events.jsonl up to the checkpoint's size, one object per line
   std::vector<StatsRow> stats;         // pair_stats.csv up to the checkpoint's size
   bool live = false;                   // another process holds run.lock: the run is being written
+  // wall_times.csv up to the checkpoint's iteration; empty when the run has none. The file is a record of the
+  // machine, not of the run, so damage to it is reported here rather than refusing the run.
+  std::vector<WallTime> wall_times;
+  std::string wall_times_problem;
 };
 
 // Whether path is dir or lies inside it (both made absolute, symbolic links resolved where they exist): the

@@ -9,6 +9,8 @@
 //   envs/pair-<id>.env.json          each pair's environment, written once when the pair first appears
 //   policies/pair-<id>.json          its current θ with its latest score   } rewritten at each checkpoint while
 //   policies/pair-<id>.best.json     its best θ with its best score        } active, and once after it retires
+//   wall_times.csv          the machine time at each saved iteration (run/wall_times.h; the coordinator writes it,
+//                           outside the run's determinism)
 // The checkpoint records the sizes of the two logs; resume truncates them back, so after a crash the logs hold
 // exactly the iterations the restored state has seen and a resumed run writes the same bytes as an
 // uninterrupted one. The pair files are written after the checkpoint, so they never run ahead of it (a failure

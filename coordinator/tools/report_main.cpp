@@ -5,6 +5,7 @@
 
 #include <CLI/CLI.hpp>
 #include <cerrno>
+#include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
@@ -39,6 +40,46 @@ const char* mode_name(pb::RunConfig::Mode mode) {
 
 std::string level_name(size_t level) { return std::string(to_string(static_cast<Difficulty>(level))); }
 
+nlohmann::ordered_json milestone_json(const std::optional<Milestone>& m) {
+  if (!m) return nullptr;
+  nlohmann::ordered_json out = {{"iteration", m->iteration}};
+  out["rollouts"] = m->rollouts >= 0 ? nlohmann::ordered_json(m->rollouts) : nullptr;
+  out["env_steps"] = m->env_steps >= 0 ? nlohmann::ordered_json(m->env_steps) : nullptr;
+  out["wall_s"] = m->wall_s ? nlohmann::ordered_json(*m->wall_s) : nullptr;
+  return out;
+}
+
+void print_milestones(const RunSnapshot& run, const RunMetrics& m) {
+  std::printf(
+      "When each level was first reached (the run's rollouts and environment steps by that iteration's ES steps; "
+      "wall time when it was saved)\n");
+  std::printf("  %-22s %-9s %9s %10s %11s %10s\n", "level", "first", "iteration", "rollouts", "env steps", "wall time");
+  for (size_t l = 0; l < kLevels; ++l) {
+    const LevelFirsts& f = m.firsts[l];
+    const std::pair<const char*, const std::optional<Milestone>*> rows[] = {
+        {"created", &f.created}, {"admitted", &f.admitted}, {"solved", &f.solved}};
+    for (const auto& [what, slot] : rows) {
+      if (!*slot) continue;
+      const Milestone& ms = **slot;
+      char rollouts[32] = "-", steps[32] = "-", wall[32] = "-";
+      if (ms.rollouts >= 0) std::snprintf(rollouts, sizeof rollouts, "%lld", static_cast<long long>(ms.rollouts));
+      if (ms.env_steps >= 0) std::snprintf(steps, sizeof steps, "%.1f M", static_cast<double>(ms.env_steps) / 1e6);
+      if (ms.wall_s) {
+        const long total = std::lround(*ms.wall_s);
+        std::snprintf(wall, sizeof wall, "%ld:%02ld:%02ld", total / 3600, total / 60 % 60, total % 60);
+      }
+      std::printf("  %-22s %-9s %9d %10s %11s %10s\n", level_name(l).c_str(), what, ms.iteration, rollouts, steps,
+                  wall);
+    }
+  }
+  if (run.wall_times.empty())
+    std::printf("  (no wall times: %s)\n", run.wall_times_problem.empty() ? "the run directory has no wall_times.csv"
+                                                                           : run.wall_times_problem.c_str());
+  else if (!run.wall_times_problem.empty())
+    std::printf("  (wall times: %s)\n", run.wall_times_problem.c_str());
+  std::printf("\n");
+}
+
 nlohmann::ordered_json to_json(const RunSnapshot& run, const RunMetrics& m, const Coverage& coverage,
                                const std::string& samples_file) {
   const RunState& state = run.state;
@@ -52,6 +93,7 @@ nlohmann::ordered_json to_json(const RunSnapshot& run, const RunMetrics& m, cons
   out["live"] = run.live;
   out["rollouts"] = state.counters.rollouts;
   out["env_steps"] = state.counters.env_steps;
+  out["wall_times_problem"] = run.wall_times_problem.empty() ? nullptr : nlohmann::ordered_json(run.wall_times_problem);
   out["levels"] = nlohmann::ordered_json::array();
   for (size_t l = 0; l < kLevels; ++l) {
     const LevelSolveSummary& s = m.solve_summary[l];
@@ -61,7 +103,10 @@ nlohmann::ordered_json to_json(const RunSnapshot& run, const RunMetrics& m, cons
                              {"admitted", m.total.admitted[l]},
                              {"solved", m.total.solved[l]},
                              {"iterations_to_solve",
-                              {{"count", s.count}, {"mean", s.mean}, {"sd", s.sd}, {"min", s.min}, {"max", s.max}}}});
+                              {{"count", s.count}, {"mean", s.mean}, {"sd", s.sd}, {"min", s.min}, {"max", s.max}}},
+                             {"first_created", milestone_json(m.firsts[l].created)},
+                             {"first_admitted", milestone_json(m.firsts[l].admitted)},
+                             {"first_solved", milestone_json(m.firsts[l].solved)}});
   }
   out["mutation_attempts"] = state.counters.children_tried;
   out["duplicates"] = m.duplicates;
@@ -152,6 +197,7 @@ void print_table(const RunSnapshot& run, const RunMetrics& m, const Coverage& co
   }
   std::printf("  (%lld mutation attempts, %lld of them duplicates of an archived environment)\n\n",
               static_cast<long long>(state.counters.children_tried), static_cast<long long>(m.duplicates));
+  print_milestones(run, m);
 
   std::printf("Transfers: %lld replacement attempts, %lld accepted", static_cast<long long>(m.transfer_attempts),
               static_cast<long long>(m.transfer_successes));

@@ -64,7 +64,8 @@ TEST(RunConfig, EveryPresetParsesAndValidates) {
     EXPECT_TRUE(config) << config.error();
   }
   for (const char* expected :
-       {"paper.textproto", "quick.textproto", "es_alone.textproto", "direct_path.textproto", "no_transfer.textproto"})
+       {"paper.textproto", "quick.textproto", "small.textproto", "challenging.textproto", "es_alone.textproto",
+        "direct_path.textproto", "no_transfer.textproto"})
     EXPECT_NE(std::find(names.begin(), names.end(), expected), names.end()) << expected << " missing";
 }
 
@@ -143,6 +144,24 @@ TEST(RunConfig, SmallPresetKeepsThePapersCriteria) {
   EXPECT_EQ(c.poet().solved_score(), 230);
   EXPECT_LE(c.es().perturbations(), 64);
   EXPECT_LE(c.poet().active_cap(), 5);
+}
+
+// The challenging preset keeps the paper's criteria, obstacle types and ranking; its ES and population are the
+// ones docs/RESULTS.md names.
+TEST(RunConfig, ChallengingPresetKeepsThePapersCriteria) {
+  const pb::RunConfig c = load_preset("challenging.textproto");
+  EXPECT_EQ(c.mode(), pb::RunConfig::POET);
+  EXPECT_EQ(c.poet().repro_threshold(), 200);
+  EXPECT_EQ(c.poet().mc_low(), 50);
+  EXPECT_EQ(c.poet().mc_high(), 300);
+  EXPECT_EQ(c.poet().solved_score(), 230);
+  EXPECT_EQ(c.poet().child_ranking(), pb::NOVELTY);
+  EXPECT_TRUE(c.poet().mutation().roughness() && c.poet().mutation().pits() && c.poet().mutation().stumps());
+  EXPECT_TRUE(c.poet().mutation().all_types());
+  EXPECT_EQ(c.es().perturbations(), 32);
+  EXPECT_EQ(c.es().init_lr(), 0.01);
+  EXPECT_EQ(c.es().init_sigma(), 0.05);
+  EXPECT_EQ(c.poet().active_cap(), 6);
 }
 
 TEST(RunConfig, ControlPresetsHaveTheirModes) {

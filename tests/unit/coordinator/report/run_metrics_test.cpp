@@ -77,6 +77,50 @@ TEST(RunMetrics, CountsPerLevelAndOverTime) {
   EXPECT_EQ(m.over_time[9].total, m.total);
 }
 
+// The first creation, admission and solve of each level, with the counters of that iteration's stats rows and
+// the wall time saved with it; a level never reached has none, and a run without wall times has no times.
+TEST(RunMetrics, WhenEachLevelWasFirstReached) {
+  RunSnapshot run = sample_run();
+  for (int t = 0; t < 10; ++t) {
+    StatsRow row;
+    row.iteration = t;
+    row.run_rollouts = 100 * (t + 1);
+    row.run_env_steps = 1000 * (t + 1);
+    run.stats.push_back(row);
+  }
+  for (int t = 0; t < 10; ++t) run.wall_times.push_back({t, 2.5 * t});
+  const RunMetrics m = compute_run_metrics(run);
+
+  const LevelFirsts& easy = m.firsts[0];
+  ASSERT_TRUE(easy.created && easy.admitted && easy.solved);
+  EXPECT_EQ(easy.created->iteration, 4);
+  EXPECT_EQ(easy.admitted->iteration, 0);  // the first environment
+  EXPECT_EQ(easy.solved->iteration, 3);
+
+  const LevelFirsts& challenging = m.firsts[1];
+  ASSERT_TRUE(challenging.created && challenging.admitted && challenging.solved);
+  EXPECT_EQ(challenging.created->iteration, 5);
+  EXPECT_EQ(challenging.admitted->iteration, 5);
+  EXPECT_EQ(challenging.solved->iteration, 9);
+  EXPECT_EQ(challenging.solved->rollouts, 1000);
+  EXPECT_EQ(challenging.solved->env_steps, 10000);
+  ASSERT_TRUE(challenging.solved->wall_s);
+  EXPECT_DOUBLE_EQ(*challenging.solved->wall_s, 22.5);
+
+  const LevelFirsts& very = m.firsts[2];
+  ASSERT_TRUE(very.created && very.admitted);
+  EXPECT_EQ(very.created->iteration, 8);
+  EXPECT_FALSE(very.solved);
+  EXPECT_FALSE(m.firsts[3].created || m.firsts[3].admitted || m.firsts[3].solved);
+
+  run.wall_times.clear();
+  run.stats.clear();
+  const RunMetrics without = compute_run_metrics(run);
+  ASSERT_TRUE(without.firsts[1].solved);
+  EXPECT_FALSE(without.firsts[1].solved->wall_s);
+  EXPECT_EQ(without.firsts[1].solved->rollouts, -1);
+}
+
 TEST(RunMetrics, IterationsFromCreationToSolutionPerLevel) {
   const RunMetrics m = compute_run_metrics(sample_run());
   ASSERT_EQ(m.solve_times.size(), 3u);

@@ -1,0 +1,54 @@
+#pragma once
+// wall_times.csv: how long a run has taken on its machine, for "when was X reached" (poet-report). A header, then
+// one line per saved iteration, "iteration,wall_s": the seconds the run's coordinator processes had been running
+// when that iteration's checkpoint was written, summed over them (a resume continues the clock from the last line
+// the checkpoint has seen). Machine-dependent and outside the run's determinism: nothing in it is read back into
+// the state, so a lost or damaged file costs only the times.
+
+#include <cstdint>
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "expected.h"
+
+namespace poet {
+
+inline constexpr char kWallTimesFile[] = "wall_times.csv";
+inline constexpr char kWallTimesHeader[] = "iteration,wall_s\n";
+// A line is a few bytes; this is some ten million iterations.
+inline constexpr std::uintmax_t kMaxWallTimesBytes = std::uintmax_t{256} << 20;
+
+struct WallTime {
+  int iteration = 0;
+  double seconds = 0;
+};
+
+// The lines of a wall_times.csv, in order. Iterations must increase and times must be finite, non-negative and
+// not decrease; an error names the line and says what is wrong.
+Expected<std::vector<WallTime>> parse_wall_times(std::string_view text);
+
+// The writer a coordinator keeps for its run directory.
+class WallTimes {
+ public:
+  // Opens dir/wall_times.csv for a run whose state is at next_iteration: keeps the lines of the iterations before
+  // it (later lines timed work the checkpoint did not keep) and rewrites the file atomically. A missing file
+  // starts the clock at 0; an unreadable or damaged one too, with a warning that says why (the state is not
+  // affected, only the times before this process are lost).
+  static WallTimes open(const std::filesystem::path& dir, int next_iteration, std::string* warning);
+
+  // Appends "iteration,carried + seconds", seconds being this process's running time. An error names the file.
+  std::optional<std::string> record(int iteration, double seconds);
+
+  // The run's time before this process.
+  double carried() const { return carried_; }
+
+ private:
+  WallTimes(std::filesystem::path path, double carried) : path_(std::move(path)), carried_(carried) {}
+  std::filesystem::path path_;
+  double carried_ = 0;
+};
+
+}  // namespace poet

@@ -1,0 +1,95 @@
+// Tests coordinator/run/wall_times.cpp: the clock continues across processes from the lines the checkpoint has
+// seen, later lines are dropped, and a damaged file is named and costs only the times.
+
+#include "run/wall_times.h"
+
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+namespace poet {
+namespace {
+
+namespace fs = std::filesystem;
+
+class WallTimesTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() / ("poet-wall-times-" + std::to_string(::getpid()));
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+
+  std::string text() const {
+    std::ifstream in(dir_ / kWallTimesFile);
+    std::stringstream s;
+    s << in.rdbuf();
+    return s.str();
+  }
+  void write(const std::string& text) const { std::ofstream(dir_ / kWallTimesFile) << text; }
+
+  fs::path dir_;
+};
+
+TEST_F(WallTimesTest, ANewRunStartsTheClockAtZero) {
+  std::string warning;
+  WallTimes w = WallTimes::open(dir_, 0, &warning);
+  EXPECT_EQ(warning, "");
+  EXPECT_EQ(w.carried(), 0);
+  EXPECT_FALSE(w.record(0, 1.5));
+  EXPECT_FALSE(w.record(1, 3.25));
+  EXPECT_EQ(text(), "iteration,wall_s\n0,1.500\n1,3.250\n");
+}
+
+TEST_F(WallTimesTest, AResumeKeepsTheCheckpointsLinesAndContinuesTheClock) {
+  write("iteration,wall_s\n0,1.000\n1,2.000\n2,3.000\n3,4.000\n");
+  std::string warning;
+  WallTimes w = WallTimes::open(dir_, 2, &warning);  // the checkpoint has seen iterations 0 and 1
+  EXPECT_EQ(warning, "");
+  EXPECT_EQ(w.carried(), 2.0);
+  EXPECT_FALSE(w.record(2, 0.5));
+  EXPECT_EQ(text(), "iteration,wall_s\n0,1.000\n1,2.000\n2,2.500\n");
+  const Expected<std::vector<WallTime>> lines = parse_wall_times(text());
+  ASSERT_TRUE(lines) << lines.error();
+  ASSERT_EQ(lines->size(), 3u);
+  EXPECT_EQ((*lines)[2].iteration, 2);
+  EXPECT_DOUBLE_EQ((*lines)[2].seconds, 2.5);
+}
+
+TEST_F(WallTimesTest, ADamagedFileIsNamedAndTheClockRestarts) {
+  write("iteration,wall_s\n0,1.000\n1,x\n");
+  std::string warning;
+  WallTimes w = WallTimes::open(dir_, 5, &warning);
+  EXPECT_NE(warning.find(kWallTimesFile), std::string::npos) << warning;
+  EXPECT_NE(warning.find("line 3"), std::string::npos) << warning;
+  EXPECT_EQ(w.carried(), 0);
+  EXPECT_EQ(text(), "iteration,wall_s\n");
+}
+
+TEST(ParseWallTimes, RefusesWhatTheWriterNeverWrites) {
+  const std::pair<const char*, const char*> cases[] = {
+      {"", "no header"},
+      {"iteration,seconds\n", "line 1"},
+      {"iteration,wall_s\n0,1.0", "cut short"},
+      {"iteration,wall_s\n0\n", "expected iteration,wall_s"},
+      {"iteration,wall_s\n-1,1.0\n", "non-negative integer"},
+      {"iteration,wall_s\n0,nan\n", "finite"},
+      {"iteration,wall_s\n0,1e999\n", "finite"},
+      {"iteration,wall_s\n0,-2\n", "non-negative"},
+      {"iteration,wall_s\n1,1.0\n1,2.0\n", "does not follow"},
+      {"iteration,wall_s\n1,3.0\n2,2.0\n", "goes back"},
+  };
+  for (const auto& [text, expected] : cases) {
+    const Expected<std::vector<WallTime>> lines = parse_wall_times(text);
+    ASSERT_FALSE(lines) << text;
+    EXPECT_NE(lines.error().find(expected), std::string::npos) << text << " → " << lines.error();
+  }
+}
+
+}  // namespace
+}  // namespace poet
