@@ -167,6 +167,7 @@ void check_poet(Checks& c, const pb::PoetConfig& poet, pb::RunConfig::Mode mode)
   c.known_enum("poet.child_ranking", poet.child_ranking(), pb::ChildRanking_IsValid);
   c.known_enum("poet.admission_proposal", poet.admission_proposal(), pb::ProposalKind_IsValid);
   c.known_enum("poet.transfer_proposal", poet.transfer_proposal(), pb::ProposalKind_IsValid);
+  c.known_enum("poet.transfer_test", poet.transfer_test(), pb::TransferTest_IsValid);
   const pb::MutationConfig& m = poet.mutation();
   const bool evolves = mode == pb::RunConfig::POET || mode == pb::RunConfig::POET_WITHOUT_TRANSFER;
   // With nothing to mutate every child equals its parent and is dropped: the run could never grow.

@@ -66,6 +66,7 @@ pb::PairState to_proto(const Pair& pair) {
     r->set_score(record.score);
   }
   out.set_transfer_attempts(pair.transfer_attempts);
+  copy_values(pair.recent_scores, out.mutable_recent_scores());
   return out;
 }
 
@@ -177,6 +178,11 @@ Expected<Pair> read_pair(const std::string& field, const pb::PairState& message,
     error = check_iteration_or_none(field + ".retired_iteration", message.retired_iteration(), next_iteration);
   if (!error) error = check_at_least(field + ".es_steps", message.es_steps(), 0);
   if (!error) error = check_at_least(field + ".transfer_attempts", message.transfer_attempts(), 0);
+  if (!error && static_cast<size_t>(message.recent_scores_size()) > kRecentScores)
+    error = field + ".recent_scores: " + number(int64_t{message.recent_scores_size()}) + " scores, at most " +
+            number(static_cast<int64_t>(kRecentScores));
+  for (int i = 0; !error && i < message.recent_scores_size(); ++i)
+    error = check_finite(field + ".recent_scores[" + number(int64_t{i}) + "]", message.recent_scores(i));
   if (error) return Unexpected{*error};
 
   Expected<OptimizerState> optimizer = read_optimizer(field + ".optimizer", message);
@@ -208,6 +214,7 @@ Expected<Pair> read_pair(const std::string& field, const pb::PairState& message,
   pair.retired_iteration = message.retired_iteration();
   pair.es_steps = message.es_steps();
   pair.transfer_attempts = message.transfer_attempts();
+  pair.recent_scores = values(message.recent_scores());
   return pair;
 }
 

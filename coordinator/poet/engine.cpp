@@ -35,6 +35,10 @@ IterationContext iteration_context(RunState& state, Evaluator& evaluator, Iterat
 void record_evaluation(IterationContext& ctx, Pair& pair, const std::vector<double>& theta, const Evaluation& eval) {
   pair.latest_score = eval.score;
   pair.latest_finished = eval.finished;
+  if (ctx.config.poet().transfer_test() == pb::THRESHOLD_TRANSFER_TEST) {
+    pair.recent_scores.push_back(eval.score);
+    if (pair.recent_scores.size() > kRecentScores) pair.recent_scores.erase(pair.recent_scores.begin());
+  }
   if (pair.best_iteration == kNone || eval.score > pair.best_score) {
     pair.best_score = eval.score;
     pair.best_theta = theta;

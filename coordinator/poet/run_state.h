@@ -25,6 +25,8 @@ struct TransferRecord {
 
 // An environment–agent pair, with its lineage (spec §3): parent, creation, the source of its first θ, accepted
 // transfers, ES steps and first solve.
+inline constexpr size_t kRecentScores = 5;  // Enhanced POET's transfer threshold: the best of the last five
+
 struct Pair {
   int id = 0;
   EnvDef env;
@@ -48,6 +50,9 @@ struct Pair {
   int64_t es_steps = 0;
   std::vector<TransferRecord> transfers;
   int64_t transfer_attempts = 0;  // transfer rounds this pair took part in as a target
+  // The scores of its last kRecentScores evaluations, oldest first: the threshold of the threshold transfer test,
+  // kept only when the run uses it (so other runs' states are unchanged).
+  std::vector<double> recent_scores;
 
   bool active() const { return retired_iteration == kNone; }
   bool solved() const { return first_solved_iteration != kNone; }

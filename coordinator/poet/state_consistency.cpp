@@ -43,6 +43,8 @@ Error check_pair(const RunState& state, size_t i, const EsSettings& es) {
   if (p.optimizer.sigma > es.init_sigma || p.optimizer.sigma < es.sigma_floor)
     return field + ".optimizer.sigma: " + std::to_string(p.optimizer.sigma) +
            " outside [es.sigma_floor, es.init_sigma]";
+  if (!p.recent_scores.empty() && state.config.poet().transfer_test() != pb::THRESHOLD_TRANSFER_TEST)
+    return field + ".recent_scores: kept only under poet.transfer_test THRESHOLD_TRANSFER_TEST";
   for (size_t k = 0; k < p.transfers.size(); ++k) {
     const TransferRecord& r = p.transfers[k];
     const std::string path = field + ".transfers[" + std::to_string(k) + "]";

@@ -1,7 +1,13 @@
-// Step 3 of an iteration (spec §3): every pair tries every other pair's θ (direct) and a one-step proposal from
-// it (made with the target's σ, lr and Adam moments). All evaluations use the θs as they stood before the round
-// — two batches: direct evaluations with the proposals' ES rollouts, then the proposals' evaluations — and the
-// replacements are applied together afterwards.
+// Step 3 of an iteration (spec §3): every pair tries every other pair's θ on its environment. All evaluations use
+// the θs as they stood before the round, and the replacements are applied together afterwards.
+//   full test (the paper's): each source directly and as a one-step proposal (made with the target's σ, lr and
+//     Adam moments) — two batches: direct evaluations with the proposals' ES rollouts, then the proposals'
+//     evaluations; the best of all replaces θ if strictly better than the target's latest score.
+//   threshold test (Enhanced POET's): direct evaluations first; only a source that beats the target's threshold
+//     (the best of its last five evaluation scores) gets the proposal step — two more batches — and the best
+//     proposal that beats the threshold too replaces θ.
+
+#include <algorithm>
 
 #include "poet/iteration_context.h"
 
@@ -16,15 +22,26 @@ struct Candidate {
   size_t eval = 0;  // evaluation handle
 };
 
+double threshold_of(const Pair& target) {
+  if (target.recent_scores.empty()) return target.latest_score;
+  return *std::max_element(target.recent_scores.begin(), target.recent_scores.end());
+}
+
 }  // namespace
 
 void transfer(IterationContext& ctx) {
   const int interval = ctx.config.poet().transfer_interval();
   const std::vector<size_t> active = ctx.state.active_indices();
   if (ctx.t % interval != 0 || active.size() < 2) return;
+  const bool full = ctx.config.poet().transfer_test() == pb::FULL_TRANSFER_TEST;
   const auto u = [](auto v) { return static_cast<uint64_t>(v); };
+  const auto step_of = [&](RolloutBatch& batch, const Pair& target, const Candidate& source) {
+    const uint64_t step_key = ctx.key("transfer-noise", {u(ctx.t), u(target.id), u(source.source)});
+    return batch.add_es_step({share(source.theta), target.env, target.optimizer.sigma, step_key},
+                             ctx.es.perturbations);
+  };
 
-  // round 1: direct evaluations and the proposals' ES steps
+  // direct evaluations (with the full test, the proposals' ES rollouts in the same batch)
   RolloutBatch first = ctx.batch();
   std::vector<std::vector<Candidate>> direct(active.size()), proposals(active.size());
   std::vector<std::vector<size_t>> es_handles(active.size());
@@ -33,25 +50,36 @@ void transfer(IterationContext& ctx) {
     for (size_t b : active) {
       const Pair& source = ctx.state.pairs[b];
       if (source.id == target.id) continue;
-      const SharedParams theta = share(source.theta);
       const uint64_t eval_key = ctx.key("transfer-eval", {u(ctx.t), u(target.id), u(source.id), 0});
-      direct[a].push_back({source.id, false, source.theta, first.add_evaluation(theta, target.env, eval_key)});
-      const uint64_t step_key = ctx.key("transfer-noise", {u(ctx.t), u(target.id), u(source.id)});
-      es_handles[a].push_back(
-          first.add_es_step({theta, target.env, target.optimizer.sigma, step_key}, ctx.es.perturbations));
+      direct[a].push_back({source.id, false, source.theta, first.add_evaluation(share(source.theta), target.env,
+                                                                                eval_key)});
+      if (full) es_handles[a].push_back(step_of(first, target, direct[a].back()));
     }
   }
   first.run(ctx.evaluator, ctx.state.counters, ctx.es);
 
-  // round 2: the proposals' evaluations
+  // the threshold test: the proposals' ES rollouts, only for the sources that passed it
+  std::vector<std::vector<const Candidate*>> stepped(active.size());
+  RolloutBatch screened = ctx.batch();
+  for (size_t a = 0; a < active.size(); ++a) {
+    const Pair& target = ctx.state.pairs[active[a]];
+    for (const Candidate& d : direct[a]) {
+      if (!full && !(first.evaluation(d.eval).score > threshold_of(target))) continue;
+      stepped[a].push_back(&d);
+      if (!full) es_handles[a].push_back(step_of(screened, target, d));
+    }
+  }
+  if (!full) screened.run(ctx.evaluator, ctx.state.counters, ctx.es);
+  const RolloutBatch& stepped_batch = full ? first : screened;
+
+  // the proposals' evaluations
   RolloutBatch second = ctx.batch();
   for (size_t a = 0; a < active.size(); ++a) {
     const Pair& target = ctx.state.pairs[active[a]];
-    const std::vector<EsOutcome> outcomes = first.es_outcomes(es_handles[a], ctx.es);  // one target at a time
-    for (size_t s = 0; s < direct[a].size(); ++s) {
-      const Candidate& d = direct[a][s];
-      const EsOutcome& out = outcomes[s];
-      std::vector<double> theta = propose(ctx.config.poet().transfer_proposal(), d.theta, out.gradient,
+    const std::vector<EsOutcome> outcomes = stepped_batch.es_outcomes(es_handles[a], ctx.es);  // one target at a time
+    for (size_t s = 0; s < stepped[a].size(); ++s) {
+      const Candidate& d = *stepped[a][s];
+      std::vector<double> theta = propose(ctx.config.poet().transfer_proposal(), d.theta, outcomes[s].gradient,
                                           target.optimizer, target.optimizer.lr, ctx.es);
       require_finite(ctx, target, theta, "the transfer proposal from pair " + std::to_string(d.source));
       const uint64_t eval_key = ctx.key("transfer-eval", {u(ctx.t), u(target.id), u(d.source), 1});
@@ -61,12 +89,14 @@ void transfer(IterationContext& ctx) {
   }
   second.run(ctx.evaluator, ctx.state.counters);
 
-  // the choices: the best transfer, first in order on ties, replaces θ if strictly better than the latest score
+  // the choices: the best transfer, first in order on ties (direct by source order, then proposals), replaces θ
+  // if strictly better than the latest score (full test) or than the threshold, as a proposal (threshold test)
   for (size_t a = 0; a < active.size(); ++a) {
     Pair& target = ctx.state.pairs[active[a]];
     const Candidate* best = nullptr;
     Evaluation best_eval;
     for (const auto* list : {&direct[a], &proposals[a]}) {
+      if (!full && list == &direct[a]) continue;
       for (const Candidate& c : *list) {
         const Evaluation e = (c.proposal ? second : first).evaluation(c.eval);
         if (!best || e.score > best_eval.score) {
@@ -77,7 +107,8 @@ void transfer(IterationContext& ctx) {
     }
     target.transfer_attempts += 1;
     ctx.state.counters.transfer_attempts += 1;
-    if (!best || !(best_eval.score > target.latest_score)) continue;
+    const double bar = full ? target.latest_score : threshold_of(target);
+    if (!best || !(best_eval.score > bar)) continue;
 
     const double previous = target.latest_score;
     target.theta = best->theta;

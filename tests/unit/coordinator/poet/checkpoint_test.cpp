@@ -146,6 +146,18 @@ TEST(CheckpointTest, RoundTripIsExact) {
   EXPECT_EQ(restored->next_pair_id, 9);
 }
 
+// The threshold transfer test's recent scores travel with the pair.
+TEST(CheckpointTest, RecentScoresRoundTrip) {
+  RunState state = sample_state();
+  state.config.mutable_poet()->set_transfer_test(pb::THRESHOLD_TRANSFER_TEST);
+  state.pairs[1].recent_scores = {12.5, -3, 240};
+  const pb::Checkpoint checkpoint = to_checkpoint(state);
+  const Expected<RunState> restored = from_checkpoint(checkpoint);
+  ASSERT_TRUE(restored) << restored.error();
+  EXPECT_EQ(restored->pairs[1].recent_scores, state.pairs[1].recent_scores);
+  EXPECT_TRUE(restored->pairs[0].recent_scores.empty());
+}
+
 TEST(CheckpointTest, CurriculumRoundTripIsExact) {
   const pb::Checkpoint checkpoint = to_checkpoint(direct_path_state());
   const Expected<RunState> restored = from_checkpoint(checkpoint);
@@ -232,6 +244,16 @@ TEST(CheckpointTest, HostileCheckpointsNameTheField) {
        "pairs[0].retired_iteration"},
       {"negative es steps", [](pb::Checkpoint& c) { c.mutable_pairs(1)->set_es_steps(-1); }, "pairs[1].es_steps"},
       {"negative counter", [](pb::Checkpoint& c) { c.mutable_counters()->set_env_steps(-5); }, "counters.env_steps"},
+      {"recent scores under the full test", [](pb::Checkpoint& c) { c.mutable_pairs(1)->add_recent_scores(10); },
+       "pairs[1].recent_scores: kept only under poet.transfer_test THRESHOLD_TRANSFER_TEST"},
+      {"six recent scores",
+       [](pb::Checkpoint& c) {
+         for (int i = 0; i < 6; ++i) c.mutable_pairs(1)->add_recent_scores(i);
+       },
+       "pairs[1].recent_scores: 6 scores, at most 5"},
+      {"nan recent score",
+       [](pb::Checkpoint& c) { c.mutable_pairs(2)->add_recent_scores(std::numeric_limits<double>::quiet_NaN()); },
+       "pairs[2].recent_scores[0]"},
   };
   const pb::Checkpoint good = to_checkpoint(sample_state());
   ASSERT_TRUE(from_checkpoint(good));

@@ -3,6 +3,8 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 #include "engine_test_support.h"
 #include "scripted_evaluator.h"
 
@@ -122,6 +124,88 @@ TEST(Transfer, ProposalsUseTheTargetsSigma) {
     // σ after the iteration's own step decayed it once
     EXPECT_DOUBLE_EQ(t.perturbation->sigma, (on_flat(t) ? 0.05 : 0.07) * s.config.es().sigma_decay());
   }
+}
+
+// ------------------------------------------------------------------ the threshold test (Enhanced POET's)
+
+RunState two_pairs_threshold() {
+  RunState s = two_pairs();
+  s.config.mutable_poet()->set_transfer_test(pb::THRESHOLD_TRANSFER_TEST);
+  return s;
+}
+
+// Calls: 0 the ES steps, 1 their evaluations (both pairs 100), 2 the direct transfers, 3 the ES steps of the
+// sources that passed, 4 their proposals' evaluations.
+ScriptedEvaluator threshold_script(double direct_on_flat, double direct_on_rough, double proposal_on_flat,
+                                   double proposal_on_rough) {
+  return ScriptedEvaluator([=](int call, size_t, const RolloutTask& t) {
+    if (t.perturbation) return scored(0);
+    if (call == 2) return scored(on_flat(t) ? direct_on_flat : direct_on_rough);
+    if (call == 4) return scored(on_flat(t) ? proposal_on_flat : proposal_on_rough);
+    return scored(100);
+  });
+}
+
+size_t perturbations_in(const std::vector<RolloutTask>& batch) {
+  return static_cast<size_t>(std::count_if(batch.begin(), batch.end(), [](const RolloutTask& t) {
+    return t.perturbation.has_value();
+  }));
+}
+
+// Pair 0's threshold is the best of its last five scores (130, above its latest 100): a direct 120 does not pass
+// and costs no ES step; pair 1's threshold is 100 and a direct 150 passes, and its proposal (180) replaces θ.
+TEST(TransferThreshold, OnlySourcesAboveTheThresholdGetAProposalStep) {
+  RunState s = two_pairs_threshold();
+  s.pairs[0].recent_scores = {90, 130, 95, 100};
+  s.pairs[1].recent_scores = {100};
+  ScriptedEvaluator ev = threshold_script(120, 150, 500, 180);
+  const IterationReport r = run_iteration(s, ev);
+  ASSERT_EQ(ev.batches.size(), 5u);
+  EXPECT_EQ(perturbations_in(ev.batches[2]), 0u);  // direct evaluations only
+  EXPECT_EQ(perturbations_in(ev.batches[3]), 2u * static_cast<size_t>(s.config.es().perturbations()));
+  for (const RolloutTask& t : ev.batches[3]) EXPECT_FALSE(on_flat(t));  // only pair 1's candidate
+  ASSERT_EQ(ev.batches[4].size(), 1u);
+
+  EXPECT_TRUE(s.pairs[0].transfers.empty());
+  ASSERT_EQ(s.pairs[1].transfers.size(), 1u);
+  EXPECT_TRUE(s.pairs[1].transfers[0].proposal);
+  EXPECT_EQ(s.pairs[1].latest_score, 180);
+  EXPECT_EQ(s.pairs[1].optimizer.t, 0);
+  EXPECT_EQ(s.counters.transfer_attempts, 2);
+  EXPECT_EQ(s.counters.transfer_successes, 1);
+  EXPECT_EQ(events_named(r, "transfer").size(), 1u);
+  // the evaluations of the iteration (and the accepted transfer) joined the recent scores, at most five kept
+  EXPECT_EQ(s.pairs[0].recent_scores, (std::vector<double>{90, 130, 95, 100, 100}));
+  EXPECT_EQ(s.pairs[1].recent_scores, (std::vector<double>{100, 100, 180}));
+}
+
+// A source that passes directly but whose proposal does not beat the threshold replaces nothing, even when its
+// direct score did: the threshold test accepts proposals only.
+TEST(TransferThreshold, AProposalMustBeatTheThresholdToo) {
+  RunState s = two_pairs_threshold();
+  ScriptedEvaluator ev = threshold_script(150, 150, 100, 90);
+  run_iteration(s, ev);
+  ASSERT_EQ(ev.batches.size(), 5u);
+  for (const Pair& p : s.pairs) EXPECT_TRUE(p.transfers.empty());
+  EXPECT_EQ(s.counters.transfer_successes, 0);
+}
+
+// No source passes: no ES step and no proposal is paid for.
+TEST(TransferThreshold, NothingAboveTheThresholdCostsOnlyTheDirectEvaluations) {
+  RunState s = two_pairs_threshold();
+  ScriptedEvaluator ev = threshold_script(100, 50, 500, 500);
+  run_iteration(s, ev);
+  EXPECT_EQ(ev.batches.size(), 3u);
+  EXPECT_EQ(s.counters.transfer_attempts, 2);
+  EXPECT_EQ(s.counters.transfer_successes, 0);
+}
+
+// The full test keeps no recent scores, so its states (and the golden digests) are those of before the option.
+TEST(TransferThreshold, TheFullTestKeepsNoRecentScores) {
+  RunState s = two_pairs();
+  ScriptedEvaluator ev = transfer_script(150, 100, 120, 200);
+  run_iteration(s, ev);
+  for (const Pair& p : s.pairs) EXPECT_TRUE(p.recent_scores.empty());
 }
 
 }  // namespace
