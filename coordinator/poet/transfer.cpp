@@ -89,6 +89,10 @@ void transfer(IterationContext& ctx) {
   }
   second.run(ctx.evaluator, ctx.state.counters);
 
+  size_t proposal_count = 0;
+  for (const auto& list : proposals) proposal_count += list.size();
+  const int64_t successes_before = ctx.state.counters.transfer_successes;
+
   // the choices: the best transfer, first in order on ties (direct by source order, then proposals), replaces θ
   // if strictly better than the latest score (full test) or than the threshold, as a proposal (threshold test)
   for (size_t a = 0; a < active.size(); ++a) {
@@ -122,6 +126,12 @@ void transfer(IterationContext& ctx) {
                            {"previous_score", previous}});
     record_evaluation(ctx, target, target.theta, best_eval);
   }
+  // what the round cost: with the threshold test, the proposals it paid for out of the N(N−1) of the full test
+  ctx.event("transfer_round", {{"test", full ? "full" : "threshold"},
+                               {"pairs", active.size()},
+                               {"candidates", active.size() * (active.size() - 1)},
+                               {"proposals", proposal_count},
+                               {"accepted", ctx.state.counters.transfer_successes - successes_before}});
 }
 
 }  // namespace poet

@@ -162,6 +162,7 @@ TEST(RunConfig, ChallengingPresetKeepsThePapersCriteria) {
   EXPECT_EQ(c.es().init_lr(), 0.01);
   EXPECT_EQ(c.es().init_sigma(), 0.05);
   EXPECT_EQ(c.poet().active_cap(), 6);
+  EXPECT_EQ(c.poet().transfer_test(), pb::THRESHOLD_TRANSFER_TEST);
 }
 
 TEST(RunConfig, ControlPresetsHaveTheirModes) {

@@ -165,10 +165,10 @@ TEST(Reproduction, AdmissionNeedsTheBestStartToPassTheCriterionAndStopsAtTheCap)
   c.mutable_poet()->set_max_admitted(1);
   RunState s = state_at(c, 4, 250);
   const RunState before = s;
-  // the first candidate's starts all score above mc_high; the second candidate's pass
+  // the first candidate's direct starts score above mc_high; the second candidate's pass
   ScriptedEvaluator ev([](int call, size_t, const RolloutTask& t) {
     if (t.perturbation) return scored(0);
-    if (call == 1 || call == 2) return scored(301);
+    if (call == 1) return scored(301);
     return scored(100);
   });
   const IterationReport r = run_iteration(s, ev);
@@ -177,8 +177,35 @@ TEST(Reproduction, AdmissionNeedsTheBestStartToPassTheCriterionAndStopsAtTheCap)
   EXPECT_EQ(events_named(r, "pair_created").size(), 1u);
   ASSERT_FALSE(ranking[0].encoding.same_genes(ranking[1].encoding));
   EXPECT_TRUE(s.pairs[1].env.encoding.same_genes(ranking[1].encoding));
-  // walks: MC batch, (direct + proposal ES, proposal evaluations) × 2 candidates, then the ES step and evaluation
-  EXPECT_EQ(ev.batches.size(), 7u);
+  // walks: MC batch; the first candidate's direct evaluations, which refuse it without proposal steps; the
+  // second's direct evaluations, proposal ES steps and proposal evaluations; then the ES step and evaluation
+  ASSERT_EQ(ev.batches.size(), 7u);
+  for (const size_t b : {1, 2}) {
+    for (const RolloutTask& t : ev.batches[b]) {
+      EXPECT_FALSE(t.perturbation) << b;
+      EXPECT_TRUE(t.env.encoding.same_genes(ranking[b - 1].encoding)) << b;
+    }
+  }
+  EXPECT_TRUE(ev.batches[3].at(0).perturbation);
+}
+
+// A candidate whose direct starts pass but whose best proposal scores above mc_high is refused after the
+// proposals: the screen on direct scores changes no outcome.
+TEST(Reproduction, AProposalAboveTheCriterionRefusesTheCandidateToo) {
+  pb::RunConfig c = tiny_config();
+  c.mutable_poet()->set_max_admitted(1);
+  c.mutable_poet()->set_max_children(1);
+  RunState s = state_at(c, 4, 250);
+  ScriptedEvaluator ev([](int call, size_t, const RolloutTask& t) {
+    if (t.perturbation) return scored(0);
+    if (call == 3) return scored(301);  // the proposal's evaluation
+    return scored(100);
+  });
+  const IterationReport r = run_iteration(s, ev);
+  EXPECT_EQ(s.pairs.size(), 1u);
+  EXPECT_TRUE(events_named(r, "pair_created").empty());
+  ASSERT_EQ(ev.batches.size(), 6u);  // MC, direct, proposal ES, proposal evaluation, then ES step and evaluation
+  EXPECT_TRUE(ev.batches[2].at(0).perturbation);
 }
 
 TEST(Reproduction, BestStartPrefersTheHighestScoreAndTheFirstOnTies) {
@@ -188,12 +215,12 @@ TEST(Reproduction, BestStartPrefersTheHighestScoreAndTheFirstOnTies) {
     RunState s = state_at(c, 4, 250);
     const Pair& other = add_pair(s, rough(3.0), 0);
     const std::vector<double> theta0 = s.pairs[0].theta, theta1 = other.theta;
-    // call 1: direct evaluations (θ0 → 60, θ1 → 80) and the proposals' ES; call 2: proposals (70 and 90)
+    // call 1: direct evaluations (θ0 → 60, θ1 → 80); call 2: the proposals' ES; call 3: proposals (70 and 90)
     ScriptedEvaluator ev([&](int call, size_t i, const RolloutTask& t) {
       if (t.perturbation) return scored(0);
       if (tie) return scored(60);
       if (call == 1) return scored(*t.theta == theta0 ? 60 : 80);
-      if (call == 2) return scored(i == 0 ? 70 : 90);
+      if (call == 3) return scored(i == 0 ? 70 : 90);
       return scored(100);
     });
     run_iteration(s, ev);
@@ -207,8 +234,8 @@ TEST(Reproduction, BestStartPrefersTheHighestScoreAndTheFirstOnTies) {
       EXPECT_EQ(child.initial_source_pair, 1);
       EXPECT_TRUE(child.initial_by_proposal);
       EXPECT_EQ(child.admission_score, 90);
-      EXPECT_EQ(ev.batches[2].at(1).theta->size(), static_cast<size_t>(kParamCount));
-      EXPECT_NE(*ev.batches[2].at(1).theta, theta1);  // a proposal, not θ1 itself
+      EXPECT_EQ(ev.batches[3].at(1).theta->size(), static_cast<size_t>(kParamCount));
+      EXPECT_NE(*ev.batches[3].at(1).theta, theta1);  // a proposal, not θ1 itself
     }
     EXPECT_EQ(child.optimizer.t, 1);  // a fresh optimizer, then its first ES step this iteration
     EXPECT_EQ(child.es_steps, 1);

@@ -72,6 +72,11 @@ TEST(Transfer, DirectAndProposalTransfersReplaceWhenStrictlyBetter) {
   EXPECT_EQ(s.counters.transfer_attempts, 2);
   EXPECT_EQ(s.counters.transfer_successes, 2);
   EXPECT_EQ(events_named(r, "transfer").size(), 2u);
+  const auto rounds = events_named(r, "transfer_round");
+  ASSERT_EQ(rounds.size(), 1u);
+  EXPECT_EQ(rounds[0]["test"], "full");
+  EXPECT_EQ(rounds[0]["proposals"], 2);
+  EXPECT_EQ(rounds[0]["accepted"], 2);
 }
 
 TEST(Transfer, EqualScoresDoNotReplace) {
@@ -174,6 +179,12 @@ TEST(TransferThreshold, OnlySourcesAboveTheThresholdGetAProposalStep) {
   EXPECT_EQ(s.counters.transfer_attempts, 2);
   EXPECT_EQ(s.counters.transfer_successes, 1);
   EXPECT_EQ(events_named(r, "transfer").size(), 1u);
+  const auto rounds = events_named(r, "transfer_round");
+  ASSERT_EQ(rounds.size(), 1u);
+  EXPECT_EQ(rounds[0]["test"], "threshold");
+  EXPECT_EQ(rounds[0]["candidates"], 2);
+  EXPECT_EQ(rounds[0]["proposals"], 1);
+  EXPECT_EQ(rounds[0]["accepted"], 1);
   // the evaluations of the iteration (and the accepted transfer) joined the recent scores, at most five kept
   EXPECT_EQ(s.pairs[0].recent_scores, (std::vector<double>{90, 130, 95, 100, 100}));
   EXPECT_EQ(s.pairs[1].recent_scores, (std::vector<double>{100, 100, 180}));
