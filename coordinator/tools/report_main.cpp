@@ -15,6 +15,7 @@
 
 #include "envgen/env_json.h"
 #include "report/coverage.h"
+#include "report/goal_switching.h"
 #include "report/report_plots.h"
 #include "report/run_metrics.h"
 #include "report/run_snapshot.h"
@@ -46,6 +47,91 @@ nlohmann::ordered_json milestone_json(const std::optional<Milestone>& m) {
   out["rollouts"] = m->rollouts >= 0 ? nlohmann::ordered_json(m->rollouts) : nullptr;
   out["env_steps"] = m->env_steps >= 0 ? nlohmann::ordered_json(m->env_steps) : nullptr;
   out["wall_s"] = m->wall_s ? nlohmann::ordered_json(*m->wall_s) : nullptr;
+  return out;
+}
+
+// The pairs whose lineage the report shows: every solved pair at challenging or above; without one, the solved
+// pair with the longest chain of ancestors (the first such).
+std::vector<int> lineage_pairs(const RunSnapshot& run, const RunMetrics& m) {
+  std::vector<int> out;
+  for (const Pair& p : run.state.pairs)
+    if (p.solved() && difficulty(p.env.encoding) != Difficulty::kEasy) out.push_back(p.id);
+  if (!out.empty()) return out;
+  size_t longest = 0;
+  for (const Pair& p : run.state.pairs) {
+    if (!p.solved()) continue;
+    const size_t length = lineage_chain(run, m, p.id).size();
+    if (length > longest) {
+      longest = length;
+      out = {p.id};
+    }
+  }
+  return out;
+}
+
+std::string describe_link(const LineageLink& l) {
+  std::string text = "pair " + std::to_string(l.pair) + " " + l.env + " (" + level_name(static_cast<size_t>(l.level)) +
+                     "), created " + std::to_string(l.created);
+  if (l.first_theta_from != kNone) {
+    char score[32];
+    std::snprintf(score, sizeof score, "%.1f", l.admission_score);
+    text += ", first θ from pair " + std::to_string(l.first_theta_from) +
+            (l.first_by_proposal ? " (proposal, " : " (direct, ") + score + ")";
+  }
+  for (const AcceptedTransfer& t : l.transfers_in) {
+    char gain[96];
+    std::snprintf(gain, sizeof gain, "%+.1f (%.1f → %.1f)", t.score - t.previous_score, t.previous_score, t.score);
+    text += "; transfer at " + std::to_string(t.iteration) + " from pair " + std::to_string(t.source) +
+            (t.proposal ? " (proposal) " : " (direct) ") + gain;
+  }
+  if (l.solved == kNone) return text + "; not solved";
+  text += "; solved at " + std::to_string(l.solved) + " " + to_string(l.cause);
+  if (l.solved_by != kNone) text += " from pair " + std::to_string(l.solved_by);
+  if (l.solved_through_transfer) text += ", by an agent that came through a transfer";
+  return text;
+}
+
+void print_goal_switching(const RunSnapshot& run, const RunMetrics& m) {
+  const std::vector<int> ids = lineage_pairs(run, m);
+  if (ids.empty()) return;
+  const bool beyond_easy = difficulty(run.state.find(ids[0])->env.encoding) != Difficulty::kEasy;
+  std::printf("Lineage of %s (first environment first; goal switching: who solved each, and the transfers taken)\n",
+              beyond_easy ? "each environment solved at challenging or above" : "the deepest solved environment");
+  for (int id : ids) {
+    const std::vector<LineageLink> chain = lineage_chain(run, m, id);
+    const auto through = std::count_if(chain.begin(), chain.end(),
+                                       [](const LineageLink& l) { return l.solved_through_transfer; });
+    std::printf("  pair %d: %zu environments, %td of them solved by an agent that came through a transfer\n", id,
+                chain.size(), through);
+    for (const LineageLink& l : chain) std::printf("    %s\n", describe_link(l).c_str());
+  }
+  std::printf("\n");
+}
+
+nlohmann::ordered_json goal_switching_json(const RunSnapshot& run, const RunMetrics& m) {
+  nlohmann::ordered_json out = nlohmann::ordered_json::array();
+  for (int id : lineage_pairs(run, m)) {
+    nlohmann::ordered_json chain = nlohmann::ordered_json::array();
+    for (const LineageLink& l : lineage_chain(run, m, id)) {
+      nlohmann::ordered_json transfers = nlohmann::ordered_json::array();
+      for (const AcceptedTransfer& t : l.transfers_in)
+        transfers.push_back({{"iteration", t.iteration},
+                             {"source", t.source},
+                             {"proposal", t.proposal},
+                             {"gain", t.score - t.previous_score}});
+      chain.push_back({{"pair", l.pair},
+                       {"env", l.env},
+                       {"level", level_name(static_cast<size_t>(l.level))},
+                       {"created", l.created},
+                       {"first_theta_from", l.first_theta_from == kNone ? nullptr : nlohmann::ordered_json(l.first_theta_from)},
+                       {"solved", l.solved == kNone ? nullptr : nlohmann::ordered_json(l.solved)},
+                       {"solved_how", to_string(l.cause)},
+                       {"solved_by", l.solved_by == kNone ? nullptr : nlohmann::ordered_json(l.solved_by)},
+                       {"solved_through_transfer", l.solved_through_transfer},
+                       {"transfers_in", std::move(transfers)}});
+    }
+    out.push_back({{"pair", id}, {"chain", std::move(chain)}});
+  }
   return out;
 }
 
@@ -138,6 +224,7 @@ nlohmann::ordered_json to_json(const RunSnapshot& run, const RunMetrics& m, cons
   out["transfers"] = {{"replacement_attempts", m.transfer_attempts},
                       {"accepted", m.transfer_successes},
                       {"accepted_list", std::move(accepted)}};
+  out["goal_switching"] = goal_switching_json(run, m);
   out["annecs"] = {{"at_admission", {{"value", m.annecs_at_admission}, {"definition", kAnnecsAtAdmission}}},
                    {"at_archiving", {{"value", m.annecs_at_archiving}, {"definition", kAnnecsAtArchiving}}}};
   nlohmann::ordered_json cov = {{"seed", coverage.seed},
@@ -212,7 +299,9 @@ void print_table(const RunSnapshot& run, const RunMetrics& m, const Coverage& co
     std::printf("  largest gain: %+.1f (pair %d from pair %d, %s, iteration %d: %.1f → %.1f)\n",
                 largest->score - largest->previous_score, largest->target, largest->source,
                 largest->proposal ? "proposal" : "direct", largest->iteration, largest->previous_score, largest->score);
-  std::printf("\nANNECS at admission: %lld — %s\n", static_cast<long long>(m.annecs_at_admission), kAnnecsAtAdmission);
+  std::printf("\n");
+  print_goal_switching(run, m);
+  std::printf("ANNECS at admission: %lld — %s\n", static_cast<long long>(m.annecs_at_admission), kAnnecsAtAdmission);
   std::printf("ANNECS at archiving: %lld — %s\n\n", static_cast<long long>(m.annecs_at_archiving), kAnnecsAtArchiving);
 
   std::printf(

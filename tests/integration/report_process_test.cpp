@@ -81,8 +81,9 @@ TEST_F(ReportProcessTest, ReportsTheMetricsTableJsonAndPlotsOfAFinishedRunWithou
       << err;
   EXPECT_TRUE(before == files_of(run)) << "the run directory changed";
 
-  for (const char* line : {"Environments by difficulty level",
-                           "Transfers:", "ANNECS at admission:", "ANNECS at archiving:", "Coverage (seed", "Pairs"})
+  for (const char* line : {"Environments by difficulty level", "When each level was first reached",
+                           "Lineage of the deepest solved environment", "Transfers:", "ANNECS at admission:",
+                           "ANNECS at archiving:", "Coverage (seed", "Pairs"})
     EXPECT_TRUE(contains(table, line)) << line << "\n" << table;
 
   const nlohmann::json j = nlohmann::json::parse(read(root_ / "report.json"));
@@ -98,6 +99,17 @@ TEST_F(ReportProcessTest, ReportsTheMetricsTableJsonAndPlotsOfAFinishedRunWithou
   EXPECT_EQ(easy["admitted"].get<size_t>(), j["pairs"].size());
   EXPECT_GE(easy["solved"].get<int>(), 3);
   EXPECT_EQ(easy["iterations_to_solve"]["count"], easy["solved"]);
+  // the first environment is admitted and solved at iteration 0, with the coordinator's wall time of it
+  EXPECT_EQ(easy["first_admitted"]["iteration"], 0);
+  EXPECT_EQ(easy["first_solved"]["iteration"], 0);
+  EXPECT_GT(easy["first_solved"]["rollouts"].get<int64_t>(), 0);
+  EXPECT_GT(easy["first_solved"]["env_steps"].get<int64_t>(), 0);
+  EXPECT_GE(easy["first_solved"]["wall_s"].get<double>(), 0.0);
+  EXPECT_TRUE(j["levels"][1]["first_created"].is_null());
+  EXPECT_TRUE(j["wall_times_problem"].is_null());
+  // the deepest solved lineage starts at the first environment
+  ASSERT_EQ(j["goal_switching"].size(), 1u);
+  EXPECT_EQ(j["goal_switching"][0]["chain"][0]["pair"], 0);
   EXPECT_EQ(j["over_time"].size(), 3u);
   EXPECT_EQ(j["over_time"][2]["admitted"][0], easy["admitted"]);
   EXPECT_GT(j["transfers"]["replacement_attempts"].get<int>(), 0);
