@@ -1,9 +1,12 @@
 // poet-lineage: a pair's lineage in a run directory (parent, first θ, accepted transfers, solve) and the
 // direct-path control's budget for its environment; with --direct-path-config, a runnable config for that
-// control (the run's settings, mode DIRECT_PATH, the pair's environment as the target, the budget).
-//   poet-lineage --run-dir DIR --pair ID [--direct-path-config]
+// control (the run's settings, mode DIRECT_PATH, the pair's environment as the target, the budget); with
+// --es-alone-config, the ES-alone control with the same budget in ES steps.
+//   poet-lineage --run-dir DIR --pair ID [--direct-path-config | --es-alone-config]
 
 #include <CLI/CLI.hpp>
+#include <algorithm>
+#include <climits>
 #include <cstdio>
 #include <iostream>
 
@@ -19,10 +22,14 @@ int main(int argc, char** argv) {
   CLI::App app{"A pair's lineage and the direct-path budget of its environment"};
   std::string run_dir;
   int pair_id = 0;
-  bool emit_config = false;
+  bool emit_config = false, emit_es_alone = false;
   app.add_option("--run-dir", run_dir, "Run directory")->required();
   app.add_option("--pair", pair_id, "Pair id")->required();
-  app.add_flag("--direct-path-config", emit_config, "Print a DIRECT_PATH run config for this pair's environment");
+  auto* direct_flag =
+      app.add_flag("--direct-path-config", emit_config, "Print a DIRECT_PATH run config for this pair's environment");
+  app.add_flag("--es-alone-config", emit_es_alone,
+               "Print an ES_ALONE run config for this pair's environment with the same budget in ES steps")
+      ->excludes(direct_flag);
   add_fingerprint_flag(app);
   if (auto code = parse_command_line(app, argc, argv)) return *code;
 
@@ -45,14 +52,22 @@ int main(int argc, char** argv) {
   }
   const int64_t budget = lineage_es_steps(*state, pair_id);
 
-  if (emit_config) {
+  if (emit_config || emit_es_alone) {
+    // the run's settings (ES, walker, seed) with the pair's environment as the target
     pb::RunConfig config = state->config;
-    config.set_mode(pb::RunConfig::DIRECT_PATH);
     config.clear_es_alone();
+    config.clear_direct_path();
     config.mutable_poet()->clear_keep_admission_selection();
-    pb::DirectPathConfig* direct = config.mutable_direct_path();
-    *direct->mutable_target() = to_proto(pair->env);
-    direct->set_budget_es_steps(budget);
+    if (emit_config) {
+      config.set_mode(pb::RunConfig::DIRECT_PATH);
+      pb::DirectPathConfig* direct = config.mutable_direct_path();
+      *direct->mutable_target() = to_proto(pair->env);
+      direct->set_budget_es_steps(budget);
+    } else {
+      config.set_mode(pb::RunConfig::ES_ALONE);
+      *config.mutable_es_alone()->mutable_target() = to_proto(pair->env);
+      config.set_iterations(static_cast<int>(std::min<int64_t>(budget, INT32_MAX)));  // one ES step an iteration
+    }
     std::cout << run_config_text(config);
     return 0;
   }

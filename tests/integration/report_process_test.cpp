@@ -137,6 +137,48 @@ TEST_F(ReportProcessTest, ReportsTheMetricsTableJsonAndPlotsOfAFinishedRunWithou
   EXPECT_EQ(nlohmann::json::parse(json_out), j);
 }
 
+// The controls of a POET-solved environment (bench/controls.sh): poet-lineage writes the ES-alone and direct-path
+// configs with the lineage's budget, and both run to their end as written.
+TEST_F(ReportProcessTest, LineageWritesRunnableControlConfigsWithTheLineagesBudget) {
+  const fs::path run = walker_run();
+  std::string text, err;
+  ASSERT_EQ(tool(POET_LINEAGE_BIN, {"--run-dir", run.string(), "--pair", "1"}, &text, &err), 0) << err;
+  const size_t at = text.find("direct-path budget: ");
+  ASSERT_NE(at, std::string::npos) << text;
+  const int budget = std::stoi(text.substr(at + 20));
+  ASSERT_GT(budget, 0);
+
+  for (const char* flag : {"--es-alone-config", "--direct-path-config"}) {
+    ASSERT_EQ(tool(POET_LINEAGE_BIN, {"--run-dir", run.string(), "--pair", "1", flag}, &text, &err), 0) << err;
+    const bool es_alone = std::string(flag) == "--es-alone-config";
+    EXPECT_TRUE(contains(text, es_alone ? "mode: ES_ALONE" : "mode: DIRECT_PATH")) << text;
+    EXPECT_TRUE(contains(text, es_alone ? "iterations: " + std::to_string(budget)
+                                        : "budget_es_steps: " + std::to_string(budget)))
+        << text;
+    const fs::path config = root_ / (std::string(flag + 2) + ".textproto");
+    std::ofstream(config) << text;
+    const fs::path dir = root_ / flag;
+    const std::string name = flag + 2;
+    std::vector<std::string> args = {"--config", config.string(), "--run-dir", dir.string(), "--start-from",
+                                     std::string(POET_SOURCE_DIR) + "/data/walkers/flat-walker.json", "--threads",
+                                     "2", "--quiet", "--status-address", ""};
+    if (!es_alone) {  // the direct path stops by its own rule; the limit is only a bound
+      args.push_back("--iterations");
+      args.push_back(std::to_string(budget * 2 + 10));
+    }
+    ASSERT_EQ(wait(spawn(POET_COORDINATOR_BIN, args, name)), 0)
+        << read(root_ / (name + ".err"));
+    std::string report_json;
+    ASSERT_EQ(report({"--run-dir", dir.string(), "--json", "-", "--coverage-per-level", "5"}, &report_json, &err), 0)
+        << err;
+    const nlohmann::json j = nlohmann::json::parse(report_json);
+    EXPECT_LE(j["pairs"][0]["es_steps"].get<int>(), budget);
+  }
+  EXPECT_NE(tool(POET_LINEAGE_BIN,
+                 {"--run-dir", run.string(), "--pair", "1", "--es-alone-config", "--direct-path-config"}, &text, &err),
+            0);
+}
+
 TEST_F(ReportProcessTest, ReportsALiveRunAsOfItsLastCheckpoint) {
   std::ofstream(config_) << config_with("iterations: 6", "iterations: 100000");
   const fs::path run = root_ / "live";
