@@ -1,5 +1,6 @@
 // poet-rollout: one episode of a policy on one course. Prints the policy it runs, the walk (hull position every few
-// steps), the return, the steps and the outcome, and draws the course with the walker's path.
+// steps), the return, the steps and the outcome, and draws the course with the walker's path (and, with --gif, the
+// walker crossing it).
 
 #include <CLI/CLI.hpp>
 #include <cstdio>
@@ -14,6 +15,7 @@
 #include "rng.h"
 #include "rollout.h"
 #include "tool_flags.h"
+#include "walker_pictures.h"
 
 namespace {
 
@@ -43,6 +45,8 @@ int main(int argc, char** argv) {
   app.add_option("--print-every", print_every, "Print the walker's position every N steps (0: never)")
       ->check(CLI::Range(0, 1'000'000));
   app.add_option("--picture", picture, "Picture to write: .svg or .png (empty: none)");
+  std::string gif;
+  app.add_option("--gif", gif, "Also write the walker crossing its course as an animated GIF here");
   poet::add_fingerprint_flag(app);
   if (auto code = poet::parse_command_line(app, argc, argv)) return *code;
 
@@ -104,6 +108,15 @@ int main(int argc, char** argv) {
       return 1;
     }
     std::printf("picture: %s\n", picture.c_str());
+  }
+  if (!gif.empty()) {
+    const poet::Expected<std::string> bytes = poet::render_walk_gif(terrain, r);
+    const std::string err = bytes ? poet::write_bytes(gif, *bytes) : "cannot draw " + gif + ": " + bytes.error();
+    if (!err.empty()) {
+      std::fprintf(stderr, "poet-rollout: %s\n", err.c_str());
+      return 1;
+    }
+    std::printf("gif: %s\n", gif.c_str());
   }
   return 0;
 }

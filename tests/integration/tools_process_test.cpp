@@ -159,6 +159,25 @@ TEST_F(ToolsProcessTest, RolloutWithoutPolicySaysItRunsRandomTheta) {
   }
 }
 
+// --gif writes the walker crossing its course as a looping GIF; a path that cannot be written is an error.
+TEST_F(ToolsProcessTest, RolloutDrawsTheWalkAsAGif) {
+  const fs::path gif = root_ / "walk.gif";
+  const Outcome o = run(POET_ROLLOUT_BIN, {"--max-steps", "60", "--picture", "", "--gif", gif.string()}, "gif");
+  ASSERT_EQ(o.code, 0) << o.err;
+  EXPECT_TRUE(contains(o.out, "gif: " + gif.string())) << o.out;
+  std::ifstream in(gif, std::ios::binary);
+  const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  ASSERT_GT(bytes.size(), 1000u);
+  EXPECT_EQ(bytes.compare(0, 6, "GIF89a"), 0);
+  EXPECT_TRUE(contains(bytes, "NETSCAPE2.0"));  // looping
+
+  const Outcome bad = run(POET_ROLLOUT_BIN, {"--max-steps", "10", "--picture", "", "--gif",
+                                             (root_ / "no-such-dir" / "walk.gif").string()},
+                          "gif-bad");
+  EXPECT_EQ(bad.code, 1);
+  EXPECT_TRUE(contains(bad.err, "no-such-dir")) << bad.err;
+}
+
 void write_text(const fs::path& path, const std::string& text) { std::ofstream(path, std::ios::binary) << text; }
 
 TEST_F(ToolsProcessTest, CurvesSayWhenEachSolvedAndDrawThem) {
