@@ -77,6 +77,20 @@ TEST(RunConfig, BenchWorkloadParsesAndValidates) {
   EXPECT_EQ(config->es().perturbations(), 1024);
 }
 
+// The σ comparison of docs/RESULTS.md: ES alone on one course from one seed, differing only in ES settings.
+TEST(RunConfig, SigmaConfigsDifferOnlyInTheirEs) {
+  std::vector<pb::RunConfig> configs;
+  for (const auto& entry : fs::directory_iterator(source_dir() / "bench" / "sigma")) {
+    const Expected<pb::RunConfig> config = load_run_config(entry.path().string());
+    ASSERT_TRUE(config) << config.error();
+    EXPECT_EQ(config->mode(), pb::RunConfig::ES_ALONE) << entry.path();
+    configs.push_back(*config);
+  }
+  ASSERT_EQ(configs.size(), 4u);
+  for (pb::RunConfig& c : configs) c.clear_es();
+  for (const pb::RunConfig& c : configs) EXPECT_EQ(c.SerializeAsString(), configs[0].SerializeAsString());
+}
+
 // The learning curves of docs/RESULTS.md (bench/learning_curve.sh): ES alone on flat from the same θ₀ (seed 11),
 // each with the population and learning rate RESULTS gives it.
 TEST(RunConfig, LearningCurveConfigsParseAndValidate) {
