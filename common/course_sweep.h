@@ -32,7 +32,7 @@ CourseSweep sweep_course(const Mlp& policy, const std::string& label, const EnvE
                          int max_steps = walker::kDefaultTimeLimit, int threads = 1);
 
 // {"course", "first_seed", "episodes", "mean_return", "min_return", "max_return", "finished", "fell",
-//  "timed_out", "mean_steps", "returns": [...], "steps": [...]}
+//  "timed_out", "mean_steps", "returns": [...], "steps": [...], "finished_seeds": [the seeds it finished on]}
 nlohmann::json to_json(const CourseSweep& sweep);
 
 }  // namespace poet

@@ -76,7 +76,7 @@ TEST(PoetWithoutTransfer, CanKeepTheAdmissionSelection) {
   RunState s = state_at(c, 4, 250);
   ScriptedEvaluator ev([](int, size_t, const RolloutTask& t) { return scored(t.perturbation ? 0 : 100); });
   run_iteration(s, ev);
-  EXPECT_EQ(ev.batches.size(), 5u);  // with the admission walk's two batches
+  EXPECT_EQ(ev.batches.size(), 6u);  // with the admission walk's three batches
 }
 
 EnvEncoding curriculum_target() {
