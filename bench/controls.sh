@@ -36,12 +36,8 @@ budget=$("$lineage" --run-dir "$run" --pair "$pair" | sed -n 's/^direct-path bud
 control() {  # NAME CONFIG [flags]: runs (or resumes) one control to its end
   local name=$1 config=$2
   shift 2
-  local dir=$out/$name
-  if [[ -f $dir/checkpoint.pb ]]; then
-    "$coordinator" --run-dir "$dir" --resume --quiet --status-address "" "$@" >"$out/$name.log" 2>&1
-  else
-    "$coordinator" --config "$config" --run-dir "$dir" --quiet --status-address "" "$@" >"$out/$name.log" 2>&1
-  fi
+  # the same command on a directory that holds this config's run resumes it (--start-from then has no effect)
+  "$coordinator" --config "$config" --run-dir "$out/$name" --quiet --status-address "" "$@" >>"$out/$name.log" 2>&1
 }
 control es-alone-random "$out/es-alone.textproto" "$@"
 control es-alone-walker "$out/es-alone.textproto" --start-from "$walker" "$@"

@@ -5,8 +5,9 @@
 #   e.g. bash bench/ship_walker.sh build runs/challenging 23 stumps-2.4
 # Writes data/environments/NAME.env.json (the pair's course and terrain seed), data/walkers/NAME.json (the pair's
 # best θ with its best score: the evaluation that solved it or a better one), docs/results/challenging/NAME.gif,
-# adds NAME to data/walkers/shipped.json (walker, environment, the seeds it finishes on; tests/unit/data checks
-# them) and prints the rows for data/walkers/README.md. Refuses an agent that does not finish its own course.
+# adds NAME to data/walkers/shipped.json (walker, environment, the seeds it finishes on, which
+# tests/unit/data/shipped_walkers_test.cpp checks) and prints its scores for data/walkers/README.md. Refuses an
+# agent that does not finish its own course.
 set -euo pipefail
 usage="usage: bash bench/ship_walker.sh BUILD_DIR RUN_DIR PAIR NAME"
 build=${1:?$usage}

@@ -94,7 +94,8 @@ class CostByIteration {
     Milestone m;
     m.iteration = iteration;
     if (const auto c = counters_.find(iteration); c != counters_.end()) std::tie(m.rollouts, m.env_steps) = c->second;
-    if (const auto w = wall_.find(iteration); w != wall_.end()) m.wall_s = w->second;
+    // the first saved iteration at or after it: with checkpoint_interval > 1 not every iteration has a time
+    if (const auto w = wall_.lower_bound(iteration); w != wall_.end()) m.wall_s = w->second;
     return m;
   }
 

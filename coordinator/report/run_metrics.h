@@ -46,7 +46,7 @@ struct LevelSolveSummary {
 
 // The first time a level was reached, and what the run had spent by then: its counters as of that iteration's
 // ES steps (pair_stats.csv; -1 when the run's log predates those columns) and its wall time when that iteration
-// was saved (wall_times.csv; absent when the run has none).
+// was saved, or the first saved iteration after it (wall_times.csv; absent when the run has none).
 struct Milestone {
   int iteration = 0;
   int64_t rollouts = -1;

@@ -62,6 +62,8 @@ WallTimes WallTimes::open(const std::filesystem::path& dir, int next_iteration, 
   std::error_code ec;
   if (std::filesystem::exists(path, ec)) {
     Expected<std::string> text = read_text_file(path, kMaxWallTimesBytes);
+    // a line cut by a crash in the middle of its append is dropped; the lines before it are whole
+    if (text) text->resize(text->rfind('\n') == std::string::npos ? 0 : text->rfind('\n') + 1);
     Expected<std::vector<WallTime>> lines =
         text ? parse_wall_times(*text) : Expected<std::vector<WallTime>>(Unexpected{text.error()});
     if (lines) {
@@ -73,12 +75,17 @@ WallTimes WallTimes::open(const std::filesystem::path& dir, int next_iteration, 
   }
   std::string text = kWallTimesHeader;
   for (const WallTime& w : kept) text += line_text(w.iteration, w.seconds);
-  if (auto error = write_file_atomically(path, text); error && warning)
-    *warning = path.string() + ": " + *error + "; wall times are not recorded";
-  return WallTimes(path, kept.empty() ? 0.0 : kept.back().seconds);
+  const double carried = kept.empty() ? 0.0 : kept.back().seconds;
+  if (auto error = write_file_atomically(path, text)) {
+    // appending after lines the checkpoint did not keep would leave the file out of order: record nothing
+    if (warning) *warning = path.string() + ": " + *error + "; wall times are not recorded";
+    return WallTimes({}, carried);
+  }
+  return WallTimes(path, carried);
 }
 
 std::optional<std::string> WallTimes::record(int iteration, double seconds) {
+  if (path_.empty()) return std::nullopt;  // open() could not rewrite the file and said so
   const int fd = ::open(path_.c_str(), O_WRONLY | O_APPEND | O_CLOEXEC);
   if (fd < 0) return path_.string() + ": cannot open: " + std::generic_category().message(errno);
   const int err = write_all(fd, line_text(iteration, carried_ + seconds));

@@ -36,10 +36,12 @@ class WallTimes {
   // Opens dir/wall_times.csv for a run whose state is at next_iteration: keeps the lines of the iterations before
   // it (later lines timed work the checkpoint did not keep) and rewrites the file atomically. A missing file
   // starts the clock at 0; an unreadable or damaged one too, with a warning that says why (the state is not
-  // affected, only the times before this process are lost).
+  // affected, only the times before this process are lost). A last line cut by a crash is dropped. When the
+  // file cannot be rewritten, the warning says so and nothing is recorded.
   static WallTimes open(const std::filesystem::path& dir, int next_iteration, std::string* warning);
 
   // Appends "iteration,carried + seconds", seconds being this process's running time. An error names the file.
+  // Nothing when open() could not rewrite the file.
   std::optional<std::string> record(int iteration, double seconds);
 
   // The run's time before this process.

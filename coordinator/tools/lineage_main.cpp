@@ -58,6 +58,7 @@ int main(int argc, char** argv) {
     config.clear_es_alone();
     config.clear_direct_path();
     config.mutable_poet()->clear_keep_admission_selection();
+    config.mutable_poet()->clear_transfer_test();  // a control has no transfers; nothing to keep scores for
     if (emit_config) {
       config.set_mode(pb::RunConfig::DIRECT_PATH);
       pb::DirectPathConfig* direct = config.mutable_direct_path();

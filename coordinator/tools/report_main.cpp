@@ -11,6 +11,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <map>
 #include <nlohmann/json.hpp>
 
 #include "envgen/env_json.h"
@@ -51,18 +52,20 @@ nlohmann::ordered_json milestone_json(const std::optional<Milestone>& m) {
 }
 
 // The pairs whose lineage the report shows: every solved pair at challenging or above; without one, the solved
-// pair with the longest chain of ancestors (the first such).
-std::vector<int> lineage_pairs(const RunSnapshot& run, const RunMetrics& m) {
+// pair with the most ancestors (the first such). Parents precede their children in the archive, so one pass
+// gives every pair's depth.
+std::vector<int> lineage_pairs(const RunSnapshot& run) {
   std::vector<int> out;
   for (const Pair& p : run.state.pairs)
     if (p.solved() && difficulty(p.env.encoding) != Difficulty::kEasy) out.push_back(p.id);
   if (!out.empty()) return out;
-  size_t longest = 0;
+  std::map<int, int> depth;
+  int deepest = -1;
   for (const Pair& p : run.state.pairs) {
-    if (!p.solved()) continue;
-    const size_t length = lineage_chain(run, m, p.id).size();
-    if (length > longest) {
-      longest = length;
+    const auto parent = depth.find(p.parent_id);
+    depth[p.id] = parent == depth.end() ? 0 : parent->second + 1;
+    if (p.solved() && depth[p.id] > deepest) {
+      deepest = depth[p.id];
       out = {p.id};
     }
   }
@@ -92,7 +95,7 @@ std::string describe_link(const LineageLink& l) {
 }
 
 void print_goal_switching(const RunSnapshot& run, const RunMetrics& m) {
-  const std::vector<int> ids = lineage_pairs(run, m);
+  const std::vector<int> ids = lineage_pairs(run);
   if (ids.empty()) return;
   const bool beyond_easy = difficulty(run.state.find(ids[0])->env.encoding) != Difficulty::kEasy;
   std::printf("Lineage of %s (first environment first; goal switching: who solved each, and the transfers taken)\n",
@@ -110,7 +113,7 @@ void print_goal_switching(const RunSnapshot& run, const RunMetrics& m) {
 
 nlohmann::ordered_json goal_switching_json(const RunSnapshot& run, const RunMetrics& m) {
   nlohmann::ordered_json out = nlohmann::ordered_json::array();
-  for (int id : lineage_pairs(run, m)) {
+  for (int id : lineage_pairs(run)) {
     nlohmann::ordered_json chain = nlohmann::ordered_json::array();
     for (const LineageLink& l : lineage_chain(run, m, id)) {
       nlohmann::ordered_json transfers = nlohmann::ordered_json::array();
@@ -138,7 +141,7 @@ nlohmann::ordered_json goal_switching_json(const RunSnapshot& run, const RunMetr
 void print_milestones(const RunSnapshot& run, const RunMetrics& m) {
   std::printf(
       "When each level was first reached (the run's rollouts and environment steps by that iteration's ES steps; "
-      "wall time when it was saved)\n");
+      "wall time by the checkpoint that saved it)\n");
   std::printf("  %-22s %-9s %9s %10s %11s %10s\n", "level", "first", "iteration", "rollouts", "env steps", "wall time");
   for (size_t l = 0; l < kLevels; ++l) {
     const LevelFirsts& f = m.firsts[l];

@@ -113,6 +113,13 @@ TEST(RunMetrics, WhenEachLevelWasFirstReached) {
   EXPECT_FALSE(very.solved);
   EXPECT_FALSE(m.firsts[3].created || m.firsts[3].admitted || m.firsts[3].solved);
 
+  // saved every 4 iterations: a milestone takes the time of the first save at or after it
+  run.wall_times = {{3, 7.5}, {7, 17.5}, {11, 27.5}};
+  const RunMetrics sparse = compute_run_metrics(run);
+  ASSERT_TRUE(sparse.firsts[1].solved && sparse.firsts[1].solved->wall_s);
+  EXPECT_DOUBLE_EQ(*sparse.firsts[1].solved->wall_s, 27.5);  // solved at 9, saved at 11
+  EXPECT_DOUBLE_EQ(*sparse.firsts[1].created->wall_s, 17.5);  // created at 5, saved at 7
+
   run.wall_times.clear();
   run.stats.clear();
   const RunMetrics without = compute_run_metrics(run);

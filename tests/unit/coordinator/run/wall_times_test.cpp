@@ -61,6 +61,16 @@ TEST_F(WallTimesTest, AResumeKeepsTheCheckpointsLinesAndContinuesTheClock) {
   EXPECT_DOUBLE_EQ((*lines)[2].seconds, 2.5);
 }
 
+// A crash in the middle of an append leaves a line without its newline: it is dropped, the whole lines kept.
+TEST_F(WallTimesTest, ALineCutByACrashIsDropped) {
+  write("iteration,wall_s\n0,1.000\n1,2.0");
+  std::string warning;
+  WallTimes w = WallTimes::open(dir_, 5, &warning);
+  EXPECT_EQ(warning, "");
+  EXPECT_EQ(w.carried(), 1.0);
+  EXPECT_EQ(text(), "iteration,wall_s\n0,1.000\n");
+}
+
 TEST_F(WallTimesTest, ADamagedFileIsNamedAndTheClockRestarts) {
   write("iteration,wall_s\n0,1.000\n1,x\n");
   std::string warning;
