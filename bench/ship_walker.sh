@@ -34,7 +34,7 @@ cp "$env_src" "$env"
 cp "$walker_src" "$walker"
 "$rollout" --policy "$walker" --env "$env" --picture "" --gif "$gif" >/dev/null
 seed=$(python3 -c 'import json, sys; print(json.load(open(sys.argv[1]))["seed"])' "$env")
-sweep=$("$eval_tool" --policy "$walker" --env "$env" --seeds 0:49 --threads 2 --json -)
+sweep=$("$eval_tool" --policy "$walker" --env "$env" --seeds 0:49 --threads 2 --json - 2>/dev/null)
 
 python3 - "$root/data/walkers/shipped.json" "$name" "$seed" "$own" "$sweep" <<'PY'
 import json, os, sys
