@@ -50,20 +50,23 @@ echo "| control | ES steps | rollouts | environment steps | best score | solved 
 echo "|---|---|---|---|---|---|"
 for name in es-alone-random es-alone-walker direct-path; do
   "$report" --run-dir "$out/$name" --json - | python3 -c '
-import json, sys
+import csv, json, sys
 name = sys.argv[1]
 r = json.load(sys.stdin)
 p = r["pairs"][0]
 if r["mode"] == "direct-path curriculum":
-    # the pair is on its last stage; the target is solved when the closest solved stage is the target itself
+    # the target is solved when the closest solved stage is the target itself; the best score on it is read from
+    # the evaluations made while the curriculum stood there
     t = r.get("closest_to_target") or {}
     d = t.get("distance")
-    best = "%.1f on stage %s" % (p["best_score"], p["env"])
+    with open(sys.argv[2]) as f:
+        on_target = [float(row["score"]) for row in csv.DictReader(f) if row["env"] == t.get("target")]
+    best = "%.1f on the target (%d ES steps there)" % (max(on_target), len(on_target)) if on_target else "never reached the target"
     solved = "yes" if d == 0 else "no; closest solved stage %s, normalised distance %s" % (
         t.get("closest_solved") or "none", "%.3f" % d if d is not None else "-")
 else:
     best = "%.1f" % p["best_score"]
     solved = "yes, at ES step %d" % (p["solved"] + 1) if p["solved"] is not None else "no"
 print("| %s | %d | %d | %.1f M | %s | %s |" % (name, p["es_steps"], r["rollouts"], r["env_steps"] / 1e6, best, solved))
-' "$name"
+' "$name" "$out/$name/pair_stats.csv"
 done

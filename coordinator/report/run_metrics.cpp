@@ -75,8 +75,11 @@ TargetDistance closest_to(const RunState& state, const EnvEncoding& target) {
       out.closest_env = solved.name;
     }
   };
-  for (const Pair& p : state.pairs)
-    if (p.solved()) consider(p.env.encoding);
+  // the direct path's one pair keeps its first solve across stages while its environment moves on: there the
+  // stages say which environments were solved
+  if (state.config.mode() != pb::RunConfig::DIRECT_PATH)
+    for (const Pair& p : state.pairs)
+      if (p.solved()) consider(p.env.encoding);
   for (const CurriculumStage& stage : state.stages)
     if (stage.solved_iteration != kNone) consider(stage.env.encoding);
   return out;

@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include "envgen/env_proto.h"
+
 namespace poet {
 namespace {
 
@@ -172,6 +174,19 @@ TEST(RunMetrics, ClosestToTargetAmongSolvedEnvironments) {
   ASSERT_TRUE(alone.closest_to_target);
   EXPECT_EQ(alone.closest_to_target->target_name, "hard");
   EXPECT_FALSE(alone.closest_to_target->distance);
+
+  // the direct path: its pair, solved on an early stage, has moved on to the unsolved target; the stages decide
+  RunSnapshot direct;
+  direct.state.config.set_mode(pb::RunConfig::DIRECT_PATH);
+  *direct.state.config.mutable_direct_path()->mutable_target()->mutable_encoding() = to_proto(course("hard", 3, 0, 0));
+  direct.state.next_iteration = 30;
+  direct.state.pairs = {pair(0, course("hard", 3, 0, 0), 0, kNone, 4)};
+  direct.state.stages = {{EnvDef{course("flat", 0, 0, 0), 0}, 0, 4}, {EnvDef{course("r1.5", 1.5, 0, 0), 0}, 5, 9},
+                         {EnvDef{course("hard", 3, 0, 0), 0}, 10, kNone}};
+  const RunMetrics path = compute_run_metrics(direct);
+  ASSERT_TRUE(path.closest_to_target && path.closest_to_target->distance);
+  EXPECT_EQ(path.closest_to_target->closest_env, "r1.5");
+  EXPECT_GT(*path.closest_to_target->distance, 0);
 }
 
 }  // namespace
