@@ -2,14 +2,10 @@
 
 #include <algorithm>
 
+#include "report/event_fields.h"
+
 namespace poet {
 namespace {
-
-// An integer field of an event, or kNone when it is missing or not an integer (a damaged log is read, not trusted).
-int id_field(const nlohmann::json& event, const char* name) {
-  const auto found = event.find(name);
-  return found != event.end() && found->is_number_integer() ? found->get<int>() : kNone;
-}
 
 // What solved a pair: the event just before its "solved" event says (the engine records an evaluation and its
 // solve together: after "pair_created" at admission, after "transfer" for a transfer, alone after an ES step).
@@ -19,11 +15,11 @@ SolveCause cause_of(const RunSnapshot& run, const Pair& pair) {
   for (const nlohmann::json& event : run.events) {
     // read_run_snapshot guarantees every event an integer "iteration" and a string "event"
     if (event["iteration"].get<int>() == pair.first_solved_iteration && event["event"] == "solved" &&
-        id_field(event, "pair") == pair.id) {
+        field_or(event, "pair", kNone) == pair.id) {
       if (previous && (*previous)["iteration"] == event["iteration"]) {
-        if ((*previous)["event"] == "transfer" && id_field(*previous, "target") == pair.id)
+        if ((*previous)["event"] == "transfer" && field_or(*previous, "target", kNone) == pair.id)
           return SolveCause::kTransfer;
-        if ((*previous)["event"] == "pair_created" && id_field(*previous, "pair") == pair.id)
+        if ((*previous)["event"] == "pair_created" && field_or(*previous, "pair", kNone) == pair.id)
           return SolveCause::kAdmission;
       }
       return SolveCause::kOwnEs;

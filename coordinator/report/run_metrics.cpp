@@ -6,6 +6,7 @@
 #include <tuple>
 
 #include "envgen/env_proto.h"
+#include "report/event_fields.h"
 
 namespace poet {
 namespace {
@@ -23,17 +24,6 @@ std::optional<EnvVector> child_vector(const nlohmann::json& event) {
     v[i] = (*found)[i].get<double>();
   }
   return v;
-}
-
-template <class T>
-T field_or(const nlohmann::json& event, const char* name, T fallback) {
-  const auto found = event.find(name);
-  if (found == event.end() || found->is_null()) return fallback;
-  try {
-    return found->get<T>();
-  } catch (const nlohmann::json::exception&) {
-    return fallback;
-  }
 }
 
 LevelSolveSummary summarise(const std::vector<int>& iterations) {

@@ -13,7 +13,6 @@
 #include "run/checkpoint_file.h"
 #include "run/run_directory.h"
 #include "run/run_lock.h"
-#include "text_file.h"
 
 namespace poet {
 namespace fs = std::filesystem;
@@ -107,19 +106,12 @@ Expected<std::vector<StatsRow>> parse_stats(const fs::path& path, std::string_vi
   return rows;
 }
 
-// wall_times.csv's lines of the iterations the checkpoint has seen. A last line without its newline is one being
-// written (the coordinator appends whole lines) and is left out.
-void read_wall_times(RunSnapshot& snapshot) {
+// wall_times.csv's lines of the iterations the checkpoint has seen.
+void load_wall_times(RunSnapshot& snapshot) {
   const fs::path path = snapshot.dir / kWallTimesFile;
   std::error_code ec;
   if (!fs::exists(path, ec)) return;
-  Expected<std::string> text = read_text_file(path, kMaxWallTimesBytes);
-  if (!text) {
-    snapshot.wall_times_problem = path.string() + ": " + text.error();
-    return;
-  }
-  text->resize(text->rfind('\n') == std::string::npos ? 0 : text->rfind('\n') + 1);
-  Expected<std::vector<WallTime>> lines = parse_wall_times(*text);
+  Expected<std::vector<WallTime>> lines = read_wall_times(path);
   if (!lines) {
     snapshot.wall_times_problem = path.string() + ": " + lines.error();
     return;
@@ -177,7 +169,7 @@ Expected<RunSnapshot> read_run_snapshot(const fs::path& dir) {
   Expected<std::vector<StatsRow>> rows = parse_stats(stats_path, *stats);
   if (!rows) return Unexpected{rows.error()};
   snapshot.stats = std::move(*rows);
-  read_wall_times(snapshot);
+  load_wall_times(snapshot);
   return snapshot;
 }
 

@@ -56,16 +56,20 @@ Expected<std::vector<WallTime>> parse_wall_times(std::string_view text) {
   return out;
 }
 
+Expected<std::vector<WallTime>> read_wall_times(const std::filesystem::path& path) {
+  Expected<std::string> text = read_text_file(path, kMaxWallTimesBytes);
+  if (!text) return Unexpected{text.error()};
+  const size_t end = text->rfind('\n');
+  text->resize(end == std::string::npos ? 0 : end + 1);
+  return parse_wall_times(*text);
+}
+
 WallTimes WallTimes::open(const std::filesystem::path& dir, int next_iteration, std::string* warning) {
   const std::filesystem::path path = dir / kWallTimesFile;
   std::vector<WallTime> kept;
   std::error_code ec;
   if (std::filesystem::exists(path, ec)) {
-    Expected<std::string> text = read_text_file(path, kMaxWallTimesBytes);
-    // a line cut by a crash in the middle of its append is dropped; the lines before it are whole
-    if (text) text->resize(text->rfind('\n') == std::string::npos ? 0 : text->rfind('\n') + 1);
-    Expected<std::vector<WallTime>> lines =
-        text ? parse_wall_times(*text) : Expected<std::vector<WallTime>>(Unexpected{text.error()});
+    Expected<std::vector<WallTime>> lines = read_wall_times(path);
     if (lines) {
       for (const WallTime& w : *lines)
         if (w.iteration < next_iteration) kept.push_back(w);

@@ -30,6 +30,10 @@ struct WallTime {
 // not decrease; an error names the line and says what is wrong.
 Expected<std::vector<WallTime>> parse_wall_times(std::string_view text);
 
+// Reads a wall_times.csv: its whole lines (a last line without its newline is one being written, or cut by a
+// crash, and is left out), parsed. Errors say what is wrong, without the path.
+Expected<std::vector<WallTime>> read_wall_times(const std::filesystem::path& path);
+
 // The writer a coordinator keeps for its run directory.
 class WallTimes {
  public:
