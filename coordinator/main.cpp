@@ -34,6 +34,7 @@
 #include "dispatch/local_workers.h"
 #include "evaluator/local_evaluator.h"
 #include "evaluator/remote_evaluator.h"
+#include "local_token.h"
 #include "poet/engine.h"
 #include "policy/policy_file.h"
 #include "run/progress_display.h"
@@ -65,7 +66,13 @@ struct Options {
   std::string status_address = "127.0.0.1:8580";  // the HTTP status socket; empty: none
   std::string curve_keys;                         // CURVE key directory; empty: no authentication
   std::string start_from;                         // a policy file for the first pair's θ; empty: the init stream
+  std::optional<double> verify_fraction;          // default: kListenVerifyFraction with --listen and no CURVE
+  uint64_t verify_seed = 1;
 };
+
+// Workers that connect to --listen without CURVE may be anyone's: this fraction of their jobs is checked by a
+// second worker unless --verify-fraction says otherwise (the cost is about this fraction of the rollouts).
+constexpr double kListenVerifyFraction = 0.05;
 
 // "iteration 12: pair_created pair=3 env=r0.4 ..." from {"iteration": 12, "event": "pair_created", ...}.
 std::string describe_event(const nlohmann::ordered_json& event) {
@@ -190,6 +197,8 @@ std::optional<std::pair<RunDirectory, RunState>> resume_run(const Options& optio
 struct Rollouts {
   std::unique_ptr<Evaluator> evaluator;
   RemoteEvaluator* remote = nullptr;
+  std::vector<std::string> worker_args;  // for local workers
+  std::string local_token;
   std::unique_ptr<LocalWorkers> local_workers;
 };
 
@@ -216,6 +225,8 @@ std::optional<CurveServer> curve_server(const std::filesystem::path& dir, bool l
   return CurveServer{keys->secret_key, dir};
 }
 
+// The evaluator, its socket bound (a port in use or a bad endpoint fails here, before any file is written); local
+// workers are started later, by start_local_workers.
 std::optional<Rollouts> make_rollouts(const Options& options, StopSignals& signals) {
   Rollouts r;
   if (options.listen.empty() && options.local_workers == 0) {
@@ -226,6 +237,13 @@ std::optional<Rollouts> make_rollouts(const Options& options, StopSignals& signa
   settings.liveness_ms = options.liveness_ms;
   settings.heartbeat_ms = std::max(options.liveness_ms / 5, 1);
   settings.fingerprint_digest = build_fingerprint_digest();
+  settings.local_token = make_local_token();
+  settings.verify_fraction = options.verify_fraction.value_or(
+      !options.listen.empty() && options.curve_keys.empty() ? kListenVerifyFraction : 0.0);
+  settings.verify_seed = options.verify_seed;
+  if (settings.verify_fraction > 0)
+    spdlog::info("verification: {:g} of the jobs of workers not started here also run on a second worker",
+                 settings.verify_fraction);
   const std::string endpoint = options.listen.empty() ? "tcp://127.0.0.1:*" : options.listen;
   std::optional<CurveServer> curve;
   std::vector<std::string> worker_args = options.worker_args;
@@ -242,36 +260,47 @@ std::optional<Rollouts> make_rollouts(const Options& options, StopSignals& signa
   }
   r.remote = remote->get();
   r.evaluator = std::move(*remote);
+  r.worker_args = std::move(worker_args);
+  r.local_token = settings.local_token;
   spdlog::info("workers connect to {}", r.remote->endpoint());
-  if (options.local_workers > 0) {
-    const int hardware = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
-    const int threads = std::max(1, hardware / options.local_workers);
-    const std::string binary = options.worker_binary.empty() ? LocalWorkers::default_binary() : options.worker_binary;
-    Expected<std::unique_ptr<LocalWorkers>> workers =
-        LocalWorkers::start(binary, r.remote->endpoint(), options.local_workers, threads, worker_args);
-    if (!workers) {
-      spdlog::error("{}", workers.error());
-      return std::nullopt;
-    }
-    r.local_workers = std::move(*workers);
-    spdlog::info("started {} local workers ({}) with {} threads each", options.local_workers, binary, threads);
-  }
   return r;
+}
+
+// --local-workers: started once the run is open, connected to the bound socket.
+bool start_local_workers(const Options& options, Rollouts& r) {
+  if (options.local_workers == 0) return true;
+  const int hardware = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  const int threads = std::max(1, hardware / options.local_workers);
+  const std::string binary = options.worker_binary.empty() ? LocalWorkers::default_binary() : options.worker_binary;
+  Expected<std::unique_ptr<LocalWorkers>> workers =
+      LocalWorkers::start(binary, r.remote->endpoint(), options.local_workers, threads, r.local_token, r.worker_args);
+  if (!workers) {
+    spdlog::error("{}", workers.error());
+    return false;
+  }
+  r.local_workers = std::move(*workers);
+  spdlog::info("started {} local workers ({}) with {} threads each", options.local_workers, binary, threads);
+  return true;
 }
 
 int run(const Options& options, StopSignals& signals) {
   const auto started = std::chrono::steady_clock::now();
   spdlog::debug("build fingerprint {:016x}", build_fingerprint_digest());
+  // the status socket: a snapshot published after each iteration, read by the server's own threads
+  StatusBoard board(options.run_dir);
+  StatusServer server(board);
+  // declared after the board, so the socket thread that publishes to it stops first; bound before the run is
+  // opened, so that a port in use changes no file
+  std::optional<Rollouts> rollouts = make_rollouts(options, signals);
+  if (!rollouts) return kExitUsage;
   std::optional<std::pair<RunDirectory, RunState>> opened = options.resume ? resume_run(options) : start_run(options);
   if (!opened) return kExitUsage;
   auto& [dir, state] = *opened;
+  for (const std::string& repair : dir.repairs()) spdlog::warn("{}", repair);
   std::string wall_warning;
   WallTimes wall_times = WallTimes::open(options.run_dir, state.next_iteration, &wall_warning);
   if (!wall_warning.empty()) spdlog::warn("{}", wall_warning);
 
-  // the status socket: a snapshot published after each iteration, read by the server's own threads
-  StatusBoard board(options.run_dir);
-  StatusServer server(board);
   board.publish_run(state, state.next_iteration);
   board.set_state(RunPhase::kRunning);
   if (!options.status_address.empty()) {
@@ -283,9 +312,7 @@ int run(const Options& options, StopSignals& signals) {
       spdlog::warn("no status socket: {}", port.error());  // the run goes on without it
     }
   }
-  // declared after the board, so the socket thread that publishes to it stops first
-  std::optional<Rollouts> rollouts = make_rollouts(options, signals);
-  if (!rollouts) return kExitUsage;
+  if (rollouts->remote && !start_local_workers(options, *rollouts)) return kExitUsage;
   Evaluator& evaluator = *rollouts->evaluator;
   if (rollouts->remote) {
     rollouts->remote->on_snapshot([&board](const Dispatcher& d) {
@@ -306,6 +333,11 @@ int run(const Options& options, StopSignals& signals) {
       snapshot.workers_joined = d.workers_joined();
       snapshot.workers_lost = d.workers_lost();
       snapshot.backup_jobs = d.backup_jobs();
+      snapshot.leases_expired = d.leases_expired();
+      snapshot.workers_demoted = d.workers_demoted();
+      snapshot.verified_jobs = d.verified_jobs();
+      snapshot.unverified_jobs = d.unverified_jobs();
+      snapshot.wrong_workers = static_cast<int64_t>(d.wrong_workers().size());
       const bool waiting = d.ready_workers() == 0 && d.queue_depth() > 0;
       board.publish_dispatch(std::move(snapshot));
       board.set_state(waiting ? RunPhase::kWaitingForWorkers : RunPhase::kRunning,
@@ -359,6 +391,7 @@ int run(const Options& options, StopSignals& signals) {
   if (state.next_iteration != saved_iteration && !save()) return kExitError;
   progress.finish();
 
+  if (rollouts->remote) rollouts->remote->log_summary();
   if (!run_complete(state)) {
     spdlog::warn("interrupted at iteration {}; continue with: poet-coordinator --run-dir {} --resume",
                  state.next_iteration, options.run_dir);
@@ -405,6 +438,14 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(0, 256));
   app.add_option("--liveness-ms", options.liveness_ms, "A worker silent this long is dead (default 5000)")
       ->check(CLI::Range(50, 600'000));
+  double verify_fraction = 0;
+  auto* verify_option =
+      app.add_option("--verify-fraction", verify_fraction,
+                     "Fraction of the jobs of workers not started here that a second worker runs too; results must "
+                     "match bit for bit, and a worker found wrong is refused (default 0.05 with --listen without "
+                     "--curve-keys, else 0)")
+          ->check(CLI::Range(0.0, 1.0));
+  app.add_option("--verify-seed", options.verify_seed, "Which jobs are checked (default 1)")->group("");
   app.add_option("--worker-binary", options.worker_binary, "poet-worker for --local-workers (default: beside this)");
   app.add_option("--worker-arg", options.worker_args, "An argument for every local worker (repeatable)")
       ->group("");  // for tests: fault switches
@@ -419,6 +460,7 @@ int main(int argc, char** argv) {
   poet::add_fingerprint_flag(app);
   if (const std::optional<int> code = poet::parse_command_line(app, argc, argv)) return *code;
   if (iterations_option->count() > 0) options.iterations = iterations;
+  if (verify_option->count() > 0) options.verify_fraction = verify_fraction;
 
   spdlog::set_default_logger(spdlog::stderr_color_mt("poet-coordinator"));
   spdlog::set_level(spdlog::level::from_str(options.log_level));

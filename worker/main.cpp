@@ -8,12 +8,14 @@
 
 #include <spdlog/sinks/stdout_color_sinks.h>
 #include <spdlog/spdlog.h>
+#include <sys/prctl.h>
 #include <unistd.h>
 
 #include <CLI/CLI.hpp>
 #include <algorithm>
 #include <atomic>
 #include <climits>
+#include <cstdlib>
 #include <csignal>
 #include <exception>
 #include <filesystem>
@@ -24,6 +26,7 @@
 
 #include "build_fingerprint.h"
 #include "curve_keys.h"
+#include "local_token.h"
 #include "stop_signals.h"
 #include "tool_flags.h"
 #include "worker_loop.h"
@@ -82,15 +85,30 @@ int main(int argc, char** argv) {
   app.add_option("--log-level", log_level, "trace, debug, info (default), warn, error or off")
       ->check(CLI::IsMember({"trace", "debug", "info", "warn", "error", "off"}));
   app.add_option("--fault", fault,
-                 "Test-only misbehaviour, for tests of the coordinator's poison-job rule and leases: crash-on-job "
-                 "(abort() on receiving a Job) or ignore-jobs (never answer a Job, keep heartbeating)")
-      ->check(CLI::IsMember({"crash-on-job", "ignore-jobs"}))
+                 "Test-only misbehaviour, for tests of the coordinator's poison-job rule, leases and verification: "
+                 "crash-on-job (abort() on receiving a Job), ignore-jobs (never answer a Job, keep heartbeating), "
+                 "error-on-job (answer every Job with an error) or wrong-results (returns off by one)")
+      ->check(CLI::IsMember({"crash-on-job", "ignore-jobs", "error-on-job", "wrong-results"}))
       ->group("");  // hidden from --help
+  int parent_pid = 0;
+  app.add_option("--parent-pid", parent_pid,
+                 "Exit when process PID, the coordinator that started this worker, is gone (--local-workers)")
+      ->check(CLI::Range(1, INT_MAX))
+      ->group("");
   poet::add_fingerprint_flag(app);
   if (const std::optional<int> code = poet::parse_command_line(app, argc, argv)) return *code;
 
   spdlog::set_default_logger(spdlog::stderr_color_mt("poet-worker"));
   spdlog::set_level(spdlog::level::from_str(log_level));
+  if (parent_pid != 0) {
+    // a local worker ends with its coordinator, however that ends (a SIGKILL included): the kernel sends SIGTERM
+    // when the parent goes, and a parent gone before this line is seen as a changed parent pid
+    ::prctl(PR_SET_PDEATHSIG, SIGTERM);
+    if (::getppid() != parent_pid) {
+      spdlog::warn("the coordinator that started this worker (pid {}) is gone: exiting", parent_pid);
+      return 0;
+    }
+  }
 
   if (!curve_keys.empty()) {
     poet::Expected<poet::CurveKeyPair> own = poet::read_key_pair(curve_keys, "worker");
@@ -107,6 +125,13 @@ int main(int argc, char** argv) {
   settings.session.name = name.empty() ? default_name() : name;
   if (fault == "crash-on-job") settings.session.fault = Fault::kCrashOnJob;
   if (fault == "ignore-jobs") settings.session.fault = Fault::kIgnoreJobs;
+  if (fault == "error-on-job") settings.session.fault = Fault::kErrorOnJob;
+  if (fault == "wrong-results") settings.session.fault = Fault::kWrongResults;
+  // a worker started by --local-workers gets the coordinator's secret in its environment, not its command line
+  if (const char* token = std::getenv(poet::kLocalTokenVariable)) {
+    settings.session.local_token = token;
+    ::unsetenv(poet::kLocalTokenVariable);
+  }
   if (!fault.empty()) spdlog::warn("--fault {}: this worker misbehaves on purpose (a test)", fault);
   spdlog::info("{}: {} threads, connecting to {}; build digest {:016x}", settings.session.name, threads,
                settings.endpoint, poet::build_fingerprint_digest());

@@ -44,6 +44,7 @@ wire::WorkerMessage WorkerSession::hello() const {
   hello.set_fingerprint(build_fingerprint());
   hello.set_threads(settings_.threads);
   hello.set_name(settings_.name);
+  if (!settings_.local_token.empty()) hello.set_local_token(settings_.local_token);
   return message;
 }
 
@@ -152,6 +153,14 @@ void WorkerSession::accept_job(const wire::Job& job, Actions& actions, TimePoint
     spdlog::debug("job {}: ignored (--fault ignore-jobs)", job.job_id());
     return;
   }
+  if (settings_.fault == Fault::kErrorOnJob) {
+    spdlog::debug("job {}: refused on purpose (--fault error-on-job)", job.job_id());
+    wire::WorkerMessage message;
+    message.mutable_result()->set_job_id(job.job_id());
+    message.mutable_result()->set_error("refused on purpose (--fault error-on-job)");
+    send(actions, std::move(message), now);
+    return;
+  }
 
   // a job of another batch: the previous batch's θs go (jobs already queued hold theirs)
   if (!batch_ || *batch_ != job.batch_id()) {
@@ -203,7 +212,10 @@ Actions WorkerSession::on_job_finished(const JobOutcome& outcome, TimePoint now)
     spdlog::warn("job {} failed: {}", outcome.job_id, *outcome.error);
     result.set_error(*outcome.error);
   } else {
-    for (const RolloutResult& r : outcome.results) *result.add_results() = to_wire(r);
+    for (const RolloutResult& r : outcome.results) {
+      *result.add_results() = to_wire(r);
+      if (settings_.fault == Fault::kWrongResults) result.mutable_results()->rbegin()->set_total_reward(r.total_reward + 1);
+    }
   }
   send(actions, std::move(message), now);
   return actions;

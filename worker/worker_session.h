@@ -45,11 +45,14 @@ enum class Fault {
   kNone,
   kCrashOnJob,  // abort() on receiving a Job: the coordinator's poison-job rule must stop it killing every worker
   kIgnoreJobs,  // never answer a Job, but keep heartbeating: the coordinator's lease must expire
+  kErrorOnJob,  // answer every Job with an error Result: one such peer must not stop the run
+  kWrongResults,  // answer every Job with well-formed results whose returns are off by one: verification's liar
 };
 
 struct SessionSettings {
   uint32_t threads = 1;  // told to the coordinator in Hello
   std::string name;      // for people: "host:pid" by default (main.cpp)
+  std::string local_token;  // told in Hello: from the coordinator that started this worker (--local-workers)
   Millis hello_interval{1000};
   Millis hello_retry{50};  // after a Hello that could not be sent (no connection yet)
   Millis first_backoff{250};

@@ -6,6 +6,8 @@
 #include <string_view>
 #include <utility>
 
+#include "utf8.h"
+
 namespace poet {
 namespace {
 
@@ -70,6 +72,7 @@ Expected<EnvEncoding> encoding_from_proto(const pb::EnvEncoding& message) {
     encoding.*field.member = Interval{interval.lo(), interval.hi()};
   }
   if (auto error = validate(encoding)) return Unexpected{schema_message(*error, encoding)};
+  if (!is_valid_utf8(message.name())) return Unexpected{std::string("name: must be UTF-8 text")};
   encoding.name = message.name().empty() ? reference_name(encoding) : message.name();
   return encoding;
 }

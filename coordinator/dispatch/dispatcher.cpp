@@ -1,8 +1,10 @@
 #include "dispatch/dispatcher.h"
 
 #include <algorithm>
+#include <bit>
 #include <cstdio>
 
+#include "rng.h"
 #include "rollout_task_proto.h"
 
 namespace poet {
@@ -14,10 +16,29 @@ std::string hex64(uint64_t value) {
   return buffer;
 }
 
+// Bit for bit: every worker of one build computes exactly the same numbers.
+bool same_results(const std::vector<RolloutResult>& a, const std::vector<RolloutResult>& b) {
+  if (a.size() != b.size()) return false;
+  for (size_t i = 0; i < a.size(); ++i) {
+    if (std::bit_cast<uint64_t>(a[i].total_reward) != std::bit_cast<uint64_t>(b[i].total_reward) ||
+        a[i].steps != b[i].steps || a[i].finished != b[i].finished || a[i].fell != b[i].fell)
+      return false;
+  }
+  return true;
+}
+
+// The queued jobs a worker looks through for one it may take; the rest wait their turn.
+constexpr size_t kQueueScan = 4096;
+
 }  // namespace
 
 wire::CoordinatorMessage Dispatcher::on_hello(const WorkerId& id, const wire::Hello& hello, Millis now) {
   wire::CoordinatorMessage reply;
+  if (refused_.contains(id)) {
+    count_drop("wrong_worker");
+    reply.mutable_refused()->set_reason("this worker returned wrong results");
+    return reply;
+  }
   if (hello.protocol_version() != wire::PROTOCOL_VERSION) {
     count_drop("wrong_version");
     reply.mutable_refused()->set_reason("protocol version " + std::to_string(hello.protocol_version()) +
@@ -44,6 +65,8 @@ wire::CoordinatorMessage Dispatcher::on_hello(const WorkerId& id, const wire::He
   worker.view.threads = static_cast<int>(std::clamp<uint32_t>(hello.threads(), 1, 4096));
   worker.view.fingerprint_digest = hello.fingerprint_digest();
   worker.view.last_heard = now;
+  worker.view.local = !settings_.local_token.empty() && hello.local_token() == settings_.local_token;
+  worker.view.proven = worker.view.local;
   worker.last_sent = now;
   workers_.emplace(id, std::move(worker));
   arrival_.push_back(id);
@@ -64,49 +87,108 @@ bool Dispatcher::heard_from(const WorkerId& id, Millis now) {
 void Dispatcher::remove_worker(const WorkerId& id, bool died) {
   const auto it = workers_.find(id);
   if (it == workers_.end()) return;
-  const std::set<uint64_t> held = it->second.jobs;
+  const Worker worker = std::move(it->second);
   workers_.erase(it);
   std::erase(arrival_, id);
   // back to the front, in their order, so the batch finishes in the order it was cut
-  for (auto job = held.rbegin(); job != held.rend(); ++job) release(*job, id, died);
+  for (auto job = worker.jobs.rbegin(); job != worker.jobs.rend(); ++job) release(*job, worker, died);
 }
 
-void Dispatcher::release(uint64_t job_id, const WorkerId& id, bool died) {
+void Dispatcher::lose_worker(const WorkerId& id) {
+  if (!workers_.contains(id)) return;
+  remove_worker(id, /*died=*/true);
+  lost_ += 1;
+}
+
+void Dispatcher::release(uint64_t job_id, const Worker& worker, bool died) {
   const auto it = jobs_.find(job_id);
   if (it == jobs_.end()) return;
-  std::erase_if(it->second.leases, [&](const Lease& lease) { return lease.worker == id; });
+  Job& job = it->second;
+  std::erase_if(job.leases, [&](const Lease& lease) { return lease.worker == worker.view.id; });
+  if (died && !worker.view.proven) {
+    // a peer that never returned a result proves nothing by dying: a proven worker will say whether it kills
+    job.tainted = true;
+    died = false;
+  }
   // a backed-up job still held by its other worker stays with it: that worker's result will do
-  if (it->second.leases.empty()) requeue(job_id, died);
+  if (job.leases.empty()) requeue(job, died);
 }
 
-void Dispatcher::requeue(uint64_t job_id, bool died) {
-  const auto it = jobs_.find(job_id);
-  if (it == jobs_.end()) return;
-  Job job = it->second;
-  jobs_.erase(it);
-  job.leases.clear();
+void Dispatcher::enqueue_front(Job& job) {
+  if (job.queued) return;
+  job.queued = true;
+  queue_.push_front(job.id);
+}
+
+void Dispatcher::remove_from_queue(uint64_t job_id) {
+  if (const auto it = std::find(queue_.begin(), queue_.end(), job_id); it != queue_.end()) queue_.erase(it);
+}
+
+void Dispatcher::requeue(Job& job, bool died) {
   if (!died) {
-    jobs_.emplace(job.id, job);
-    queue_.push_front(job.id);
+    enqueue_front(job);
     return;
   }
   // A job whose worker died may hold a task that kills workers: it is retried one task per job, so the task
   // that does is found and named.
   const int deaths = job.deaths + 1;
-  std::vector<uint64_t> parts;
-  for (size_t t = job.begin; t < job.end; ++t) {
-    if (have_result_[t]) continue;
-    if (deaths >= settings_.max_attempts) {
-      if (!failure_)
+  const size_t begin = job.begin;
+  const size_t end = job.end;
+  remove_from_queue(job.id);
+  jobs_.erase(job.id);
+  if (deaths >= settings_.max_attempts) {
+    for (size_t t = begin; t < end && !failure_; ++t)
+      if (!have_result_[t])
         failure_ = describe_task(t) + " was running on " + std::to_string(deaths) +
                    " workers when they died; the run stops rather than lose more workers to it";
+    return;
+  }
+  new_jobs(begin, end, 1, deaths, /*front=*/true);
+}
+
+// Jobs of tasks [begin, end) without a result, per_job tasks at most, at the back of the queue or its front.
+void Dispatcher::new_jobs(size_t begin, size_t end, size_t per_job, int deaths, bool front) {
+  std::vector<uint64_t> made;
+  for (size_t t = begin; t < end;) {
+    if (have_result_[t]) {
+      ++t;
       continue;
     }
-    Job part{next_job_id_++, t, t + 1, deaths, {}};
-    jobs_.emplace(part.id, part);
-    parts.push_back(part.id);
+    size_t stop = t + 1;
+    while (stop < end && stop - t < per_job && !have_result_[stop]) ++stop;
+    Job job;
+    job.id = next_job_id_++;
+    job.begin = t;
+    job.end = stop;
+    job.deaths = deaths;
+    job.verify = chosen_for_check(job);
+    job.queued = true;
+    jobs_.emplace(job.id, std::move(job));
+    made.push_back(next_job_id_ - 1);
+    t = stop;
   }
-  for (auto p = parts.rbegin(); p != parts.rend(); ++p) queue_.push_front(*p);
+  if (front) {
+    for (auto id = made.rbegin(); id != made.rend(); ++id) queue_.push_front(*id);
+  } else {
+    queue_.insert(queue_.end(), made.begin(), made.end());
+  }
+}
+
+bool Dispatcher::chosen_for_check(const Job& job) const {
+  if (settings_.verify_fraction <= 0) return false;
+  const uint64_t key = stream_key(settings_.verify_seed, "verify", {batch_id_, job.begin, job.end});
+  return static_cast<double>(key >> 11) * 0x1.0p-53 < settings_.verify_fraction;
+}
+
+size_t Dispatcher::proven_workers() const {
+  return static_cast<size_t>(std::count_if(workers_.begin(), workers_.end(),
+                                           [](const auto& w) { return w.second.view.proven; }));
+}
+
+void Dispatcher::demote(Worker& worker) {
+  if (worker.view.demoted) return;
+  worker.view.demoted = true;
+  demoted_ += 1;
 }
 
 void Dispatcher::on_result(const WorkerId& id, const wire::Result& result, Millis now) {
@@ -115,29 +197,29 @@ void Dispatcher::on_result(const WorkerId& id, const wire::Result& result, Milli
   const auto lease = job == jobs_.end() ? std::vector<Lease>::iterator{}
                                         : std::find_if(job->second.leases.begin(), job->second.leases.end(),
                                                        [&](const Lease& l) { return l.worker == id; });
-  if (worker == workers_.end() || job == jobs_.end() || lease == job->second.leases.end()) {
+  const bool holds = job != jobs_.end() && lease != job->second.leases.end();
+  const bool taken_back = worker != workers_.end() && worker->second.taken_back.erase(result.job_id()) > 0;
+  if (worker == workers_.end() || job == jobs_.end() || (!holds && !taken_back)) {
     // a job its backup finished first; or a stranger, or a job this worker no longer holds (re-queued, or done)
     count_drop(worker != workers_.end() && worker->second.beaten.erase(result.job_id()) ? "late_result"
                                                                                         : "unexpected_result");
     return;
   }
-  const Millis took = now - lease->since;
-  worker->second.view.last_heard = now;
-  worker->second.jobs.erase(job->first);
+  Worker& w = worker->second;
+  Job& j = job->second;
+  const Millis took = holds ? now - lease->since : 0;
+  if (holds) j.leases.erase(lease);
+  w.view.last_heard = now;
+  w.jobs.erase(j.id);
   if (result.has_error()) {
     if (result.missing_theta()) {  // the worker dropped θs it was sent: send them again
-      worker->second.thetas_sent.clear();
-      release(job->first, id, false);
+      w.thetas_sent.clear();
+      if (j.leases.empty()) requeue(j, false);
       return;
     }
-    if (!failure_)
-      failure_ = "worker " + worker->second.view.name + " refused " + describe_task(job->second.begin) +
-                 (job->second.end - job->second.begin > 1 ? " (or a later task of its job)" : "") + ": " +
-                 result.error();
-    release(job->first, id, false);
+    on_error(w, j, result.error());
     return;
   }
-  const Job& j = job->second;
   const size_t count = j.end - j.begin;
   std::vector<RolloutResult> parsed;
   bool valid = result.results_size() == static_cast<int>(count);
@@ -148,39 +230,245 @@ void Dispatcher::on_result(const WorkerId& id, const wire::Result& result, Milli
   }
   if (!valid) {  // a worker that sends nonsense is treated as one that died with the job
     count_drop("bad_result");
-    release(job->first, id, true);
+    if (!w.view.proven) demote(w);
+    j.leases.push_back({id, now});  // released below as by a death
+    release(j.id, w, /*died=*/true);
     return;
   }
-  for (size_t k = 0; k < count; ++k) {
-    results_[j.begin + k] = parsed[k];
-    if (!have_result_[j.begin + k]) remaining_ -= 1;
-    have_result_[j.begin + k] = true;
+  if (!w.view.proven) {
+    w.view.proven = true;
+    w.view.demoted = false;
   }
-  ready_ranges_.emplace_back(j.begin, j.end);
-  worker->second.view.jobs_done += 1;
-  worker->second.view.results_done += static_cast<int64_t>(count);
-  for (const Lease& other : j.leases) {  // the other holder's result, when it comes, is late
-    if (other.worker == id) continue;
-    Worker& loser = workers_.at(other.worker);
-    loser.jobs.erase(j.id);
-    loser.beaten.insert(j.id);
+  w.view.jobs_done += 1;
+  w.view.results_done += static_cast<int64_t>(count);
+  if (took > 0 || holds) {
+    job_times_.push_back(took);
+    std::vector<Millis> times = job_times_;
+    const auto middle = times.begin() + static_cast<std::ptrdiff_t>(times.size() / 2);
+    std::nth_element(times.begin(), middle, times.end());
+    backup_after_ = std::max(settings_.backup_min_ms, static_cast<Millis>(settings_.backup_factor * *middle));
   }
-  jobs_.erase(job);
+  on_answer(w, j, std::move(parsed));
+}
 
-  job_times_.push_back(took);
-  std::vector<Millis> times = job_times_;
-  const auto middle = times.begin() + static_cast<std::ptrdiff_t>(times.size() / 2);
-  std::nth_element(times.begin(), middle, times.end());
-  backup_after_ = std::max(settings_.backup_min_ms, static_cast<Millis>(settings_.backup_factor * *middle));
+void Dispatcher::on_error(Worker& worker, Job& job, const std::string& error) {
+  job.failed.insert(worker.view.id);
+  if (!worker.view.proven) {
+    // a peer that never returned a result cannot stop the run: the job goes to a proven worker
+    count_drop("error_from_unproven");
+    demote(worker);
+    job.tainted = true;
+    if (job.leases.empty()) requeue(job, false);
+    return;
+  }
+  job.refusing.insert(worker.view.id);
+  job.tainted = true;
+  if (job.refusing.size() >= std::min<size_t>(2, std::max<size_t>(1, proven_workers()))) {
+    if (!failure_)
+      failure_ = "worker " + worker.view.name + " refused " + describe_task(job.begin) +
+                 (job.end - job.begin > 1 ? " (or a later task of its job)" : "") + ": " + error +
+                 (job.refusing.size() > 1 ? " (and so did " + std::to_string(job.refusing.size() - 1) +
+                                                " other worker" + (job.refusing.size() > 2 ? "s" : "") + ")"
+                                          : "");
+    return;
+  }
+  if (job.leases.empty()) requeue(job, false);  // another proven worker says whether the error is real
+}
+
+void Dispatcher::on_answer(Worker& worker, Job& job, std::vector<RolloutResult> results) {
+  const bool check = job.verify && (!worker.view.local || !job.answers.empty());
+  if (!check) {
+    accept(job, results, worker.view.id, settings_.verify_fraction <= 0 || worker.view.local);
+    return;
+  }
+  if (job.answers.empty()) {
+    job.answers.push_back({worker.view.id, std::move(results)});
+    if (job.leases.empty()) enqueue_front(job);  // for a second worker
+    return;
+  }
+  if (job.answers.size() == 1) {
+    if (same_results(job.answers[0].results, results)) {
+      verified_ += 1;
+      accept(job, results, job.answers[0].worker, true);
+      return;
+    }
+    job.answers.push_back({worker.view.id, std::move(results)});
+    if (job.leases.empty()) enqueue_front(job);  // a third worker decides
+    return;
+  }
+  // the third answer decides between two that differ
+  const bool first = same_results(job.answers[0].results, results);
+  const bool second = same_results(job.answers[1].results, results);
+  if (!first && !second) {
+    if (!failure_)
+      failure_ = "three workers returned three different results for " + describe_task(job.begin) +
+                 " (or a later task of its job): do they run one build? (compare --fingerprint)";
+    return;
+  }
+  verified_ += 1;
+  const WorkerId wrong = first ? job.answers[1].worker : job.answers[0].worker;
+  accept(job, results, worker.view.id, true);  // ends the job
+  refuse_wrong(wrong);
+}
+
+void Dispatcher::accept(Job& job, const std::vector<RolloutResult>& results, const WorkerId& from, bool final_now) {
+  for (size_t k = 0; k < results.size(); ++k) {
+    const size_t t = job.begin + k;
+    results_[t] = results[k];
+    if (!have_result_[t]) remaining_ -= 1;
+    have_result_[t] = true;
+    result_from_[t] = from;
+  }
+  if (final_now) {
+    ready_ranges_.emplace_back(job.begin, job.end);
+    for (size_t t = job.begin; t < job.end; ++t) reported_[t] = true;
+  }
+  for (const Lease& other : job.leases) {  // the other holders' results, when they come, are late
+    const auto it = workers_.find(other.worker);
+    if (it == workers_.end()) continue;
+    it->second.jobs.erase(job.id);
+    it->second.beaten.insert(job.id);
+  }
+  for (auto& [id, worker] : workers_) worker.taken_back.erase(job.id);
+  if (job.queued) remove_from_queue(job.id);
+  jobs_.erase(job.id);
+  if (remaining_ == 0) {  // the batch is whole: what was held back is final now
+    for (size_t t = 0; t < reported_.size(); ++t) {
+      if (reported_[t]) continue;
+      size_t end = t;
+      while (end < reported_.size() && !reported_[end]) reported_[end++] = true;
+      ready_ranges_.emplace_back(t, end);
+      t = end - 1;
+    }
+  }
+}
+
+void Dispatcher::refuse_wrong(const WorkerId& id) {
+  if (!refused_.insert(id).second) return;
+  // its answers awaiting a check are worth nothing: those jobs wait for answers from others
+  for (auto& [job_id, job] : jobs_) {
+    const size_t before = job.answers.size();
+    std::erase_if(job.answers, [&](const Answer& a) { return a.worker == id; });
+    if (job.answers.size() != before && job.leases.empty()) enqueue_front(job);
+  }
+  const auto it = workers_.find(id);
+  const std::string name = it != workers_.end() ? it->second.view.name : id;
+  wrong_workers_.push_back(name);
+  if (it != workers_.end()) {
+    Outgoing refusal{id, {}};
+    refusal.message.mutable_refused()->set_reason("this worker returned results that two other workers did not");
+    refusals_.push_back(std::move(refusal));
+    remove_worker(id, /*died=*/false);
+  }
+  // every result of the batch taken from it is computed again, by others
+  for (size_t t = 0; t < result_from_.size(); ++t) {
+    if (result_from_[t] != id || !have_result_[t]) continue;
+    size_t end = t;
+    while (end < result_from_.size() && result_from_[end] == id && have_result_[end]) {
+      have_result_[end] = false;
+      result_from_[end].clear();
+      remaining_ += 1;
+      ++end;
+    }
+    new_jobs(t, end, static_cast<size_t>(settings_.max_chunk), 0, /*front=*/true);
+    t = end - 1;
+  }
 }
 
 std::vector<WorkerId> Dispatcher::expire(Millis now) {
   std::vector<WorkerId> dead;
   for (const WorkerId& id : arrival_)
     if (now - workers_.at(id).view.last_heard > settings_.liveness_ms) dead.push_back(id);
-  for (const WorkerId& id : dead) remove_worker(id, /*died=*/true);
-  lost_ += static_cast<int64_t>(dead.size());
+  for (const WorkerId& id : dead) lose_worker(id);
   return dead;
+}
+
+Millis Dispatcher::lease_ms() const { return backup_after_ > 0 ? backup_after_ : settings_.liveness_ms; }
+
+void Dispatcher::expire_leases(Millis now) {
+  const Millis lease = lease_ms();
+  for (auto& [job_id, job] : jobs_) {
+    const size_t before = job.leases.size();
+    std::erase_if(job.leases, [&](const Lease& l) {
+      if (now - l.since < lease) return false;
+      Worker& holder = workers_.at(l.worker);
+      if (holder.view.proven) return false;  // a slow machine: backed up, not taken back
+      holder.jobs.erase(job_id);
+      holder.taken_back.insert(job_id);
+      job.failed.insert(l.worker);
+      demote(holder);
+      return true;
+    });
+    if (job.leases.size() == before) continue;
+    leases_expired_ += static_cast<int64_t>(before - job.leases.size());
+    job.tainted = true;
+    if (job.leases.empty()) enqueue_front(job);
+  }
+}
+
+bool Dispatcher::may_take(const Job& job, const Worker& worker, bool proven_present) const {
+  const WorkerId& id = worker.view.id;
+  if (job.failed.contains(id)) return false;
+  if (std::any_of(job.leases.begin(), job.leases.end(), [&](const Lease& l) { return l.worker == id; })) return false;
+  if (std::any_of(job.answers.begin(), job.answers.end(), [&](const Answer& a) { return a.worker == id; }))
+    return false;
+  // a worker not proven takes no job another such worker failed while a proven one is connected, and no such
+  // check at all (eligible_checker)
+  return worker.view.proven || !job.tainted || (!proven_present && job.answers.empty());
+}
+
+Dispatcher::Job* Dispatcher::next_job(const Worker& worker, Millis now, bool proven_present) {
+  size_t scanned = 0;
+  for (auto it = queue_.begin(); it != queue_.end() && scanned < kQueueScan; ++it, ++scanned) {
+    Job& job = jobs_.at(*it);
+    if (!may_take(job, worker, proven_present)) continue;
+    queue_.erase(it);
+    job.queued = false;
+    return &job;
+  }
+  if (settings_.backup_factor <= 0) return nullptr;
+  // a backup: a job whose every holder has held it past the lease (proven ones: slow, or silent)
+  const Millis lease = lease_ms();
+  Job* oldest = nullptr;
+  Millis oldest_since = 0;
+  for (auto& [job_id, job] : jobs_) {
+    if (job.queued || job.leases.empty() || job.leases.size() >= static_cast<size_t>(settings_.max_leases)) continue;
+    Millis newest = 0;
+    for (const Lease& l : job.leases) newest = std::max(newest, l.since);
+    if (now - newest < lease || !may_take(job, worker, proven_present)) continue;
+    if (!worker.view.proven && job.tainted) continue;
+    if (oldest == nullptr || newest < oldest_since) {
+      oldest = &job;
+      oldest_since = newest;
+    }
+  }
+  if (oldest != nullptr) backups_ += 1;
+  return oldest;
+}
+
+bool Dispatcher::eligible_checker(const Job& job, const Worker& worker) const {
+  // a check that a worker not proven already failed waits for proven workers only
+  return worker.ready && !worker.view.demoted && (worker.view.proven || !job.tainted) &&
+         !job.failed.contains(worker.view.id) &&
+         std::none_of(job.answers.begin(), job.answers.end(),
+                      [&](const Answer& a) { return a.worker == worker.view.id; });
+}
+
+void Dispatcher::settle_unverifiable() {
+  std::vector<uint64_t> settle;
+  for (const uint64_t id : queue_) {
+    const Job& job = jobs_.at(id);
+    if (job.answers.size() != 1) continue;
+    const bool someone = std::any_of(workers_.begin(), workers_.end(),
+                                     [&](const auto& w) { return eligible_checker(job, w.second); });
+    if (!someone) settle.push_back(id);
+  }
+  for (const uint64_t id : settle) {
+    Job& job = jobs_.at(id);
+    unverified_ += 1;
+    const Answer answer = job.answers[0];
+    accept(job, answer.results, answer.worker, false);
+  }
 }
 
 wire::Job Dispatcher::job_message(const Job& job, Worker& worker) const {
@@ -210,34 +498,24 @@ void Dispatcher::send(Job& job, const WorkerId& id, Millis now, std::vector<Outg
   worker.last_sent = now;
 }
 
-Dispatcher::Job* Dispatcher::straggler(const WorkerId& id, Millis now) {
-  if (settings_.backup_factor <= 0) return nullptr;
-  const Millis after = backup_after_ > 0 ? backup_after_ : settings_.liveness_ms;
-  Job* oldest = nullptr;
-  for (auto& [job_id, job] : jobs_) {
-    if (job.leases.size() != 1 || job.leases[0].worker == id || now - job.leases[0].since < after) continue;
-    if (oldest == nullptr || job.leases[0].since < oldest->leases[0].since) oldest = &job;
-  }
-  return oldest;
-}
-
 std::vector<Outgoing> Dispatcher::outgoing(Millis now) {
-  std::vector<Outgoing> out;
+  std::vector<Outgoing> out = std::exchange(refusals_, {});
+  if (batch_active_) {
+    expire_leases(now);
+    settle_unverifiable();
+  }
   // one job per worker per pass, so a batch spreads over every worker before any gets a second
-  for (bool assigned = true; assigned && !failure_;) {
+  for (bool assigned = true; assigned && !failure_ && batch_active_;) {
     assigned = false;
+    bool proven_present = false;  // tainted jobs and checks wait for proven workers while any is connected
+    for (const auto& [id, worker] : workers_) proven_present = proven_present || (worker.ready && worker.view.proven);
     for (const WorkerId& id : arrival_) {
       Worker& worker = workers_.at(id);
-      if (!worker.ready || worker.jobs.size() >= static_cast<size_t>(settings_.jobs_ahead)) continue;
-      Job* job = nullptr;
-      if (!queue_.empty()) {
-        job = &jobs_.at(queue_.front());
-        queue_.pop_front();
-      } else if ((job = straggler(id, now)) != nullptr) {
-        backups_ += 1;
-      } else {
-        continue;
-      }
+      // a worker not yet proven holds one job at a time; a demoted one none
+      const size_t room = worker.view.proven ? static_cast<size_t>(settings_.jobs_ahead) : 1;
+      if (!worker.ready || worker.view.demoted || worker.jobs.size() >= room) continue;
+      Job* job = next_job(worker, now, proven_present);
+      if (job == nullptr) continue;
       send(*job, id, now, out);
       assigned = true;
     }
@@ -260,6 +538,8 @@ void Dispatcher::start_batch(std::span<const RolloutTask> tasks) {
   tasks_.assign(tasks.begin(), tasks.end());
   results_.assign(tasks.size(), RolloutResult{});
   have_result_.assign(tasks.size(), false);
+  result_from_.assign(tasks.size(), WorkerId());
+  reported_.assign(tasks.size(), false);
   remaining_ = tasks.size();
   task_theta_hash_.clear();
   std::unordered_map<const std::vector<double>*, uint64_t> hash_of;  // tasks of a batch share a few θs
@@ -275,20 +555,17 @@ void Dispatcher::start_batch(std::span<const RolloutTask> tasks) {
   // about four jobs per thread of the workers present, so that a slow or lost worker delays little
   int threads = 0;
   for (const auto& [id, worker] : workers_)
-    if (worker.ready) threads += worker.view.threads;
+    if (worker.ready && !worker.view.demoted) threads += worker.view.threads;
   const size_t per_job = std::clamp<size_t>((tasks.size() + 4 * std::max(threads, 1) - 1) / (4 * std::max(threads, 1)),
                                             1, static_cast<size_t>(settings_.max_chunk));
-  for (size_t begin = 0; begin < tasks.size(); begin += per_job) {
-    const Job job{next_job_id_++, begin, std::min(begin + per_job, tasks.size()), 0, {}};
-    jobs_.emplace(job.id, job);
-    queue_.push_back(job.id);
-  }
+  new_jobs(0, tasks.size(), per_job, 0, /*front=*/false);
 }
 
 void Dispatcher::abandon_batch() {
   for (auto& [id, worker] : workers_) {  // their late results will be dropped
     worker.jobs.clear();
     worker.beaten.clear();
+    worker.taken_back.clear();
   }
   job_times_.clear();
   backup_after_ = 0;
@@ -299,6 +576,8 @@ void Dispatcher::abandon_batch() {
   task_theta_hash_.clear();
   results_.clear();
   have_result_.clear();
+  result_from_.clear();
+  reported_.clear();
   ready_ranges_.clear();
   remaining_ = 0;
   batch_active_ = false;
@@ -313,8 +592,9 @@ std::vector<RolloutResult> Dispatcher::take_results() {
 std::vector<std::pair<size_t, size_t>> Dispatcher::take_ready_ranges() { return std::exchange(ready_ranges_, {}); }
 
 size_t Dispatcher::ready_workers() const {
-  return static_cast<size_t>(
-      std::count_if(workers_.begin(), workers_.end(), [](const auto& w) { return w.second.ready; }));
+  return static_cast<size_t>(std::count_if(workers_.begin(), workers_.end(), [](const auto& w) {
+    return w.second.ready && !w.second.view.demoted;
+  }));
 }
 
 int64_t Dispatcher::in_flight() const {

@@ -2,12 +2,25 @@
 // The scheduling logic of the remote evaluator, without sockets: a batch of rollout tasks cut into jobs, a queue,
 // leases held by workers, liveness by heartbeat (the zguide's Paranoid Pirate), re-queueing of the jobs of a dead
 // or departed worker, results matched by job id with duplicates and strangers dropped, the poison-job rule, and
-// backup jobs: once the queue is empty, a job held much longer than this batch's jobs take is also sent to a
-// worker with a free slot, and the first result wins (every worker computes the same numbers), so a worker that
-// heartbeats but never answers, or a slow machine, delays a batch by a bounded time instead of stopping the run.
-// Time is a parameter (milliseconds on any monotonic clock), so tests drive it with a fake clock. Not
+// backup jobs. Time is a parameter (milliseconds on any monotonic clock), so tests drive it with a fake clock. Not
 // thread-safe: the remote evaluator's socket thread owns it under its lock.
-
+//
+// Trust. A worker is proven once it has returned a valid result (or, started by this coordinator, from its Hello:
+// it showed local_token). Until then it holds one job at a time, and what it does cannot stop the run: its death,
+// an error it returns or a lease it lets expire only takes the job back (the job is then "tainted" and goes to
+// proven workers only, while any is connected), and the latter two demote it (no more jobs). So any number of
+// peers that say Hello, heartbeat and never answer delay a batch by at most about one lease: backup_factor × the
+// median time of the batch's finished jobs (at least backup_min_ms), or liveness_ms while none has finished. A
+// proven worker's job held past the lease is also sent to another worker (up to max_leases holders; the first
+// result wins). The run stops on a poison job only when max_attempts proven workers died holding it, and on an
+// error only when two proven workers (or the only one) refuse the job: a real error repeats, runs being
+// deterministic.
+//
+// Verification. With verify_fraction > 0, a seeded fraction of jobs answered by a worker that is not local is also
+// run on a second, different worker, and the results must match bit for bit; on a mismatch a third run decides.
+// The worker found wrong is refused from then on (Refused, and its Hellos), and every result of the batch taken
+// from it is computed again. Such results are reported final (take_ready_ranges) only at the end of the batch, as
+// a wrong one may still be found. A job that no other worker is there to check is taken unverified (counted).
 #include <cstdint>
 #include <deque>
 #include <map>
@@ -37,8 +50,12 @@ struct DispatchSettings {
   // least backup_min_ms), or than liveness_ms while none has finished. 0: never.
   double backup_factor = 4;
   Millis backup_min_ms = 1000;
+  int max_leases = 3;  // holders of one job at once: the first and its backups
   size_t max_workers = 4096;        // Hellos beyond this many connected workers are refused
   uint64_t fingerprint_digest = 0;  // workers of another build are refused (0: accept any, for tests)
+  std::string local_token;          // a Hello carrying it comes from a local worker: proven from the start
+  double verify_fraction = 0;       // of the jobs answered by workers that are not local, also run on a second
+  uint64_t verify_seed = 0;         // which jobs are checked: a function of the seed, the batch and the job
 };
 
 // A message for one worker.
@@ -56,6 +73,9 @@ struct WorkerView {
   int64_t results_done = 0;
   Millis last_heard = 0;
   size_t jobs_held = 0;
+  bool local = false;     // started by this coordinator (showed local_token)
+  bool proven = false;    // local, or has returned a valid result
+  bool demoted = false;   // not proven, and let a lease expire or returned an error: given no more jobs
 };
 
 class Dispatcher {
@@ -74,6 +94,8 @@ class Dispatcher {
 
   // Workers silent for liveness_ms are removed (their jobs re-queued, counted as a death for each job).
   std::vector<WorkerId> expire(Millis now);
+  // A worker whose connection failed (a send to it failed): removed as dead, and counted as lost.
+  void lose_worker(const WorkerId& id);
   // The jobs to send now (each worker filled up to jobs_ahead) and the heartbeats due.
   std::vector<Outgoing> outgoing(Millis now);
 
@@ -88,7 +110,8 @@ class Dispatcher {
   std::span<const RolloutResult> results(size_t first, size_t end) const {
     return std::span<const RolloutResult>(results_).subspan(first, end - first);
   }
-  // Set when a task killed max_attempts workers, or a worker refused a task: the run must stop.
+  // Set when a task killed max_attempts proven workers, proven workers refused a task, or three workers returned
+  // three different results for one: the run must stop.
   const std::optional<std::string>& failure() const { return failure_; }
 
   size_t worker_count() const { return workers_.size(); }
@@ -99,8 +122,14 @@ class Dispatcher {
   // Frames and Hellos refused or dropped, by reason (status_board.h's kDropReasonNames).
   const std::map<std::string, int64_t>& dropped() const { return dropped_; }
   int64_t workers_joined() const { return joined_; }  // Welcomes given
-  int64_t workers_lost() const { return lost_; }      // workers removed for silence
+  int64_t workers_lost() const { return lost_; }      // workers removed for silence or a failed send
   int64_t backup_jobs() const { return backups_; }    // jobs sent to a second worker
+  int64_t leases_expired() const { return leases_expired_; }  // jobs taken back from workers not yet proven
+  int64_t workers_demoted() const { return demoted_; }
+  int64_t verified_jobs() const { return verified_; }      // jobs answered alike by two workers
+  int64_t unverified_jobs() const { return unverified_; }  // chosen for a check no other worker was there to make
+  // Workers refused for a wrong result, with their names, in order (the log and /metrics read them).
+  const std::vector<std::string>& wrong_workers() const { return wrong_workers_; }
   void count_drop(const std::string& reason) { dropped_[reason] += 1; }
   const DispatchSettings& settings() const { return settings_; }
 
@@ -109,28 +138,60 @@ class Dispatcher {
     WorkerId worker;
     Millis since = 0;
   };
+  struct Answer {
+    WorkerId worker;
+    std::vector<RolloutResult> results;
+  };
   struct Job {
     uint64_t id = 0;
     size_t begin = 0;  // tasks [begin, end) of the batch
     size_t end = 0;
-    int deaths = 0;             // workers that died holding it
-    std::vector<Lease> leases;  // its holders: none while queued, a second once backed up
+    int deaths = 0;             // proven workers that died holding it
+    std::vector<Lease> leases;  // its holders: none while queued, more once backed up
+    bool queued = false;
+    bool tainted = false;       // a worker not proven failed it: proven workers take it while any is connected
+    bool verify = false;        // chosen for a check: an answer from a worker that is not local needs a second
+    std::set<WorkerId> failed;  // workers that returned an error or let their lease expire: not sent to them again
+    std::set<WorkerId> refusing;  // proven workers that returned an error for it
+    std::vector<Answer> answers;  // answers awaiting a check: one, or two that differ
   };
   struct Worker {
     WorkerView view;
     std::set<uint64_t> jobs;         // held
-    std::set<uint64_t> beaten;       // held, then finished by the other holder first: its result is late
+    std::set<uint64_t> beaten;       // held, then finished by another holder first: its result is late
+    std::set<uint64_t> taken_back;   // its lease expired: a result that still comes in time is taken
     std::set<uint64_t> thetas_sent;  // this batch
     Millis last_sent = 0;
     bool ready = false;  // has sent something since its Hello
   };
 
-  // The worker no longer holds the job; a job no one holds any more goes back to the queue.
-  void release(uint64_t job_id, const WorkerId& id, bool died);
-  void requeue(uint64_t job_id, bool died);
+  // The worker no longer holds the job; a job no one holds any more goes back to the queue. A death counts
+  // towards the poison rule only when the worker was proven; otherwise the job is tainted.
+  void release(uint64_t job_id, const Worker& worker, bool died);
+  void requeue(Job& job, bool died);
+  void enqueue_front(Job& job);
+  void remove_from_queue(uint64_t job_id);
   void send(Job& job, const WorkerId& id, Millis now, std::vector<Outgoing>& out);
-  // The job to back up on worker id, if any is held past the backup time.
-  Job* straggler(const WorkerId& id, Millis now);
+  Millis lease_ms() const;
+  // Takes jobs back from workers not proven whose lease ran out, and demotes them.
+  void expire_leases(Millis now);
+  // The queued job worker id may take, or a job to back up on it; nullptr when none.
+  Job* next_job(const Worker& worker, Millis now, bool proven_present);
+  bool may_take(const Job& job, const Worker& worker, bool proven_present) const;
+  // An error Result: the job goes back, and the run stops only when proven workers agree.
+  void on_error(Worker& worker, Job& job, const std::string& error);
+  // A valid answer: taken, held for a check, compared, or deciding between two.
+  void on_answer(Worker& worker, Job& job, std::vector<RolloutResult> results);
+  void accept(Job& job, const std::vector<RolloutResult>& results, const WorkerId& from, bool final_now);
+  // Refuses a worker found wrong: removed, its Hellos refused, and the batch's results taken from it redone.
+  void refuse_wrong(const WorkerId& id);
+  // Jobs awaiting a second answer that no connected worker can give are taken as they are.
+  void settle_unverifiable();
+  bool eligible_checker(const Job& job, const Worker& worker) const;
+  void demote(Worker& worker);
+  void new_jobs(size_t begin, size_t end, size_t per_job, int deaths, bool front);
+  bool chosen_for_check(const Job& job) const;
+  size_t proven_workers() const;
   wire::Job job_message(const Job& job, Worker& worker) const;
   std::string describe_task(size_t index) const;
 
@@ -146,6 +207,8 @@ class Dispatcher {
   std::unordered_map<uint64_t, const std::vector<double>*> thetas_;  // by hash
   std::vector<RolloutResult> results_;
   std::vector<bool> have_result_;
+  std::vector<WorkerId> result_from_;  // who answered each task (empty: no result yet)
+  std::vector<bool> reported_;         // in a ready range already
   size_t remaining_ = 0;
   std::vector<std::pair<size_t, size_t>> ready_ranges_;
   std::map<uint64_t, Job> jobs_;  // open jobs by id
@@ -159,6 +222,13 @@ class Dispatcher {
   int64_t joined_ = 0;
   int64_t lost_ = 0;
   int64_t backups_ = 0;
+  int64_t leases_expired_ = 0;
+  int64_t demoted_ = 0;
+  int64_t verified_ = 0;
+  int64_t unverified_ = 0;
+  std::set<WorkerId> refused_;  // found wrong: their Hellos and messages are refused
+  std::vector<std::string> wrong_workers_;
+  std::vector<Outgoing> refusals_;  // Refused messages to send
 };
 
 }  // namespace poet

@@ -8,6 +8,9 @@
 
 #include <chrono>
 #include <filesystem>
+#include <string_view>
+
+#include "local_token.h"
 
 extern char** environ;
 
@@ -33,12 +36,18 @@ std::string LocalWorkers::default_binary() {
 }
 
 Expected<std::unique_ptr<LocalWorkers>> LocalWorkers::start(const std::string& binary, const std::string& endpoint,
-                                                            int count, int threads,
+                                                            int count, int threads, const std::string& token,
                                                             std::vector<std::string> extra_args) {
   std::unique_ptr<LocalWorkers> workers(new LocalWorkers());
   workers->binary_ = binary;
-  workers->args_ = {binary, "--connect", endpoint, "--threads", std::to_string(threads), "--log-level", "warn"};
+  // --parent-pid: a worker ends with this process, also when it is killed and cannot stop its workers itself
+  workers->args_ = {binary,        "--connect", endpoint, "--threads",           std::to_string(threads),
+                    "--log-level", "warn",      "--parent-pid", std::to_string(::getpid())};
   workers->args_.insert(workers->args_.end(), extra_args.begin(), extra_args.end());
+  const std::string prefix = std::string(kLocalTokenVariable) + "=";
+  for (char** variable = environ; *variable != nullptr; ++variable)
+    if (!std::string_view(*variable).starts_with(prefix)) workers->environment_.emplace_back(*variable);
+  workers->environment_.push_back(prefix + token);
   for (int i = 0; i < count; ++i) {
     const pid_t pid = workers->spawn();
     if (pid < 0) return Unexpected{"cannot start " + binary + " (give its path with --worker-binary)"};
@@ -53,6 +62,10 @@ pid_t LocalWorkers::spawn() const {
   std::vector<std::string> args = args_;
   for (std::string& a : args) argv.push_back(a.data());
   argv.push_back(nullptr);
+  std::vector<std::string> environment = environment_;
+  std::vector<char*> envp;
+  for (std::string& e : environment) envp.push_back(e.data());
+  envp.push_back(nullptr);
   // the coordinator blocks SIGINT/SIGTERM for its sigwait thread; a worker must get them, so it starts with an
   // empty mask. It gets a process group of its own: a Ctrl-C in the terminal reaches the coordinator, which then
   // stops its workers, rather than every worker at once.
@@ -64,7 +77,7 @@ pid_t LocalWorkers::spawn() const {
   posix_spawnattr_setpgroup(&attributes, 0);
   posix_spawnattr_setflags(&attributes, POSIX_SPAWN_SETSIGMASK | POSIX_SPAWN_SETPGROUP);
   pid_t pid = -1;
-  const int rc = posix_spawnp(&pid, argv[0], nullptr, &attributes, argv.data(), environ);
+  const int rc = posix_spawnp(&pid, argv[0], nullptr, &attributes, argv.data(), envp.data());
   posix_spawnattr_destroy(&attributes);
   return rc == 0 ? pid : -1;
 }

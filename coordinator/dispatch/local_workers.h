@@ -1,8 +1,9 @@
 #pragma once
 // Worker processes on this machine, started and supervised by the coordinator (--local-workers N): each is a
-// plain `poet-worker --connect ENDPOINT`, exactly what a user starts on another machine. A worker that dies is
-// started again after a pause (it may have been killed by a poison job; the dispatcher's rule bounds that). On
-// destruction every worker gets SIGTERM, then SIGKILL if it has not left within two seconds.
+// plain `poet-worker --connect ENDPOINT`, as a user starts on another machine, with two additions: the local token
+// in its environment, and --parent-pid, so that it ends with this process even when this one is SIGKILLed. A
+// worker that dies is started again after a pause (it may have been killed by a poison job; the dispatcher's rule
+// bounds that). On destruction every worker gets SIGTERM, then SIGKILL if it has not left within two seconds.
 
 #include <sys/types.h>
 
@@ -19,10 +20,10 @@ namespace poet {
 
 class LocalWorkers {
  public:
-  // Starts `count` workers of `binary` connecting to endpoint, each with `threads` threads. extra_args go to
-  // every worker (tests pass fault switches this way).
+  // Starts `count` workers of `binary` connecting to endpoint, each with `threads` threads and `token` in its
+  // environment (common/local_token.h). extra_args go to every worker (tests pass fault switches this way).
   static Expected<std::unique_ptr<LocalWorkers>> start(const std::string& binary, const std::string& endpoint,
-                                                       int count, int threads,
+                                                       int count, int threads, const std::string& token,
                                                        std::vector<std::string> extra_args = {});
   ~LocalWorkers();
 
@@ -39,6 +40,7 @@ class LocalWorkers {
 
   std::string binary_;
   std::vector<std::string> args_;
+  std::vector<std::string> environment_;  // this process's, and the token
   mutable std::mutex mutex_;
   std::vector<pid_t> pids_;
   std::atomic<bool> stopping_{false};

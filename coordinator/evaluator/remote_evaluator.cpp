@@ -15,8 +15,9 @@ namespace {
 constexpr size_t kMaxWorkerMessageBytes = 1 << 20;
 // How long closing the socket may wait to deliver what was sent last.
 constexpr int kFinalLingerMs = 500;
-// libzmq drops the connection of a peer that sends more than this in one frame.
-constexpr int64_t kMaxFrameBytes = 4 << 20;
+// libzmq drops the connection of a peer that sends more than this in one frame, before the coordinator sees it
+// (uncounted); frames between kMaxWorkerMessageBytes and this are read, counted as oversized and dropped.
+constexpr int64_t kMaxFrameBytes = 16 << 20;
 
 Millis now_ms() {
   return std::chrono::duration_cast<std::chrono::milliseconds>(std::chrono::steady_clock::now().time_since_epoch())
@@ -77,6 +78,18 @@ RemoteEvaluator::~RemoteEvaluator() {
 void RemoteEvaluator::on_snapshot(std::function<void(const Dispatcher&)> publish) {
   std::lock_guard lock(mutex_);
   publish_ = std::move(publish);
+}
+
+void RemoteEvaluator::log_summary() {
+  std::lock_guard lock(mutex_);
+  const Dispatcher& d = dispatcher_;
+  if (d.settings().verify_fraction > 0)
+    spdlog::info("verification: {} jobs checked by a second worker, {} unverified (no other worker), {} worker(s) "
+                 "refused for wrong results",
+                 d.verified_jobs(), d.unverified_jobs(), d.wrong_workers().size());
+  if (d.workers_demoted() > 0 || d.leases_expired() > 0)
+    spdlog::info("{} worker(s) demoted, {} lease(s) expired on workers that had returned no result",
+                 d.workers_demoted(), d.leases_expired());
 }
 
 void RemoteEvaluator::shutdown_workers(const std::string& reason) {
@@ -154,6 +167,8 @@ void RemoteEvaluator::loop() {
         note_drop("unauthorised_key", "a worker with CURVE key " + key + " (" + reason + ")");
       });
     }
+    const int64_t demoted_before = dispatcher_.workers_demoted();
+    const size_t wrong_before = dispatcher_.wrong_workers().size();
     receive_all(now);
     for (const auto& [first, end] : dispatcher_.take_ready_ranges())
       if (ready_) (*ready_)(first, dispatcher_.results(first, end));
@@ -173,6 +188,16 @@ void RemoteEvaluator::loop() {
     }
     const int64_t backups_before = dispatcher_.backup_jobs();
     for (const Outgoing& message : dispatcher_.outgoing(now)) send(message);
+    if (const int64_t demoted = dispatcher_.workers_demoted() - demoted_before; demoted > 0) {
+      if (const auto held_back = log_demoted_.admit(now))
+        spdlog::warn("{} worker(s) that never returned a result let a lease expire or returned an error: given "
+                     "no more jobs ({} so far){}",
+                     demoted, dispatcher_.workers_demoted(), LogThrottle::held_back_note(*held_back));
+    }
+    for (size_t i = wrong_before; i < dispatcher_.wrong_workers().size(); ++i)
+      spdlog::error("worker {} returned results that two other workers did not: refused, and its results of this "
+                    "batch are computed again",
+                    dispatcher_.wrong_workers()[i]);
     if (const int64_t backups = dispatcher_.backup_jobs() - backups_before; backups > 0) {
       if (const auto held_back = log_backups_.admit(now))
         spdlog::warn("{} job(s) held far longer than this batch's jobs take: sent to a second worker too{}", backups,
@@ -269,11 +294,12 @@ void RemoteEvaluator::send(const Outgoing& message) {
     zmq::message_t id(message.worker.data(), message.worker.size());
     if (!socket_->send(id, zmq::send_flags::sndmore | zmq::send_flags::dontwait) ||
         !socket_->send(zmq::buffer(payload), zmq::send_flags::dontwait)) {
-      dispatcher_.remove_worker(message.worker, /*died=*/false);  // its queue is full: it is not keeping up
+      dispatcher_.lose_worker(message.worker);  // its queue is full: it is not keeping up
     }
   } catch (const zmq::error_t& e) {
-    // EHOSTUNREACH: the peer's connection is gone (a killed worker); its jobs go back to the queue
-    dispatcher_.remove_worker(message.worker, /*died=*/true);  // a no-op for a peer it does not know
+    // EHOSTUNREACH: the peer's connection is gone (a killed worker, or libzmq cut it for a frame over
+    // maxmsgsize); its jobs go back to the queue
+    dispatcher_.lose_worker(message.worker);  // a no-op for a peer it does not know
     spdlog::debug("send to {}: {}", printable(message.worker), e.what());
   }
 }

@@ -59,6 +59,8 @@ class RemoteEvaluator final : public Evaluator {
   // Tells every connected worker the run is over (they exit): the known ones at once, then any peer that speaks
   // within the next heartbeat interval. Returns after that interval (at most about two seconds).
   void shutdown_workers(const std::string& reason);
+  // Logs what the run's workers cost and did beyond their jobs: checks, unverified jobs, demotions, refusals.
+  void log_summary();
   // Called on the socket thread about twice a second, with the dispatcher under the lock (for the status board).
   void on_snapshot(std::function<void(const Dispatcher&)> publish);
 
@@ -92,6 +94,7 @@ class RemoteEvaluator final : public Evaluator {
   LogThrottle log_left_{5};
   LogThrottle log_lost_{5};
   LogThrottle log_backups_{1};
+  LogThrottle log_demoted_{1};
   LogThrottle log_refused_{5};
   std::thread thread_;
 };

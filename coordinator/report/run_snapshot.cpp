@@ -1,16 +1,13 @@
 #include "report/run_snapshot.h"
 
-#include <fcntl.h>
-#include <sys/file.h>
-#include <unistd.h>
-
-#include <cerrno>
 #include <fstream>
 #include <map>
+#include <optional>
 
 #include "csv_fields.h"
 #include "poet/checkpoint.h"
 #include "run/checkpoint_file.h"
+#include "run/crc32.h"
 #include "run/run_directory.h"
 #include "run/run_lock.h"
 
@@ -18,19 +15,10 @@ namespace poet {
 namespace fs = std::filesystem;
 namespace {
 
-// Whether another process holds the run's lock: a non-blocking shared lock, released at once. An owner holds
-// it exclusively, so the probe fails exactly while one runs; it never blocks the owner for longer than the probe.
-bool held_by_another_process(const fs::path& dir) {
-  const int fd = ::open((dir / kLockFile).c_str(), O_RDONLY | O_CLOEXEC | O_NOFOLLOW);
-  if (fd < 0) return false;
-  const bool held = ::flock(fd, LOCK_SH | LOCK_NB) != 0 && errno == EWOULDBLOCK;
-  ::close(fd);  // closing drops the probe's lock, if it got one
-  return held;
-}
-
 // The first `size` bytes of a log, or an error when the file is missing or shorter (the checkpoint was written
-// after the logs were made durable, so a shorter log was damaged after the fact).
-Expected<std::string> read_log_prefix(const fs::path& path, int64_t size) {
+// after the logs were made durable, so a shorter log was damaged after the fact) or, when the checkpoint has their
+// CRC-32 (`crc`), they differ from what it saw.
+Expected<std::string> read_log_prefix(const fs::path& path, int64_t size, std::optional<uint32_t> crc) {
   std::error_code ec;
   const std::uintmax_t present = fs::file_size(path, ec);
   if (ec) return Unexpected{path.string() + ": cannot read (" + ec.message() + "); the run directory is incomplete"};
@@ -40,6 +28,7 @@ Expected<std::string> read_log_prefix(const fs::path& path, int64_t size) {
   std::ifstream in(path, std::ios::binary);
   std::string bytes(static_cast<size_t>(size), '\0');
   if (!in.read(bytes.data(), size)) return Unexpected{path.string() + ": cannot read"};
+  if (crc && crc32_extend(0, bytes) != *crc) return Unexpected{log_changed_error(path, size)};
   return bytes;
 }
 
@@ -154,17 +143,23 @@ Expected<RunSnapshot> read_run_snapshot(const fs::path& dir) {
   RunSnapshot snapshot;
   snapshot.dir = dir;
   snapshot.state = std::move(*state);
-  snapshot.live = held_by_another_process(dir);
+  snapshot.live = RunLock::held_by_another_process(dir);
 
   const fs::path events_path = dir / kEventsFile;
-  Expected<std::string> events = read_log_prefix(events_path, checkpoint->events_bytes());
+  Expected<std::string> events = read_log_prefix(events_path, checkpoint->events_bytes(),
+                                                    checkpoint->has_events_crc32()
+                                                        ? std::optional<uint32_t>(checkpoint->events_crc32())
+                                                        : std::nullopt);
   if (!events) return Unexpected{events.error()};
   Expected<std::vector<nlohmann::json>> parsed_events = parse_events(events_path, *events);
   if (!parsed_events) return Unexpected{parsed_events.error()};
   snapshot.events = std::move(*parsed_events);
 
   const fs::path stats_path = dir / kStatsFile;
-  Expected<std::string> stats = read_log_prefix(stats_path, checkpoint->stats_bytes());
+  Expected<std::string> stats = read_log_prefix(stats_path, checkpoint->stats_bytes(),
+                                                  checkpoint->has_stats_crc32()
+                                                      ? std::optional<uint32_t>(checkpoint->stats_crc32())
+                                                      : std::nullopt);
   if (!stats) return Unexpected{stats.error()};
   Expected<std::vector<StatsRow>> rows = parse_stats(stats_path, *stats);
   if (!rows) return Unexpected{rows.error()};

@@ -2,10 +2,10 @@
 
 #include <google/protobuf/io/coded_stream.h>
 #include <google/protobuf/io/zero_copy_stream_impl_lite.h>
-#include <zlib.h>
 
 #include <cstdio>
 
+#include "run/crc32.h"
 #include "text_file.h"
 
 namespace poet {
@@ -19,13 +19,6 @@ uint64_t get_le(std::string_view in, size_t offset, int bytes) {
   uint64_t value = 0;
   for (int i = bytes - 1; i >= 0; --i) value = (value << 8) | static_cast<unsigned char>(in[offset + i]);
   return value;
-}
-
-uint32_t crc32_of(std::string_view bytes) {
-  // zlib takes a uInt length; a checkpoint is at most kMaxCheckpointBytes (1 GiB), which fits
-  uLong crc = ::crc32(0L, Z_NULL, 0);
-  return static_cast<uint32_t>(
-      ::crc32(crc, reinterpret_cast<const Bytef*>(bytes.data()), static_cast<uInt>(bytes.size())));
 }
 
 std::string hex32(uint32_t value) {
@@ -50,7 +43,7 @@ std::string encode_checkpoint_file(const pb::Checkpoint& checkpoint) {
   out.append(kCheckpointMagic);
   put_le(out, kCheckpointFormatVersion, 4);
   put_le(out, body.size(), 8);
-  put_le(out, crc32_of(body), 4);
+  put_le(out, crc32_extend(0, body), 4);
   out.append(body);
   return out;
 }
@@ -72,7 +65,7 @@ Expected<pb::Checkpoint> decode_checkpoint_file(std::string_view bytes) {
                       std::to_string(present) + (length > present ? " (truncated)" : " (corrupt)")};
   const std::string_view body = bytes.substr(kCheckpointHeaderBytes);
   const uint32_t expected = static_cast<uint32_t>(get_le(bytes, 20, 4));
-  const uint32_t actual = crc32_of(body);
+  const uint32_t actual = crc32_extend(0, body);
   if (expected != actual)
     return Unexpected{"checksum mismatch: the header records CRC-32 " + hex32(expected) + ", the body has " +
                       hex32(actual) + " (the file is corrupt)"};

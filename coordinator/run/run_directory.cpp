@@ -16,6 +16,7 @@
 #include "envgen/env_json.h"
 #include "poet/checkpoint.h"
 #include "policy/policy_file.h"
+#include "run/crc32.h"
 #include "text_file.h"
 
 namespace poet {
@@ -86,14 +87,70 @@ void remove_temporaries(const fs::path& dir) {
   }
 }
 
-pb::Checkpoint checkpoint_with_logs(const RunState& state, int64_t events_bytes, int64_t stats_bytes) {
+// Fails, naming the directory, when no file can be made in it (read-only, immutable, no space for an inode):
+// found before any work is done rather than at the first checkpoint.
+std::optional<std::string> probe_writable(const fs::path& dir) {
+  const fs::path probe = dir / ("write-probe.tmp." + std::to_string(::getpid()));
+  const int fd = ::open(probe.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC | O_NOFOLLOW, 0644);
+  if (fd < 0) return dir.string() + ": cannot write files in it: " + errno_text(errno);
+  ::close(fd);
+  ::unlink(probe.c_str());
+  return std::nullopt;
+}
+
+size_t files_in(const fs::path& dir) {
+  std::error_code ec;
+  size_t n = 0;
+  for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec)) n += 1;
+  return n;
+}
+
+// What an earlier run left in dir, which holds no checkpoint: its logs' lines and its pair files. Empty for a
+// fresh directory, and for one where a start was interrupted before its first checkpoint (config and headers).
+std::vector<std::string> earlier_run_files(const fs::path& dir) {
+  std::vector<std::string> found;
+  std::error_code ec;
+  const std::uintmax_t events = fs::file_size(dir / kEventsFile, ec);
+  if (!ec && events > 0) found.push_back(std::string(kEventsFile) + " (" + std::to_string(events) + " bytes)");
+  const std::uintmax_t stats = fs::file_size(dir / kStatsFile, ec);
+  if (!ec && stats > pair_stats_header().size())
+    found.push_back(std::string(kStatsFile) + " (" + std::to_string(stats) + " bytes)");
+  for (const char* sub : {kEnvsDir, kPoliciesDir})
+    if (const size_t n = files_in(dir / sub); n > 0) found.push_back(std::string(sub) + "/ (" + std::to_string(n) + " files)");
+  return found;
+}
+
+std::string joined(const std::vector<std::string>& parts) {
+  std::string text;
+  for (const std::string& part : parts) text += (text.empty() ? "" : ", ") + part;
+  return text;
+}
+
+// The CRC-32 of a log's first `size` bytes, checked against the checkpoint's when it has one.
+Expected<uint32_t> checked_log_crc(const fs::path& path, int64_t size, bool recorded, uint32_t expected) {
+  Expected<uint32_t> crc = file_prefix_crc32(path, size);
+  if (!crc) return crc;
+  if (recorded && *crc != expected) return Unexpected{log_changed_error(path, size)};
+  return crc;
+}
+
+pb::Checkpoint checkpoint_with_logs(const RunState& state, const int64_t (&bytes)[2], const uint32_t (&crcs)[2]) {
   pb::Checkpoint checkpoint = to_checkpoint(state);
-  checkpoint.set_events_bytes(events_bytes);
-  checkpoint.set_stats_bytes(stats_bytes);
+  checkpoint.set_events_bytes(bytes[0]);
+  checkpoint.set_stats_bytes(bytes[1]);
+  checkpoint.set_events_crc32(crcs[0]);
+  checkpoint.set_stats_crc32(crcs[1]);
   return checkpoint;
 }
 
 }  // namespace
+
+std::string log_changed_error(const fs::path& path, int64_t size) {
+  return path.string() + ": its first " + std::to_string(size) +
+         " bytes differ from those the checkpoint has seen (CRC-32 mismatch: the file was changed outside the "
+         "run); restore it from a backup, or recompute the run from its config in another directory (runs are "
+         "deterministic)";
+}
 
 std::string pair_stats_header() {
   return "iteration,pair,env,score,finished,eval_steps,best_score,solved,es_steps,lr,sigma,perturbation_mean,"
@@ -117,6 +174,9 @@ RunDirectory::RunDirectory(RunDirectory&& other) noexcept
       lock_(std::move(other.lock_)),
       events_fd_(std::exchange(other.events_fd_, -1)),
       stats_fd_(std::exchange(other.stats_fd_, -1)),
+      events_crc_(other.events_crc_),
+      stats_crc_(other.stats_crc_),
+      repairs_(std::move(other.repairs_)),
       append_error_(std::move(other.append_error_)),
       pairs_with_env_files_(other.pairs_with_env_files_),
       active_at_last_save_(std::move(other.active_at_last_save_)) {}
@@ -128,6 +188,9 @@ RunDirectory& RunDirectory::operator=(RunDirectory&& other) noexcept {
   lock_ = std::move(other.lock_);
   events_fd_ = std::exchange(other.events_fd_, -1);
   stats_fd_ = std::exchange(other.stats_fd_, -1);
+  events_crc_ = other.events_crc_;
+  stats_crc_ = other.stats_crc_;
+  repairs_ = std::move(other.repairs_);
   append_error_ = std::move(other.append_error_);
   pairs_with_env_files_ = other.pairs_with_env_files_;
   active_at_last_save_ = std::move(other.active_at_last_save_);
@@ -152,9 +215,15 @@ Expected<RunDirectory> RunDirectory::create(const fs::path& dir, const pb::RunCo
   const bool has_checkpoint = fs::exists(dir / kCheckpointFile, ec);
   if (ec) return Unexpected{(dir / kCheckpointFile).string() + ": cannot access: " + ec.message()};
   if (has_checkpoint) return Unexpected{dir.string() + " already holds a run; resume it or choose another directory"};
+  if (const std::vector<std::string> earlier = earlier_run_files(dir); !earlier.empty())
+    return Unexpected{dir.string() + " holds files of an earlier run but no " + kCheckpointFile + ": " +
+                      joined(earlier) + ". Without its checkpoint that run cannot be resumed, and a new run here "
+                      "would overwrite them: move them away (or remove them) to start a new run in this directory, "
+                      "or choose another one"};
   for (const char* sub : {kEnvsDir, kPoliciesDir}) {
     fs::create_directories(dir / sub, ec);
     if (ec) return Unexpected{(dir / sub).string() + ": cannot create directory: " + ec.message()};
+    if (auto error = probe_writable(dir / sub)) return Unexpected{*error};
   }
   if (auto error = write_named(dir / kConfigFile, run_config_text(config))) return Unexpected{*error};
 
@@ -168,6 +237,7 @@ Expected<RunDirectory> RunDirectory::create(const fs::path& dir, const pb::RunCo
   run.stats_fd_ = *stats;
   if (const int err = write_all(run.stats_fd_, pair_stats_header()))
     return Unexpected{(dir / kStatsFile).string() + ": " + errno_text(err)};
+  run.stats_crc_ = crc32_extend(0, pair_stats_header());
   sync_directory(dir);
   return run;
 }
@@ -205,12 +275,34 @@ Expected<std::pair<RunDirectory, RunState>> RunDirectory::resume(const fs::path&
   if (auto error = truncate_log(run.events_fd_, dir / kEventsFile, checkpoint->events_bytes()))
     return Unexpected{*error};
   if (auto error = truncate_log(run.stats_fd_, dir / kStatsFile, checkpoint->stats_bytes())) return Unexpected{*error};
+  Expected<uint32_t> events_crc = checked_log_crc(dir / kEventsFile, checkpoint->events_bytes(),
+                                                  checkpoint->has_events_crc32(), checkpoint->events_crc32());
+  if (!events_crc) return Unexpected{events_crc.error()};
+  Expected<uint32_t> stats_crc = checked_log_crc(dir / kStatsFile, checkpoint->stats_bytes(),
+                                                 checkpoint->has_stats_crc32(), checkpoint->stats_crc32());
+  if (!stats_crc) return Unexpected{stats_crc.error()};
+  run.events_crc_ = *events_crc;
+  run.stats_crc_ = *stats_crc;
   for (const char* sub : {kEnvsDir, kPoliciesDir}) {
     fs::create_directories(dir / sub, ec);
     if (ec) return Unexpected{(dir / sub).string() + ": cannot create directory: " + ec.message()};
     remove_temporaries(dir / sub);
+    if (auto error = probe_writable(dir / sub)) return Unexpected{*error};
   }
   remove_temporaries(dir);
+  if (auto error = probe_writable(dir)) return Unexpected{*error};
+
+  // config.textproto is the checkpoint's config for people and tools; one missing or changed is written again
+  const std::string config_text = run_config_text(state->config);
+  if (!same_content(dir / kConfigFile, config_text)) {
+    const bool present = fs::exists(dir / kConfigFile, ec);
+    if (auto error = run.write_config(state->config)) return Unexpected{*error};
+    run.repairs_.push_back((dir / kConfigFile).string() +
+                           (present ? " differed from the run's config (a run's config is its checkpoint's; to change "
+                                      "it, start a new run)"
+                                    : " was missing") +
+                           ": written again from the checkpoint");
+  }
 
   // the pair files, up to the checkpoint's state (a crash after the checkpoint's write may have left them behind)
   if (auto error = run.write_pair_files(*state, 0, /*only_changed=*/true)) return Unexpected{*error};
@@ -227,10 +319,14 @@ void RunDirectory::append(const IterationReport& report) {
     events += event.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace) + "\n";
   std::string stats;
   for (const PairStatsRow& row : report.stats) stats += pair_stats_row(row);
-  if (const int err = write_all(events_fd_, events))
+  if (const int err = write_all(events_fd_, events)) {
     append_error_ = (dir_ / kEventsFile).string() + ": " + errno_text(err);
-  else if (const int err2 = write_all(stats_fd_, stats))
+  } else if (const int err2 = write_all(stats_fd_, stats)) {
     append_error_ = (dir_ / kStatsFile).string() + ": " + errno_text(err2);
+  } else {
+    events_crc_ = crc32_extend(events_crc_, events);
+    stats_crc_ = crc32_extend(stats_crc_, stats);
+  }
 }
 
 std::optional<std::string> RunDirectory::write_pair_files(const RunState& state, size_t first_new, bool only_changed) {
@@ -278,7 +374,8 @@ std::optional<std::string> RunDirectory::save(const RunState& state) {
     sizes[i] = *size;
   }
 
-  const std::string bytes = encode_checkpoint_file(checkpoint_with_logs(state, sizes[0], sizes[1]));
+  const uint32_t crcs[2] = {events_crc_, stats_crc_};
+  const std::string bytes = encode_checkpoint_file(checkpoint_with_logs(state, sizes, crcs));
   if (auto error = write_named(dir_ / kCheckpointFile, bytes)) return error;
 
   // then the pair files: a failure here leaves them behind the checkpoint, never ahead of it

@@ -11,9 +11,11 @@
 //   policies/pair-<id>.best.json     its best θ with its best score        } active, and once after it retires
 //   wall_times.csv          the machine time at each saved iteration (run/wall_times.h; the coordinator writes it,
 //                           outside the run's determinism)
-// The checkpoint records the sizes of the two logs; resume truncates them back, so after a crash the logs hold
-// exactly the iterations the restored state has seen and a resumed run writes the same bytes as an
-// uninterrupted one. The pair files are written after the checkpoint, so they never run ahead of it (a failure
+// The checkpoint records the sizes of the two logs and their CRC-32; resume truncates them back, so after a crash
+// the logs hold exactly the iterations the restored state has seen and a resumed run writes the same bytes as an
+// uninterrupted one, and refuses logs whose bytes differ from those the checkpoint has seen. The logs are the
+// run's history and cannot be rebuilt (only recomputed, by running the config again); config.textproto, envs/ and
+// policies/ are derived from the checkpoint and resume writes them again when they are missing or differ. The pair files are written after the checkpoint, so they never run ahead of it (a failure
 // or crash between the two leaves them behind), and resume brings them up to the checkpoint's state.
 // Errors come back as messages naming the file; nothing throws except std::bad_alloc.
 // Not thread-safe: one owner (the coordinator's main loop), and one RunDirectory per directory across processes
@@ -25,6 +27,7 @@
 #include <set>
 #include <string>
 #include <utility>
+#include <vector>
 
 #include "expected.h"
 #include "poet.pb.h"
@@ -47,18 +50,23 @@ inline constexpr char kPoliciesDir[] = "policies";
 std::string pair_stats_header();
 std::string pair_stats_row(const PairStatsRow& row);
 
+// The error for a log whose first `size` bytes, those a checkpoint has seen, no longer have its CRC-32.
+std::string log_changed_error(const std::filesystem::path& path, int64_t size);
+
 class RunDirectory {
  public:
   // Makes dir (and its parents), takes its lock and starts a run in it: config.textproto, empty logs (the stats
-  // header only), envs/ and policies/. Refuses a directory that another process owns or that already holds
-  // checkpoint.pb. The caller saves the initial
-  // state next; until then the directory holds no run (a later create may start over in it).
+  // header only), envs/ and policies/. Refuses a directory that another process owns, that already holds
+  // checkpoint.pb, that holds an earlier run's logs or pair files without it (naming them), or where no file
+  // can be written. The caller saves the initial state next; until then the directory holds no run (a later
+  // create may start over in it).
   static Expected<RunDirectory> create(const std::filesystem::path& dir, const pb::RunConfig& config);
 
   // Takes the lock, reads and checks checkpoint.pb (read_checkpoint_file, from_checkpoint), restores the state,
-  // truncates the logs to the sizes the checkpoint records, removes temporary files an interrupted write left
-  // and rewrites the pair files that differ from the state's. A directory another process owns, or a missing,
-  // corrupt or inconsistent run is an error, and then nothing is changed.
+  // truncates the logs to the sizes the checkpoint records and checks their CRC-32, removes temporary files an
+  // interrupted write left, checks that files can be written, and rewrites config.textproto and the pair files
+  // where they differ from the state's (repairs() says which of the first). A directory another process owns, or
+  // a missing, corrupt or inconsistent run is an error.
   static Expected<std::pair<RunDirectory, RunState>> resume(const std::filesystem::path& dir);
 
   RunDirectory(RunDirectory&& other) noexcept;
@@ -79,6 +87,8 @@ class RunDirectory {
   std::optional<std::string> write_config(const pb::RunConfig& config);
 
   const std::filesystem::path& path() const { return dir_; }
+  // What resume() put right (a config.textproto missing or changed), for the log.
+  const std::vector<std::string>& repairs() const { return repairs_; }
 
  private:
   RunDirectory(std::filesystem::path dir, RunLock lock);
@@ -91,6 +101,9 @@ class RunDirectory {
   RunLock lock_;
   int events_fd_ = -1;  // opened O_APPEND
   int stats_fd_ = -1;
+  uint32_t events_crc_ = 0;  // CRC-32 of each log's bytes so far
+  uint32_t stats_crc_ = 0;
+  std::vector<std::string> repairs_;
   std::optional<std::string> append_error_;  // the first failed append, sticky
   size_t pairs_with_env_files_ = 0;          // state.pairs[0, n) have their env file
   std::set<int> active_at_last_save_;        // their policy files are rewritten once more after retiring

@@ -1,7 +1,8 @@
 #pragma once
-// One owner per run directory: an advisory lock (flock) on <dir>/run.lock, held for the life of the RunLock.
-// The kernel drops the lock when its holder dies, however it dies, so a lock file left behind by a dead
-// process never blocks; the file's content is only the holder's pid, for the message a second process gets.
+// One owner per run directory: an advisory lock (flock) on the directory itself, held for the life of the RunLock.
+// The kernel drops the lock when its holder dies, however it dies, so nothing left behind by a dead process
+// blocks; and removing or replacing any file in the directory cannot release it. <dir>/run.lock only holds the
+// owner's pid, for the message a second process gets.
 
 #include <filesystem>
 
@@ -16,6 +17,10 @@ class RunLock {
   // Takes the lock on dir (which must exist) without waiting. When another process holds it, the error names
   // the holder: "<dir> is in use by another process (pid 4242); one process owns a run directory at a time".
   static Expected<RunLock> acquire(const std::filesystem::path& dir);
+
+  // Whether another process owns dir now: a non-blocking shared lock, released at once (a reader's probe; it
+  // never blocks the owner for longer than the probe).
+  static bool held_by_another_process(const std::filesystem::path& dir);
 
   RunLock(RunLock&& other) noexcept;
   RunLock& operator=(RunLock&& other) noexcept;

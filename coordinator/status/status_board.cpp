@@ -436,19 +436,41 @@ std::string StatusBoard::metrics_text() const {
 
   const DispatchSnapshot no_dispatch;
   const DispatchSnapshot& dispatch = v.dispatch ? *v.dispatch : no_dispatch;
-  family("poet_workers", "gauge", "Connected workers.");
-  sample("poet_workers", dispatch.workers.size());
-  family("poet_queue_depth", "gauge", "Jobs waiting for a worker.");
-  sample("poet_queue_depth", dispatch.queue_depth);
-  family("poet_in_flight_jobs", "gauge", "Jobs held by workers.");
-  sample("poet_in_flight_jobs", dispatch.in_flight_jobs);
-  family("poet_workers_joined_total", "counter", "Workers welcomed since the coordinator started.");
-  sample("poet_workers_joined_total", dispatch.workers_joined);
-  family("poet_workers_lost_total", "counter", "Workers removed for being silent longer than the liveness window.");
-  sample("poet_workers_lost_total", dispatch.workers_lost);
-  family("poet_backup_jobs_total", "counter",
-         "Jobs also sent to a second worker because their first held them far longer than the batch's jobs take.");
-  sample("poet_backup_jobs_total", dispatch.backup_jobs);
+  struct Series {
+    const char* name;
+    const char* type;
+    const char* help;
+    int64_t value;
+  };
+  const Series series[] = {
+      {"poet_workers", "gauge", "Connected workers.", static_cast<int64_t>(dispatch.workers.size())},
+      {"poet_queue_depth", "gauge", "Jobs waiting for a worker.", dispatch.queue_depth},
+      {"poet_in_flight_jobs", "gauge", "Jobs held by workers.", dispatch.in_flight_jobs},
+      {"poet_workers_joined_total", "counter", "Workers welcomed since the coordinator started.",
+       dispatch.workers_joined},
+      {"poet_workers_lost_total", "counter",
+       "Workers removed for being silent longer than the liveness window, or because a send to them failed.",
+       dispatch.workers_lost},
+      {"poet_backup_jobs_total", "counter",
+       "Jobs also sent to a second worker because their first held them far longer than the batch's jobs take.",
+       dispatch.backup_jobs},
+      {"poet_leases_expired_total", "counter",
+       "Jobs taken back from a worker that had never returned a result, once their lease ran out.",
+       dispatch.leases_expired},
+      {"poet_workers_demoted_total", "counter",
+       "Workers that never returned a result and let a lease expire or returned an error: given no more jobs.",
+       dispatch.workers_demoted},
+      {"poet_verified_jobs_total", "counter", "Jobs run on two workers whose results matched bit for bit.",
+       dispatch.verified_jobs},
+      {"poet_unverified_jobs_total", "counter",
+       "Jobs chosen for verification that no other worker was connected to check.", dispatch.unverified_jobs},
+      {"poet_wrong_workers_total", "counter",
+       "Workers refused because their results differed from two other workers'.", dispatch.wrong_workers},
+  };
+  for (const Series& one : series) {
+    family(one.name, one.type, one.help);
+    sample(one.name, one.value);
+  }
   family("poet_dropped_frames_total", "counter", "Frames and Hellos the dispatcher dropped or refused, by reason.");
   std::map<std::string, int64_t> dropped;
   for (const char* reason : kDropReasonNames) dropped[reason] = 0;

@@ -45,8 +45,13 @@ struct DispatchSnapshot {
   int64_t in_flight_jobs = 0;
   std::map<std::string, int64_t> dropped_frames;  // by reason (kDropReasonNames and any other the dispatcher counts)
   int64_t workers_joined = 0;                     // Welcomes given since the coordinator started
-  int64_t workers_lost = 0;                       // workers removed for silence
+  int64_t workers_lost = 0;                       // workers removed for silence or a failed send
   int64_t backup_jobs = 0;                        // jobs also sent to a second worker (dispatcher.h)
+  int64_t leases_expired = 0;                     // jobs taken back from workers not yet proven
+  int64_t workers_demoted = 0;                    // workers not proven given no more jobs
+  int64_t verified_jobs = 0;                      // jobs two workers answered alike
+  int64_t unverified_jobs = 0;                    // jobs chosen for a check no other worker was there to make
+  int64_t wrong_workers = 0;                      // workers refused for wrong results
 };
 
 // The drop reasons /metrics always lists (as 0 until counted), so a dashboard's series exist from the start.
@@ -61,6 +66,8 @@ inline constexpr const char* kDropReasonNames[] = {
     "late_result",        // a Result for a job its backup on another worker finished first
     "bad_result",         // a Result of the wrong size or with non-finite numbers
     "unauthorised_key",   // CURVE: a handshake with a key not in authorized/
+    "error_from_unproven",  // an error Result from a worker that never returned a valid one
+    "wrong_worker",       // a Hello from a worker refused for wrong results
 };
 
 // What the coordinator is doing, for /status's "state".

@@ -39,6 +39,7 @@ wire::Hello hello(uint32_t threads = 1, uint64_t fingerprint = 42) {
   h.set_fingerprint_digest(fingerprint);
   h.set_threads(threads);
   h.set_name("test");
+  h.set_local_token("local");  // proven from the start, as a local worker: the rules for others are tested below
   return h;
 }
 
@@ -72,6 +73,7 @@ DispatchSettings settings() {
   s.heartbeat_ms = 100;
   s.liveness_ms = 500;
   s.fingerprint_digest = 42;
+  s.local_token = "local";
   return s;
 }
 
@@ -336,6 +338,197 @@ TEST(Dispatcher, NoBackupsWhenTurnedOffOrWhileJobsWait) {
   }
   EXPECT_EQ(e.queue_depth(), 2);
   EXPECT_EQ(e.backup_jobs(), 0);
+}
+
+
+// ---------------------------------------------------------------------------------------------------------
+// Workers not started by this coordinator earn trust by returning results.
+
+wire::Hello stranger_hello(const std::string& name) {
+  wire::Hello h = hello();
+  h.clear_local_token();
+  h.set_name(name);
+  return h;
+}
+
+// Answers every job in `out` given to worker `id`, until the batch is done or nothing more goes out; jobs of the
+// workers in `silent` are kept unanswered. The clock advances 10 ms a round.
+void drive(Dispatcher& d, std::vector<Outgoing> out, Millis& now, const std::set<WorkerId>& silent = {}) {
+  for (int round = 0; round < 10'000 && !d.batch_done() && !d.failure(); ++round) {
+    for (const Outgoing& o : jobs_in(out))
+      if (!silent.contains(o.worker)) d.on_result(o.worker, answer(o.message.job()), now);
+    now += 10;
+    for (const WorkerView& w : d.workers()) d.heard_from(w.id, now);  // every worker heartbeats
+    out = d.outgoing(now);
+  }
+}
+
+TEST(Dispatcher, PeersThatNeverAnswerLoseTheirJobsAfterALeaseAndGetNoMore) {
+  Dispatcher d(settings());
+  for (int i = 0; i < 50; ++i) join(d, "silent-" + std::to_string(i), stranger_hello("silent"), 0);
+  join(d, "real", stranger_hello("real"), 0);
+  d.start_batch(batch(200));
+  std::vector<Outgoing> out = d.outgoing(1);
+  for (const WorkerView& w : d.workers()) EXPECT_EQ(w.jobs_held, 1u) << w.id << ": one job until proven";
+  std::set<WorkerId> silent;
+  for (int i = 0; i < 50; ++i) silent.insert("silent-" + std::to_string(i));
+  Millis now = 1;
+  drive(d, out, now, silent);
+  ASSERT_TRUE(d.batch_done());
+  ASSERT_FALSE(d.failure());
+  // the jobs came back after one lease (liveness_ms before any job finished, or the backup time after)
+  EXPECT_LT(now, 1 + 3 * settings().liveness_ms + 200 * 10) << "the batch took " << now << " ms";
+  EXPECT_EQ(d.workers_demoted(), 50);
+  EXPECT_EQ(d.leases_expired(), 50);
+  const std::vector<RolloutResult> results = d.take_results();
+  for (size_t i = 0; i < results.size(); ++i) EXPECT_EQ(results[i].total_reward, static_cast<double>(i));
+
+  // the next batch goes to the proven worker only
+  d.start_batch(batch(20));
+  for (const Outgoing& o : jobs_in(d.outgoing(now + 1))) EXPECT_EQ(o.worker, "real");
+}
+
+TEST(Dispatcher, ErrorsAndDeathsOfPeersNotProvenDoNotStopTheRun) {
+  Dispatcher d(settings());
+  join(d, "real", hello(), 0);  // local: proven
+  for (int i = 0; i < 5; ++i) join(d, "peer-" + std::to_string(i), stranger_hello("peer"), 0);
+  d.start_batch(batch(40));
+  Millis now = 1;
+  std::vector<Outgoing> out = d.outgoing(now);
+  std::vector<Outgoing> for_real;
+  for (const Outgoing& o : jobs_in(out)) {  // each peer takes a job and fails it: an error, or vanishing with it
+    if (o.worker == "real") {
+      for_real.push_back(o);
+    } else if (o.worker.back() % 2 == 0) {
+      wire::Result refusal;
+      refusal.set_job_id(o.message.job().job_id());
+      refusal.set_error("no");
+      d.on_result(o.worker, refusal, now);
+    } else {
+      d.remove_worker(o.worker, /*died=*/true);
+    }
+  }
+  EXPECT_FALSE(d.failure()) << *d.failure();
+  EXPECT_EQ(d.dropped().at("error_from_unproven"), 3);
+  EXPECT_EQ(d.workers_demoted(), 3);
+  drive(d, for_real, now);
+  EXPECT_TRUE(d.batch_done());
+  EXPECT_FALSE(d.failure());
+  const std::vector<RolloutResult> results = d.take_results();
+  for (size_t i = 0; i < results.size(); ++i) EXPECT_EQ(results[i].total_reward, static_cast<double>(i));
+}
+
+TEST(Dispatcher, AnErrorStopsTheRunWhenTwoProvenWorkersAgree) {
+  Dispatcher d(settings());
+  join(d, "a", hello(), 0);
+  join(d, "b", hello(), 0);
+  d.start_batch(batch(1));
+  Millis now = 1;
+  for (int i = 0; i < 2; ++i) {
+    const std::vector<Outgoing> jobs = jobs_in(d.outgoing(now++));
+    ASSERT_EQ(jobs.size(), 1u);
+    wire::Result refusal;
+    refusal.set_job_id(jobs[0].message.job().job_id());
+    refusal.set_error("task refused");
+    d.on_result(jobs[0].worker, refusal, now);
+    if (i == 0) {
+      EXPECT_FALSE(d.failure()) << "one proven worker of two is not enough";
+    }
+  }
+  ASSERT_TRUE(d.failure());
+  EXPECT_TRUE(contains(*d.failure(), "task refused")) << *d.failure();
+  EXPECT_TRUE(contains(*d.failure(), "and so did 1 other worker")) << *d.failure();
+}
+
+TEST(Dispatcher, AWrongWorkerIsFoundByAThirdRunRefusedAndItsResultsRedone) {
+  DispatchSettings s = settings();
+  s.verify_fraction = 1;
+  Dispatcher d(s);
+  for (const char* id : {"liar", "b", "c"}) join(d, id, stranger_hello(id), 0);
+  d.start_batch(batch(30));
+  Millis now = 1;
+  std::vector<Outgoing> out = d.outgoing(now);
+  bool refused_sent = false;
+  for (int round = 0; round < 1000 && !d.batch_done() && !d.failure(); ++round) {
+    for (const Outgoing& o : out) {
+      if (o.message.has_refused()) refused_sent = refused_sent || o.worker == "liar";
+      if (!o.message.has_job()) continue;
+      wire::Result r = answer(o.message.job());
+      if (o.worker == "liar")
+        for (wire::TaskResult& t : *r.mutable_results()) t.set_total_reward(t.total_reward() + 1);
+      d.on_result(o.worker, r, now);
+    }
+    now += 10;
+    for (const WorkerView& w : d.workers()) d.heard_from(w.id, now);
+    out = d.outgoing(now);
+  }
+  ASSERT_FALSE(d.failure()) << *d.failure();
+  ASSERT_TRUE(d.batch_done());
+  EXPECT_TRUE(refused_sent);
+  ASSERT_EQ(d.wrong_workers().size(), 1u);
+  EXPECT_EQ(d.wrong_workers()[0], "liar");
+  EXPECT_GT(d.verified_jobs(), 0);
+  EXPECT_TRUE(d.on_hello("liar", stranger_hello("liar"), now).has_refused()) << "refused from then on";
+  // every range is reported final once, at the end, with the right numbers
+  std::vector<int> reported(30, 0);
+  for (const auto& [first, end] : d.take_ready_ranges())
+    for (size_t t = first; t < end; ++t) reported[t] += 1;
+  for (size_t t = 0; t < 30; ++t) EXPECT_EQ(reported[t], 1) << t;
+  const std::vector<RolloutResult> results = d.take_results();
+  for (size_t i = 0; i < results.size(); ++i) EXPECT_EQ(results[i].total_reward, static_cast<double>(i)) << i;
+}
+
+TEST(Dispatcher, AJobNoOtherWorkerCanCheckIsTakenUnverified) {
+  DispatchSettings s = settings();
+  s.verify_fraction = 1;
+  Dispatcher d(s);
+  join(d, "alone", stranger_hello("alone"), 0);
+  d.start_batch(batch(4));
+  Millis now = 1;
+  drive(d, d.outgoing(now), now);
+  ASSERT_TRUE(d.batch_done());
+  EXPECT_GT(d.unverified_jobs(), 0);
+  EXPECT_EQ(d.verified_jobs(), 0);
+}
+
+TEST(Dispatcher, WorkersThatJoinWhileJobsWaitForACheckTakeThem) {
+  DispatchSettings s = settings();
+  s.verify_fraction = 1;
+  Dispatcher d(s);
+  join(d, "a", stranger_hello("a"), 0);
+  join(d, "b", stranger_hello("b"), 0);
+  d.start_batch(batch(2));  // one task a job
+  Millis now = 1;
+  for (const Outgoing& o : jobs_in(d.outgoing(now))) d.on_result(o.worker, answer(o.message.job()), now);
+  // a and b checked each other's jobs; a newcomer, not proven, takes what waits for a check
+  join(d, "c", stranger_hello("c"), now);
+  drive(d, d.outgoing(++now), now);
+  ASSERT_TRUE(d.batch_done());
+  EXPECT_EQ(d.verified_jobs(), 2);
+  EXPECT_EQ(d.unverified_jobs(), 0);
+}
+
+TEST(Dispatcher, ALocalWorkersAnswersAreNotChecked) {
+  DispatchSettings s = settings();
+  s.verify_fraction = 1;
+  Dispatcher d(s);
+  join(d, "local", hello(), 0);
+  join(d, "other", stranger_hello("other"), 0);
+  d.start_batch(batch(8));
+  Millis now = 1;
+  drive(d, d.outgoing(now), now);
+  ASSERT_TRUE(d.batch_done());
+  const std::vector<RolloutResult> results = d.take_results();
+  for (size_t i = 0; i < results.size(); ++i) EXPECT_EQ(results[i].total_reward, static_cast<double>(i));
+}
+
+TEST(Dispatcher, AFailedSendCountsTheWorkerAsLost) {
+  Dispatcher d(settings());
+  join(d, "a", hello(), 0);
+  d.lose_worker("a");
+  d.lose_worker("a");  // once
+  EXPECT_EQ(d.workers_lost(), 1);
+  EXPECT_EQ(d.worker_count(), 0u);
 }
 
 }  // namespace

@@ -23,6 +23,7 @@
 #include "policy/mlp.h"
 #include "policy/policy_file.h"
 #include "rng.h"
+#include "run/crc32.h"
 
 namespace poet {
 namespace {
@@ -155,8 +156,12 @@ TEST_F(RunDirectoryTest, CreateAndSaveWriteTheFiles) {
   pb::Checkpoint checkpoint = read_checkpoint(dir_ / kCheckpointFile);
   EXPECT_EQ(checkpoint.events_bytes(), 0);
   EXPECT_EQ(checkpoint.stats_bytes(), static_cast<int64_t>(pair_stats_header().size()));
+  EXPECT_EQ(checkpoint.events_crc32(), 0u);
+  EXPECT_EQ(checkpoint.stats_crc32(), crc32_extend(0, pair_stats_header()));
   checkpoint.clear_events_bytes();
   checkpoint.clear_stats_bytes();
+  checkpoint.clear_events_crc32();
+  checkpoint.clear_stats_crc32();
   EXPECT_EQ(checkpoint.SerializeAsString(), to_checkpoint(state).SerializeAsString());
   for (const Pair& pair : state.pairs) {
     const std::string stem = "pair-" + std::to_string(pair.id);
@@ -178,16 +183,80 @@ TEST_F(RunDirectoryTest, RefusesToCreateOverAnExistingRun) {
   EXPECT_EQ(read(dir_ / kCheckpointFile), checkpoint);
 }
 
-TEST_F(RunDirectoryTest, CreateMayStartOverWhereNoCheckpointWasSaved) {
-  {
-    Expected<RunDirectory> dir = RunDirectory::create(dir_, small_config());
-    ASSERT_TRUE(dir);
-    dir->append(report_for(two_pair_state(), 0));
-  }
+TEST_F(RunDirectoryTest, CreateMayStartOverWhereAStartEndedBeforeItsFirstCheckpoint) {
+  { ASSERT_TRUE(RunDirectory::create(dir_, small_config())); }  // config and the stats header, nothing more
   const Expected<RunDirectory> again = RunDirectory::create(dir_, small_config());
   ASSERT_TRUE(again) << again.error();
   EXPECT_EQ(read(dir_ / kEventsFile), "");
   EXPECT_EQ(read(dir_ / kStatsFile), pair_stats_header());
+}
+
+TEST_F(RunDirectoryTest, CreateRefusesAnEarlierRunsFilesWithoutTheirCheckpoint) {
+  const RunState state = two_pair_state();
+  {
+    RunDirectory dir = create_and_save(state);
+    dir.append(report_for(state, 0));
+    ASSERT_FALSE(dir.save(state));
+  }
+  fs::remove(dir_ / kCheckpointFile);
+  const std::string events = read(dir_ / kEventsFile);
+  const std::string stats = read(dir_ / kStatsFile);
+  const Expected<RunDirectory> again = RunDirectory::create(dir_, state.config);
+  ASSERT_FALSE(again);
+  for (const char* what : {"holds files of an earlier run but no checkpoint.pb", "events.jsonl (", "pair_stats.csv (",
+                           "envs/ (2 files)", "move them away"})
+    EXPECT_TRUE(contains(again.error(), what)) << again.error();
+  EXPECT_EQ(read(dir_ / kEventsFile), events);
+  EXPECT_EQ(read(dir_ / kStatsFile), stats);
+}
+
+TEST_F(RunDirectoryTest, ResumeRefusesLogsChangedAfterTheCheckpoint) {
+  RunState state = two_pair_state();
+  {
+    RunDirectory dir = create_and_save(state);
+    dir.append(report_for(state, 0));
+    state.next_iteration = 1;
+    ASSERT_FALSE(dir.save(state));
+  }
+  for (const char* file : {kEventsFile, kStatsFile}) {
+    const std::string original = read(dir_ / file);
+    std::string damaged = original;
+    const size_t digit = damaged.find_first_of("0123456789", damaged.size() / 2);
+    ASSERT_NE(digit, std::string::npos);
+    damaged[digit] = damaged[digit] == '9' ? '8' : static_cast<char>(damaged[digit] + 1);  // same length
+    write(dir_ / file, damaged);
+    const auto resumed = RunDirectory::resume(dir_);
+    ASSERT_FALSE(resumed) << file;
+    EXPECT_TRUE(contains(resumed.error(), file)) << resumed.error();
+    EXPECT_TRUE(contains(resumed.error(), "CRC-32 mismatch")) << resumed.error();
+    write(dir_ / file, original);
+  }
+  EXPECT_TRUE(RunDirectory::resume(dir_));
+}
+
+TEST_F(RunDirectoryTest, ResumeWritesAMissingOrChangedConfigAgain) {
+  const RunState state = two_pair_state();
+  { RunDirectory dir = create_and_save(state); }
+  const std::string config = read(dir_ / kConfigFile);
+  fs::remove(dir_ / kConfigFile);
+  {
+    const auto resumed = RunDirectory::resume(dir_);
+    ASSERT_TRUE(resumed) << resumed.error();
+    ASSERT_EQ(resumed->first.repairs().size(), 1u);
+    EXPECT_TRUE(contains(resumed->first.repairs()[0], "was missing")) << resumed->first.repairs()[0];
+  }
+  EXPECT_EQ(read(dir_ / kConfigFile), config);
+  write(dir_ / kConfigFile, "seed: 99\n\x01 not even text");
+  {
+    const auto resumed = RunDirectory::resume(dir_);
+    ASSERT_TRUE(resumed) << resumed.error();
+    ASSERT_EQ(resumed->first.repairs().size(), 1u);
+    EXPECT_TRUE(contains(resumed->first.repairs()[0], "differed from the run's config")) << resumed->first.repairs()[0];
+  }
+  EXPECT_EQ(read(dir_ / kConfigFile), config);
+  const auto untouched = RunDirectory::resume(dir_);
+  ASSERT_TRUE(untouched);
+  EXPECT_TRUE(untouched->first.repairs().empty());
 }
 
 TEST_F(RunDirectoryTest, ResumeTruncatesTheLogsToTheLastCheckpoint) {

@@ -1,0 +1,15 @@
+#pragma once
+// The secret by which a worker shows the coordinator that started it (--local-workers) that it is its own: given
+// in the worker's environment (not its command line, which any local user can read) and told in its Hello. A
+// local worker is trusted from the start; others earn trust (coordinator/dispatch/dispatcher.h).
+
+#include <string>
+
+namespace poet {
+
+inline constexpr char kLocalTokenVariable[] = "POET_LOCAL_TOKEN";
+
+// 128 random bits from the operating system, as 32 hex digits.
+std::string make_local_token();
+
+}  // namespace poet

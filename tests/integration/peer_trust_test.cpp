@@ -1,0 +1,186 @@
+// What peers on the job socket must not do to a run, with real processes on loopback: any number of peers that
+// say Hello, heartbeat and never answer delay a batch by a bounded time; one that returns errors, and some that
+// take jobs and vanish, do not stop it; a 10 MB frame is counted, and so is a peer whose connection is gone; a
+// worker that returns wrong results is found by verification, refused, and the run ends as it would have.
+// Every run that finishes ends in the files of the undisturbed run.
+
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <chrono>
+#include <string>
+#include <thread>
+#include <vector>
+#include <zmq.hpp>
+
+#include "build_fingerprint.h"
+#include "coordinator_run_fixture.h"
+#include "rogue_peer.h"
+
+namespace {
+
+using namespace poet::testing;
+namespace fs = std::filesystem;
+using namespace std::chrono_literals;
+using PeerTrustTest = CoordinatorRunTest;
+
+// Peers that say Hello, answer the Welcome and then only heartbeat, whatever they are sent, until destroyed.
+class SilentPeers {
+ public:
+  SilentPeers(const std::string& endpoint, int count) {
+    const std::string good_hello = hello(poet::wire::PROTOCOL_VERSION, poet::build_fingerprint_digest());
+    poet::wire::WorkerMessage beat;
+    beat.mutable_heartbeat();
+    heartbeat_ = beat.SerializeAsString();
+    for (int i = 0; i < count; ++i) {
+      sockets_.push_back(rogue_socket(context_, endpoint, "silent-" + std::to_string(i)));
+      sockets_.back().send(zmq::buffer(good_hello));
+    }
+    thread_ = std::thread([this] {
+      while (!stop_) {
+        for (zmq::socket_t& socket : sockets_) {
+          zmq::message_t frame;
+          while (socket.recv(frame, zmq::recv_flags::dontwait)) {
+          }  // Welcome, Jobs, Heartbeats: all kept unanswered
+          socket.send(zmq::buffer(heartbeat_), zmq::send_flags::dontwait);
+        }
+        std::this_thread::sleep_for(100ms);
+      }
+    });
+  }
+  ~SilentPeers() {
+    stop_ = true;
+    thread_.join();
+  }
+
+ private:
+  zmq::context_t context_{1};
+  std::vector<zmq::socket_t> sockets_;
+  std::string heartbeat_;
+  std::atomic<bool> stop_{false};
+  std::thread thread_;
+};
+
+TEST_F(PeerTrustTest, SilentPeersDelayTheRunByABoundedTime) {
+  std::ofstream(config_, std::ios::trunc) << config_with("iterations: 6", "iterations: 4");
+  const fs::path reference = threads_run();
+  const pid_t pid = coordinator(root_ / "S", {"--listen", "tcp://127.0.0.1:*"}, "S");
+  const std::string endpoint = await_log("S", "workers connect to (tcp://[0-9.]+:[0-9]+)");
+  const std::string port = await_log("S", "status: http://127.0.0.1:([0-9]+)/status");
+  ASSERT_FALSE(endpoint.empty());
+  constexpr int kSilent = 30;
+  SilentPeers silent(endpoint, kSilent);
+  for (int i = 0; i < 100 && metrics(std::stoi(port))["poet_workers_joined_total"] < kSilent; ++i)
+    std::this_thread::sleep_for(50ms);
+  // they joined first, so the first jobs of the run are theirs
+  const auto started = std::chrono::steady_clock::now();
+  const pid_t worker = spawn(POET_WORKER_BIN, {"--connect", endpoint, "--threads", "2"}, "worker");
+  const std::map<std::string, double> before_end = [&] {
+    std::map<std::string, double> m;
+    for (int i = 0; i < 600 && m["poet_workers_demoted_total"] < kSilent; ++i) {
+      m = metrics(std::stoi(port));
+      std::this_thread::sleep_for(50ms);
+    }
+    return m;
+  }();
+  EXPECT_EQ(wait(pid), 0) << read(root_ / "S.err");
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+  // one lease (liveness_ms, 1 s here, before any job has finished) and the run itself: a few seconds
+  EXPECT_LT(seconds, 30) << "the silent peers held the run";
+  EXPECT_EQ(before_end.at("poet_workers_demoted_total"), kSilent);
+  expect_same_run(reference, root_ / "S");
+  EXPECT_EQ(wait(worker), 0);
+}
+
+TEST_F(PeerTrustTest, PeersThatReturnErrorsOrVanishCannotStopTheRun) {
+  const fs::path reference = threads_run();
+  const pid_t pid = coordinator(root_ / "E", {"--listen", "tcp://127.0.0.1:*"}, "E");
+  const std::string endpoint = await_log("E", "workers connect to (tcp://[0-9.]+:[0-9]+)");
+  ASSERT_FALSE(endpoint.empty());
+  std::vector<pid_t> faulty;
+  faulty.push_back(spawn(POET_WORKER_BIN,
+                         {"--connect", endpoint, "--threads", "1", "--fault", "error-on-job", "--log-level", "debug"},
+                         "erring"));
+  await_log("erring", "(welcomed) by the coordinator");
+  for (const char* name : {"vanish-a", "vanish-b", "vanish-c"}) {
+    faulty.push_back(spawn(POET_WORKER_BIN,
+                           {"--connect", endpoint, "--threads", "1", "--fault", "crash-on-job", "--log-level", "debug"},
+                           name));
+    await_log(name, "(welcomed) by the coordinator");
+  }
+  const pid_t worker = spawn(POET_WORKER_BIN, {"--connect", endpoint, "--threads", "2"}, "worker");
+  EXPECT_EQ(wait(pid), 0) << read(root_ / "E.err");
+  expect_same_run(reference, root_ / "E");
+  EXPECT_TRUE(contains(read(root_ / "erring.err"), "refused on purpose")) << "it was given a job";
+  int vanished = 0;
+  for (size_t i = 1; i < faulty.size(); ++i) vanished += wait(faulty[i]) == 128 + SIGABRT ? 1 : 0;
+  EXPECT_EQ(vanished, 3) << "each crash-on-job peer took a job and died with it";
+  EXPECT_EQ(wait(worker), 0);
+  ::kill(faulty[0], SIGKILL);
+  wait(faulty[0]);
+}
+
+TEST_F(PeerTrustTest, ATenMegabyteFrameAndAPeerWhoseConnectionIsGoneAreCounted) {
+  // a long liveness window: a peer counted lost within it was lost by a failed send, not by silence
+  const pid_t pid = spawn(POET_COORDINATOR_BIN,
+                          {"--config", config_.string(), "--run-dir", (root_ / "F").string(), "--quiet",
+                           "--status-address", "127.0.0.1:0", "--listen", "tcp://127.0.0.1:*", "--liveness-ms", "20000"},
+                          "F");
+  const std::string endpoint = await_log("F", "workers connect to (tcp://[0-9.]+:[0-9]+)");
+  const std::string port = await_log("F", "status: http://127.0.0.1:([0-9]+)/status");
+  ASSERT_FALSE(endpoint.empty());
+  zmq::context_t context(1);
+  {
+    zmq::socket_t huge = rogue_socket(context, endpoint, "huge");
+    huge.send(zmq::buffer(std::string(10 << 20, 'x')));
+    zmq::socket_t gone = rogue_socket(context, endpoint, "gone");
+    gone.send(zmq::buffer(hello(poet::wire::PROTOCOL_VERSION, poet::build_fingerprint_digest())));
+    ASSERT_TRUE(answer(gone).has_value()) << "welcomed";
+    poet::wire::WorkerMessage beat;
+    beat.mutable_heartbeat();
+    gone.send(zmq::buffer(beat.SerializeAsString()));  // ready for jobs
+    std::this_thread::sleep_for(300ms);
+  }  // both sockets closed: the coordinator's next send to "gone" fails
+  std::map<std::string, double> m;
+  for (int i = 0; i < 100; ++i) {
+    m = metrics(std::stoi(port));
+    if (m[dropped("oversized")] >= 1 && m["poet_workers_lost_total"] >= 1) break;
+    std::this_thread::sleep_for(100ms);
+  }
+  EXPECT_GE(m[dropped("oversized")], 1);
+  EXPECT_GE(m["poet_workers_lost_total"], 1);
+  ASSERT_EQ(::kill(pid, SIGTERM), 0);
+  EXPECT_EQ(wait(pid), 130);
+}
+
+TEST_F(PeerTrustTest, VerificationFindsAWorkerThatLiesAndTheRunEndsTheSame) {
+  const fs::path reference = threads_run();
+  const pid_t pid =
+      coordinator(root_ / "V", {"--listen", "tcp://127.0.0.1:*", "--verify-fraction", "1"}, "V");
+  const std::string endpoint = await_log("V", "workers connect to (tcp://[0-9.]+:[0-9]+)");
+  const std::string port = await_log("V", "status: http://127.0.0.1:([0-9]+)/status");
+  ASSERT_FALSE(endpoint.empty());
+  // two honest workers first, so that every answer of the liar has someone to check it
+  std::vector<pid_t> honest;
+  for (const char* name : {"honest-a", "honest-b"}) {
+    honest.push_back(spawn(POET_WORKER_BIN, {"--connect", endpoint, "--threads", "1", "--log-level", "debug"}, name));
+    await_log(name, "(welcomed) by the coordinator");
+  }
+  const pid_t liar = spawn(POET_WORKER_BIN, {"--connect", endpoint, "--threads", "1", "--fault", "wrong-results",
+                                             "--name", "the-liar"},
+                           "liar");
+  std::map<std::string, double> m;
+  for (int i = 0; i < 600 && m["poet_wrong_workers_total"] < 1; ++i) {
+    m = metrics(std::stoi(port));
+    std::this_thread::sleep_for(50ms);
+  }
+  EXPECT_EQ(m["poet_wrong_workers_total"], 1);
+  EXPECT_EQ(wait(pid), 0) << read(root_ / "V.err");
+  expect_same_run(reference, root_ / "V");
+  const std::string log = read(root_ / "V.err");
+  EXPECT_TRUE(contains(log, "worker the-liar returned results that two other workers did not")) << log;
+  EXPECT_EQ(wait(liar), 2) << "refused: " << read(root_ / "liar.err");
+  for (pid_t h : honest) EXPECT_EQ(wait(h), 0);
+}
+
+}  // namespace
