@@ -6,7 +6,8 @@
 // threads, or wait that long when every thread is held. A client that trickles a byte at a time can hold a
 // thread longer (httplib 0.11 has no deadline for a whole request). Nothing a client does touches the run: the
 // board's lock is held only to copy a pointer. SIGPIPE is blocked in the server's threads, so a client that
-// hangs up mid-answer cannot end the process. Headers, URI and body are limited (414, 413).
+// hangs up mid-answer cannot end the process. Headers, URI and body are limited (414, 413). TCP_NODELAY: a kept-alive
+// connection's requests are answered at once, not after the client's delayed ACK.
 //
 // Not in this header: httplib.h (whose <resolv.h> defines `_res`, a name Eigen uses), so any file may include it.
 //
