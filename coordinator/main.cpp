@@ -3,6 +3,7 @@
 //   poet-coordinator --config FILE --run-dir DIR [--threads N] [--iterations N] [--start-from POLICY]   a new run
 //   poet-coordinator --run-dir DIR --resume [--iterations N]                       continue it (N may extend it)
 //   ... [--local-workers N] [--listen tcp://HOST:PORT [--curve-keys DIR]] [--status-address HOST:PORT]
+//       [--health-address HOST:PORT]
 // The state is checkpointed every checkpoint_interval iterations and at the end. SIGINT/SIGTERM abandon the
 // iteration in flight (within a second) and exit 130, the last checkpoint being the state; a resume repeats that
 // iteration exactly. A signal during start-up (reading the config or checkpoint, opening the run) exits 130 at
@@ -63,6 +64,7 @@ struct Options {
   std::string worker_binary;
   std::vector<std::string> worker_args;           // passed to every local worker (tests' fault switches)
   std::string status_address = "127.0.0.1:8580";  // the HTTP status socket; empty: none
+  std::string health_address;                     // the probes' listener (/healthz alone); empty: none
   std::string curve_keys;                         // CURVE key directory; empty: no authentication
   std::string start_from;                         // a policy file for the first pair's θ; empty: the init stream
 };
@@ -269,20 +271,24 @@ int run(const Options& options, StopSignals& signals) {
   WallTimes wall_times = WallTimes::open(options.run_dir, state.next_iteration, &wall_warning);
   if (!wall_warning.empty()) spdlog::warn("{}", wall_warning);
 
-  // the status socket: a snapshot published after each iteration, read by the server's own threads
+  // the status socket and the probes' listener: a snapshot published after each iteration, read by the servers'
+  // own threads
   StatusBoard board(options.run_dir);
   StatusServer server(board);
+  StatusServer health(board, health_listener_options());
   board.publish_run(state, state.next_iteration);
   board.set_state(RunPhase::kRunning);
-  if (!options.status_address.empty()) {
-    const Expected<int> port = server.start(options.status_address);
+  auto serve = [](StatusServer& s, const std::string& address, const char* name, const char* path) {
+    if (address.empty()) return;
+    const Expected<int> port = s.start(address);
     if (port) {
-      const std::string host = options.status_address.substr(0, options.status_address.rfind(':'));
-      spdlog::info("status: http://{}:{}/status", host, *port);
+      spdlog::info("{}: http://{}:{}{}", name, address.substr(0, address.rfind(':')), *port, path);
     } else {
-      spdlog::warn("no status socket: {}", port.error());  // the run goes on without it
+      spdlog::warn("no {} socket: {}", name, port.error());  // the run goes on without it
     }
-  }
+  };
+  serve(server, options.status_address, "status", "/status");
+  serve(health, options.health_address, "health", "/healthz");
   // declared after the board, so the socket thread that publishes to it stops first
   std::optional<Rollouts> rollouts = make_rollouts(options, signals);
   if (!rollouts) return kExitUsage;
@@ -410,6 +416,9 @@ int main(int argc, char** argv) {
       ->group("");  // for tests: fault switches
   app.add_option("--status-address", options.status_address,
                  "HOST:PORT of the HTTP status socket (default 127.0.0.1:8580; port 0: any free port; empty: none)");
+  app.add_option("--health-address", options.health_address,
+                 "HOST:PORT of a listener that answers /healthz alone, for liveness probes: clients of the status "
+                 "socket, however many or slow, cannot delay it (default: none; /healthz is on the status socket too)");
   app.add_option("--curve-keys", options.curve_keys,
                  "CURVE authentication: DIR holds coordinator.key(_secret) and authorized/*.key, the workers' public "
                  "keys (made by `poetctl keygen`); workers without an authorised key get no connection")

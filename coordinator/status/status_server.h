@@ -33,7 +33,14 @@ struct StatusServerOptions {
   int keep_alive_seconds = 2;                     // an idle kept-alive connection is closed after this
   size_t keep_alive_max_requests = 100;           // requests on one connection
   size_t payload_max_bytes = 16 * 1024;           // a request body beyond this is refused (413)
+  bool health_only = false;                       // answer /healthz alone (404 elsewhere): the probes' listener
 };
+
+// The probes' listener (poet-coordinator --health-address): /healthz alone, on a port of its own, because the
+// status socket's pool can be held by its clients (200 that trickle header lines hold it for as long as they
+// like) and an orchestrator that cannot reach /healthz restarts the coordinator. Short timeouts: a probe sends
+// its request at once.
+StatusServerOptions health_listener_options();
 
 struct HostPort {
   std::string host;
