@@ -2,7 +2,8 @@
 // truncated, multi-part, oversized, wrong-version and wrong-fingerprint frames, Results from a stranger and a
 // flood of Hellos from many identities are refused or dropped and counted in /metrics, while a real worker
 // still runs the run to the same files as threads do. With CURVE keys, workers with an unknown key or no key get
-// no connection at all (and say why), and the authorised one runs the run.
+// no connection at all (and say why), and the authorised one runs the run; a refused worker gets in once its key
+// is authorised.
 
 #include <gtest/gtest.h>
 #include <httplib.h>
@@ -193,6 +194,25 @@ TEST_F(HostilePeersTest, WithCurveOnlyAWorkerWithAnAuthorisedKeyGetsWork) {
   }
   for (const char* name : {"intruder", "keyless"})
     EXPECT_FALSE(contains(read(root_ / (std::string(name) + ".err")), "welcomed")) << name << " got in";
+}
+
+TEST_F(HostilePeersTest, AKeyAuthorisedLaterLetsTheRefusedWorkerIn) {
+  const fs::path keys = root_ / "keys";
+  keygen(root_, {keys.string(), "coordinator"});
+  keygen(root_, {keys.string(), "worker"});  // not authorised yet
+  fs::create_directories(keys / "authorized");
+  const pid_t pid = coordinator(root_ / "C", {"--listen", "tcp://127.0.0.1:*", "--curve-keys", keys.string()}, "C");
+  const std::string endpoint = await_log("C", "workers connect to (tcp://[0-9.]+:[0-9]+)");
+  ASSERT_FALSE(endpoint.empty());
+  const pid_t worker = spawn(POET_WORKER_BIN, {"--connect", endpoint, "--curve-keys", keys.string()}, "worker");
+  await_log("worker", "(refused this worker's CURVE key)");
+
+  // copied in while both run (as an operator would, then renamed: a half-written file is not a key yet)
+  fs::copy_file(keys / "worker.key", keys / "authorized" / "worker.key.partial");
+  fs::rename(keys / "authorized" / "worker.key.partial", keys / "authorized" / "worker.key");
+  ASSERT_EQ(await_log("worker", "(welcomed) by the coordinator"), "welcomed") << read(root_ / "worker.err");
+  EXPECT_EQ(wait(pid), 0) << read(root_ / "C.err");
+  EXPECT_EQ(wait(worker), 0);
 }
 
 TEST_F(HostilePeersTest, CurveKeyProblemsAreRefusedAtStart) {
