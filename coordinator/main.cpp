@@ -215,10 +215,10 @@ std::optional<CurveServer> curve_server(const std::filesystem::path& dir, bool l
   if (authorized->empty())
     spdlog::warn("--curve-keys: no key in {}: no worker can connect until one is added", (dir / "authorized").string());
   spdlog::info("CURVE on: workers need one of the {} keys in {}", authorized->size(), (dir / "authorized").string());
-  return CurveServer{keys->secret_key, dir};
+  return CurveServer{keys->secret_key, dir, {}};  // skipped_key_file: set by the caller
 }
 
-std::optional<Rollouts> make_rollouts(const Options& options, StopSignals& signals) {
+std::optional<Rollouts> make_rollouts(const Options& options, StopSignals& signals, StatusBoard& board) {
   Rollouts r;
   if (options.listen.empty() && options.local_workers == 0) {
     r.evaluator = std::make_unique<LocalEvaluator>(options.threads, signals.token());
@@ -234,6 +234,7 @@ std::optional<Rollouts> make_rollouts(const Options& options, StopSignals& signa
   if (!options.curve_keys.empty()) {
     curve = curve_server(options.curve_keys, options.local_workers > 0);
     if (!curve) return std::nullopt;
+    curve->skipped_key_file = [&board] { board.count_skipped_key_file(); };
     worker_args.insert(worker_args.begin(), {"--curve-keys", options.curve_keys});
   }
   Expected<std::unique_ptr<RemoteEvaluator>> remote =
@@ -290,7 +291,7 @@ int run(const Options& options, StopSignals& signals) {
   serve(server, options.status_address, "status", "/status");
   serve(health, options.health_address, "health", "/healthz");
   // declared after the board, so the socket thread that publishes to it stops first
-  std::optional<Rollouts> rollouts = make_rollouts(options, signals);
+  std::optional<Rollouts> rollouts = make_rollouts(options, signals, board);
   if (!rollouts) return kExitUsage;
   Evaluator& evaluator = *rollouts->evaluator;
   if (rollouts->remote) {
