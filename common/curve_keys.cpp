@@ -69,21 +69,31 @@ std::optional<std::string> write_key_pair(const std::filesystem::path& dir, std:
   return std::nullopt;
 }
 
-Expected<std::vector<std::string>> read_authorized_keys(const std::filesystem::path& dir) {
+Expected<AuthorizedKeys> scan_authorized_keys(const std::filesystem::path& dir) {
   const std::filesystem::path folder = dir / "authorized";
   std::error_code ec;
   if (!std::filesystem::is_directory(folder, ec))
     return Unexpected{folder.string() + ": no such folder (it holds the public keys of the authorised workers)"};
-  std::vector<std::string> keys;
+  AuthorizedKeys found;
   for (const auto& entry : std::filesystem::directory_iterator(folder, ec)) {
     if (entry.path().extension() != ".key") continue;
     Expected<std::string> key = read_key_file(entry.path());
-    if (!key) return Unexpected{key.error()};
-    keys.push_back(std::move(*key));
+    if (key) {
+      found.keys.push_back(std::move(*key));
+    } else {
+      found.bad_files[entry.path().string()] = key.error();
+    }
   }
   if (ec) return Unexpected{folder.string() + ": " + ec.message()};
-  std::sort(keys.begin(), keys.end());
-  return keys;
+  std::sort(found.keys.begin(), found.keys.end());
+  return found;
+}
+
+Expected<std::vector<std::string>> read_authorized_keys(const std::filesystem::path& dir) {
+  Expected<AuthorizedKeys> found = scan_authorized_keys(dir);
+  if (!found) return Unexpected{found.error()};
+  if (!found->bad_files.empty()) return Unexpected{found->bad_files.begin()->second};
+  return std::move(found->keys);
 }
 
 }  // namespace poet

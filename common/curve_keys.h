@@ -5,6 +5,7 @@
 // files: the sockets that use the keys are the coordinator's and the worker's.
 
 #include <filesystem>
+#include <map>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -33,8 +34,19 @@ Expected<CurveKeyPair> read_key_pair(const std::filesystem::path& dir, std::stri
 std::optional<std::string> write_key_pair(const std::filesystem::path& dir, std::string_view name,
                                           const CurveKeyPair& keys);
 
-// The public keys in DIR/authorized/*.key, sorted; an error when the folder is missing or a file is not a key
-// (an empty folder is not an error: no worker is authorised yet).
+// What DIR/authorized/ holds: the keys of its *.key files, and those files that hold none.
+struct AuthorizedKeys {
+  std::vector<std::string> keys;                 // Z85, sorted
+  std::map<std::string, std::string> bad_files;  // path → what is wrong with it (read_key_file's error)
+};
+
+// DIR/authorized/*.key, a file that is not a key set aside in bad_files (one half-copied file must not lock out
+// every worker); an error only when the folder is missing or cannot be listed (an empty folder is not an error:
+// no worker is authorised yet).
+Expected<AuthorizedKeys> scan_authorized_keys(const std::filesystem::path& dir);
+
+// The keys of scan_authorized_keys, sorted; a file that is not a key is an error too (the coordinator's check at
+// start, where the operator can fix it at once).
 Expected<std::vector<std::string>> read_authorized_keys(const std::filesystem::path& dir);
 
 }  // namespace poet

@@ -3,6 +3,7 @@
 //   poet-coordinator --config FILE --run-dir DIR [--threads N] [--iterations N] [--start-from POLICY]   a new run
 //   poet-coordinator --run-dir DIR --resume [--iterations N]                       continue it (N may extend it)
 //   ... [--local-workers N] [--listen tcp://HOST:PORT [--curve-keys DIR]] [--status-address HOST:PORT]
+//       [--health-address HOST:PORT]
 // The state is checkpointed every checkpoint_interval iterations and at the end. SIGINT/SIGTERM abandon the
 // iteration in flight (within a second) and exit 130, the last checkpoint being the state; a resume repeats that
 // iteration exactly. A signal during start-up (reading the config or checkpoint, opening the run) exits 130 at
@@ -64,6 +65,7 @@ struct Options {
   std::string worker_binary;
   std::vector<std::string> worker_args;           // passed to every local worker (tests' fault switches)
   std::string status_address = "127.0.0.1:8580";  // the HTTP status socket; empty: none
+  std::string health_address;                     // the probes' listener (/healthz alone); empty: none
   std::string curve_keys;                         // CURVE key directory; empty: no authentication
   std::string start_from;                         // a policy file for the first pair's θ; empty: the init stream
   std::optional<double> verify_fraction;          // default: kListenVerifyFraction with --listen and no CURVE
@@ -222,12 +224,12 @@ std::optional<CurveServer> curve_server(const std::filesystem::path& dir, bool l
   if (authorized->empty())
     spdlog::warn("--curve-keys: no key in {}: no worker can connect until one is added", (dir / "authorized").string());
   spdlog::info("CURVE on: workers need one of the {} keys in {}", authorized->size(), (dir / "authorized").string());
-  return CurveServer{keys->secret_key, dir};
+  return CurveServer{keys->secret_key, dir, {}};  // skipped_key_file: set by the caller
 }
 
 // The evaluator, its socket bound (a port in use or a bad endpoint fails here, before any file is written); local
 // workers are started later, by start_local_workers.
-std::optional<Rollouts> make_rollouts(const Options& options, StopSignals& signals) {
+std::optional<Rollouts> make_rollouts(const Options& options, StopSignals& signals, StatusBoard& board) {
   Rollouts r;
   if (options.listen.empty() && options.local_workers == 0) {
     r.evaluator = std::make_unique<LocalEvaluator>(options.threads, signals.token());
@@ -250,6 +252,7 @@ std::optional<Rollouts> make_rollouts(const Options& options, StopSignals& signa
   if (!options.curve_keys.empty()) {
     curve = curve_server(options.curve_keys, options.local_workers > 0);
     if (!curve) return std::nullopt;
+    curve->skipped_key_file = [&board] { board.count_skipped_key_file(); };
     worker_args.insert(worker_args.begin(), {"--curve-keys", options.curve_keys});
   }
   Expected<std::unique_ptr<RemoteEvaluator>> remote =
@@ -286,12 +289,14 @@ bool start_local_workers(const Options& options, Rollouts& r) {
 int run(const Options& options, StopSignals& signals) {
   const auto started = std::chrono::steady_clock::now();
   spdlog::debug("build fingerprint {:016x}", build_fingerprint_digest());
-  // the status socket: a snapshot published after each iteration, read by the server's own threads
+  // the status socket and the probes' listener: a snapshot published after each iteration, read by the servers'
+  // own threads
   StatusBoard board(options.run_dir);
   StatusServer server(board);
+  StatusServer health(board, health_listener_options());
   // declared after the board, so the socket thread that publishes to it stops first; bound before the run is
   // opened, so that a port in use changes no file
-  std::optional<Rollouts> rollouts = make_rollouts(options, signals);
+  std::optional<Rollouts> rollouts = make_rollouts(options, signals, board);
   if (!rollouts) return kExitUsage;
   std::optional<std::pair<RunDirectory, RunState>> opened = options.resume ? resume_run(options) : start_run(options);
   if (!opened) return kExitUsage;
@@ -303,15 +308,17 @@ int run(const Options& options, StopSignals& signals) {
 
   board.publish_run(state, state.next_iteration);
   board.set_state(RunPhase::kRunning);
-  if (!options.status_address.empty()) {
-    const Expected<int> port = server.start(options.status_address);
+  auto serve = [](StatusServer& s, const std::string& address, const char* name, const char* path) {
+    if (address.empty()) return;
+    const Expected<int> port = s.start(address);
     if (port) {
-      const std::string host = options.status_address.substr(0, options.status_address.rfind(':'));
-      spdlog::info("status: http://{}:{}/status", host, *port);
+      spdlog::info("{}: http://{}:{}{}", name, address.substr(0, address.rfind(':')), *port, path);
     } else {
-      spdlog::warn("no status socket: {}", port.error());  // the run goes on without it
+      spdlog::warn("no {} socket: {}", name, port.error());  // the run goes on without it
     }
-  }
+  };
+  serve(server, options.status_address, "status", "/status");
+  serve(health, options.health_address, "health", "/healthz");
   if (rollouts->remote && !start_local_workers(options, *rollouts)) return kExitUsage;
   Evaluator& evaluator = *rollouts->evaluator;
   if (rollouts->remote) {
@@ -451,6 +458,9 @@ int main(int argc, char** argv) {
       ->group("");  // for tests: fault switches
   app.add_option("--status-address", options.status_address,
                  "HOST:PORT of the HTTP status socket (default 127.0.0.1:8580; port 0: any free port; empty: none)");
+  app.add_option("--health-address", options.health_address,
+                 "HOST:PORT of a listener that answers /healthz alone, for liveness probes: clients of the status "
+                 "socket, however many or slow, cannot delay it (default: none; /healthz is on the status socket too)");
   app.add_option("--curve-keys", options.curve_keys,
                  "CURVE authentication: DIR holds coordinator.key(_secret) and authorized/*.key, the workers' public "
                  "keys (made by `poetctl keygen`); workers without an authorised key get no connection")

@@ -13,6 +13,7 @@
 #include <utility>
 #include <zmq.hpp>
 
+#include "handshake_failure.h"
 #include "job_runner.h"
 
 namespace poet::worker {
@@ -62,8 +63,8 @@ class SocketLoop {
       if (!poll()) continue;  // interrupted: look at the stop flag again
       wake_.drain();
       if (stop_) continue;
-      read_handshakes();
-      code = receive();
+      code = read_handshakes();
+      if (!code) code = receive();
       if (code) break;
       for (const JobOutcome& outcome : runner_.take_finished()) {
         code = apply(session_.on_job_finished(outcome, Clock::now()));
@@ -102,11 +103,13 @@ class SocketLoop {
     }
   }
 
-  // Handshake failures of `socket` arrive on monitor_ (ZeroMQ's socket monitor over inproc).
+  // The connections and handshakes of `socket` arrive on monitor_ (ZeroMQ's socket monitor over inproc).
   void watch_handshakes(zmq::socket_t& socket) {
+    handshaking_ = false;
     const std::string address = "inproc://handshakes-" + std::to_string(++monitors_);
     const int events = ZMQ_EVENT_HANDSHAKE_FAILED_AUTH | ZMQ_EVENT_HANDSHAKE_FAILED_PROTOCOL |
-                       ZMQ_EVENT_HANDSHAKE_FAILED_NO_DETAIL | ZMQ_EVENT_HANDSHAKE_SUCCEEDED;
+                       ZMQ_EVENT_HANDSHAKE_FAILED_NO_DETAIL | ZMQ_EVENT_HANDSHAKE_SUCCEEDED | ZMQ_EVENT_CONNECTED |
+                       ZMQ_EVENT_DISCONNECTED | ZMQ_EVENT_CONNECT_RETRIED;
     if (zmq_socket_monitor(socket.handle(), address.c_str(), events) != 0) return;  // only the log line is lost
     zmq::socket_t monitor(context_, zmq::socket_type::pair);
     monitor.set(zmq::sockopt::linger, 0);
@@ -114,35 +117,49 @@ class SocketLoop {
     monitor_ = std::move(monitor);
   }
 
-  // Reads the monitor's events: a refused handshake is logged (once, until one succeeds).
-  void read_handshakes() {
+  // Reads the monitor's events. A failed handshake (or a peer that hangs up during one) is logged, once for each
+  // new cause until a handshake succeeds, and handed to the session: libzmq does not retry such a connection, so
+  // the session opens a fresh socket after its backoff. What happened last is kept for the still-trying lines.
+  std::optional<int> read_handshakes() {
     for (int n = 0; monitor_ && n < kMaxFramesPerTurn; ++n) {
       zmq::message_t event;
-      if (!monitor_->recv(event, zmq::recv_flags::dontwait)) return;
+      if (!monitor_->recv(event, zmq::recv_flags::dontwait)) break;
       zmq::message_t address;
-      if (event.more() && !monitor_->recv(address, zmq::recv_flags::dontwait)) return;
+      if (event.more() && !monitor_->recv(address, zmq::recv_flags::dontwait)) break;
       if (event.size() < 6) continue;
       uint16_t id = 0;
       uint32_t value = 0;
       std::memcpy(&id, event.data(), sizeof id);
       std::memcpy(&value, static_cast<const char*>(event.data()) + 2, sizeof value);
-      if (id == ZMQ_EVENT_HANDSHAKE_SUCCEEDED) {
-        handshake_refused_ = false;
-        continue;
+      switch (id) {
+        case ZMQ_EVENT_CONNECT_RETRIED:
+          last_problem_ = "nothing accepts connections there";
+          continue;
+        case ZMQ_EVENT_CONNECTED:
+          handshaking_ = true;
+          continue;
+        case ZMQ_EVENT_HANDSHAKE_SUCCEEDED:
+          handshaking_ = false;
+          logged_failure_.clear();
+          last_problem_ = "connected, but no Welcome yet";
+          continue;
+        case ZMQ_EVENT_DISCONNECTED:
+          if (!handshaking_) continue;  // a connection that worked: the session's liveness rule handles it
+          id = ZMQ_EVENT_HANDSHAKE_FAILED_NO_DETAIL;
+          break;
+        default:
+          break;
       }
-      if (handshake_refused_) continue;
-      handshake_refused_ = true;
-      if (id == ZMQ_EVENT_HANDSHAKE_FAILED_AUTH) {
-        spdlog::error(
-            "the coordinator at {} refused this worker's CURVE key (ZAP status {}): its public key must be "
-            "in the coordinator's authorized/ folder; trying again",
-            settings_.endpoint, value);
-      } else {
-        spdlog::error("the security handshake with {} failed: {}; trying again", settings_.endpoint,
-                      settings_.curve ? "is the coordinator's public key (coordinator.key) the right one?"
-                                      : "does the coordinator require CURVE keys (--curve-keys)?");
-      }
+      handshaking_ = false;
+      const std::optional<std::string> failure =
+          handshake_failure(id, value, settings_.curve.has_value(), settings_.endpoint);
+      if (!failure) continue;
+      last_problem_ = *failure;
+      if (*failure != logged_failure_) spdlog::error("{}; trying again", *failure);
+      logged_failure_ = *failure;
+      return apply(session_.on_handshake_failed(Clock::now()));
     }
+    return std::nullopt;
   }
 
   // Waits for a frame, a wake-up or the next deadline. False when interrupted.
@@ -210,6 +227,11 @@ class SocketLoop {
       spdlog::default_logger()->flush();
       std::abort();
     }
+    if (actions.still_trying) {
+      spdlog::warn("still trying to reach the coordinator at {}: no Welcome for {} s{}", settings_.endpoint,
+                   std::chrono::duration_cast<std::chrono::seconds>(*actions.still_trying).count(),
+                   last_problem_.empty() ? "" : " (" + last_problem_ + ")");
+    }
     if (actions.abandon_jobs) runner_.abandon();
     if (actions.close_socket) {
       socket_.reset();
@@ -241,7 +263,9 @@ class SocketLoop {
   std::optional<zmq::socket_t> socket_;   // after the context: closed before it
   std::optional<zmq::socket_t> monitor_;  // the socket's handshake events
   int monitors_ = 0;
-  bool handshake_refused_ = false;  // logged already
+  bool handshaking_ = false;    // connected, the handshake not over
+  std::string logged_failure_;  // the last handshake failure logged, until one succeeds
+  std::string last_problem_;    // what happened last on the way to a Welcome, for the still-trying lines
   WorkerSession session_;
   JobRunner runner_;  // last: its thread is joined first
 };

@@ -3,8 +3,9 @@
 // per frame out, one CoordinatorMessage per frame in. It only moves bytes and jobs: every decision is the
 // WorkerSession's. It polls the socket and a wake-up pipe with a short timeout (never blocking on a job, which
 // runs on the JobRunner's thread), so heartbeats go out on time while a job runs. It also watches the socket's
-// handshakes, so a worker the coordinator refuses at the security layer (a CURVE key it does not accept, or no
-// CURVE where it asks for it) says so instead of waiting in silence.
+// connections and handshakes, so a worker the coordinator refuses at the security layer (a CURVE key it does not
+// accept, CURVE on one side only), or whose peer speaks another protocol, says so (handshake_failure.h) and tries
+// again on a fresh socket; and while no Welcome comes it says now and then that it is still trying, and where.
 
 #include <atomic>
 #include <optional>

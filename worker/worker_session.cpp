@@ -53,9 +53,16 @@ void WorkerSession::send(Actions& actions, wire::WorkerMessage message, TimePoin
   last_sent_ = now;
 }
 
+void WorkerSession::lost_coordinator(TimePoint now) {
+  unwelcomed_since_ = now;
+  still_trying_gap_ = settings_.still_trying_first;
+  next_still_trying_ = now + still_trying_gap_;
+}
+
 Actions WorkerSession::start(TimePoint now) {
   Actions actions;
   state_ = SessionState::kGreeting;
+  lost_coordinator(now);
   send(actions, hello(), now);
   next_hello_ = now + settings_.hello_interval;
   return actions;
@@ -130,6 +137,7 @@ Actions WorkerSession::on_message(const wire::CoordinatorMessage& message, TimeP
                    message.rejoin().reason().substr(0, 200));
       drop_work(actions);
       state_ = SessionState::kGreeting;
+      lost_coordinator(now);
       send(actions, hello(), now);
       next_hello_ = now + settings_.hello_interval;
       break;
@@ -237,9 +245,18 @@ Actions WorkerSession::on_send_failed(const wire::WorkerMessage& message, TimePo
   return {};
 }
 
+Actions WorkerSession::on_handshake_failed(TimePoint now) {
+  Actions actions;
+  if (state_ != SessionState::kGreeting && state_ != SessionState::kWelcomed) return actions;
+  if (state_ == SessionState::kWelcomed) lost_coordinator(now);
+  wait_to_reconnect(actions, now);
+  return actions;
+}
+
 Actions WorkerSession::on_connect_failed(TimePoint now) {
   Actions actions;
   if (state_ == SessionState::kFinished) return actions;
+  if (unwelcomed_since_ == TimePoint{}) lost_coordinator(now);  // the first socket failed: start() never ran
   spdlog::warn("could not connect to the coordinator; trying again in {} ms", ms(backoff_));
   wait_to_reconnect(actions, now);
   return actions;
@@ -261,6 +278,12 @@ void WorkerSession::wait_to_reconnect(Actions& actions, TimePoint now) {
 
 Actions WorkerSession::on_tick(TimePoint now) {
   Actions actions;
+  const bool unwelcomed = state_ == SessionState::kGreeting || state_ == SessionState::kWaitingToReconnect;
+  if (unwelcomed && now >= next_still_trying_) {
+    actions.still_trying = std::chrono::floor<Millis>(now - unwelcomed_since_);
+    still_trying_gap_ = std::min(2 * still_trying_gap_, settings_.still_trying_max);
+    next_still_trying_ = now + still_trying_gap_;
+  }
   switch (state_) {
     case SessionState::kGreeting:
       if (now >= next_hello_) {
@@ -272,6 +295,7 @@ Actions WorkerSession::on_tick(TimePoint now) {
       if (now - last_received_ >= liveness_) {
         spdlog::warn("nothing from the coordinator for {} ms: it is gone; reconnecting in {} ms", ms(liveness_),
                      ms(backoff_));
+        lost_coordinator(now);
         wait_to_reconnect(actions, now);
         break;
       }
@@ -320,11 +344,11 @@ void WorkerSession::finish(Actions& actions, int exit_code) {
 TimePoint WorkerSession::next_deadline() const {
   switch (state_) {
     case SessionState::kGreeting:
-      return next_hello_;
+      return std::min(next_hello_, next_still_trying_);
     case SessionState::kWelcomed:
       return std::min(last_sent_ + heartbeat_, last_received_ + liveness_);
     case SessionState::kWaitingToReconnect:
-      return reconnect_at_;
+      return std::min(reconnect_at_, next_still_trying_);
     case SessionState::kFinished:
       break;
   }

@@ -8,6 +8,7 @@
 //      ▲ ▲                     │                                                   │
 //      │ └── Rejoin: Hello ────┘                                                   │
 //      └──── fresh socket, Hello (after a backoff of 250 ms, doubling to 4 s) ─────┘
+//   greeting ── the handshake failed (a refused CURVE key, a peer of another protocol) ──▶ waiting to reconnect
 //   Refused (exit 2), Shutdown (exit 0) or a stop (Goodbye, exit 0) ──▶ finished
 //
 // Greeting: Hello now and every second until a Welcome (sooner when a Hello could not be sent because the
@@ -16,7 +17,8 @@
 // to greeting with a Hello at once; a Job is decoded
 // at once (θs into the cache, tasks checked) and either handed to the runner or answered with an error Result.
 // Anything that fails to parse, is larger than the cap or comes when its kind makes no sense is counted and
-// dropped, with a log line at most once a second.
+// dropped, with a log line at most once a second. Without a Welcome for still_trying_first, and then after gaps
+// that double up to still_trying_max, the loop is told to say that the worker is still trying, and where.
 
 #include <chrono>
 #include <cstddef>
@@ -57,6 +59,8 @@ struct SessionSettings {
   Millis hello_retry{50};  // after a Hello that could not be sent (no connection yet)
   Millis first_backoff{250};
   Millis max_backoff{4000};
+  Millis still_trying_first{2000};  // no Welcome this long after losing (or never having) one: say so
+  Millis still_trying_max{60000};   // the gap between such lines doubles up to this
   size_t max_frame_bytes = kMaxFrameBytes;
   Fault fault = Fault::kNone;
 };
@@ -69,8 +73,9 @@ struct Actions {
   bool close_socket = false;  // the coordinator is gone: close the socket
   bool open_socket = false;   // make a fresh socket and connect it (before the sends below)
   std::vector<wire::WorkerMessage> send;
-  std::vector<WorkerJob> run;    // hand to the job runner, in this order
-  std::optional<int> exit_code;  // leave, with this process exit code
+  std::vector<WorkerJob> run;          // hand to the job runner, in this order
+  std::optional<Millis> still_trying;  // no Welcome for this long: log that the worker is still trying, and where
+  std::optional<int> exit_code;        // leave, with this process exit code
 };
 
 enum class SessionState {
@@ -113,6 +118,10 @@ class WorkerSession {
   // The socket could not be opened or connected (say, the coordinator's host name does not resolve yet).
   Actions on_connect_failed(TimePoint now);
 
+  // The socket's handshake failed (a refused CURVE key, CURVE on one side only, a peer of another protocol).
+  // libzmq does not try such a connection again, so: a fresh socket after the backoff.
+  Actions on_handshake_failed(TimePoint now);
+
   // Time passed: Hello again, Heartbeat, the liveness check, the reconnection after a backoff.
   Actions on_tick(TimePoint now);
 
@@ -136,6 +145,8 @@ class WorkerSession {
   void drop_work(Actions& actions);  // the jobs in hand, the θ cache and the batch go
   // no coordinator: close the socket, drop the work, and try again after the backoff (which then doubles)
   void wait_to_reconnect(Actions& actions, TimePoint now);
+  // the coordinator is gone (or never came): the still-trying lines count from now
+  void lost_coordinator(TimePoint now);
   void finish(Actions& actions, int exit_code);
   void drop(uint64_t DropCounts::*reason, std::string_view what, TimePoint now);
 
@@ -149,6 +160,9 @@ class WorkerSession {
   TimePoint last_received_{};
   TimePoint welcomed_at_{};
   TimePoint reconnect_at_{};
+  TimePoint unwelcomed_since_{};  // the still-trying lines: since when (epoch: not started), the next, the gap after
+  TimePoint next_still_trying_{};
+  Millis still_trying_gap_{};
   // θs of the current batch only: a Job of another batch clears them (queued jobs hold their own θs)
   ThetaCache thetas_;
   std::optional<uint64_t> batch_;

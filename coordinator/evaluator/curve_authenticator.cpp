@@ -1,5 +1,7 @@
 #include "evaluator/curve_authenticator.h"
 
+#include <spdlog/spdlog.h>
+
 #include <algorithm>
 #include <array>
 #include <vector>
@@ -21,8 +23,11 @@ std::string z85(const zmq::message_t& key) {
 
 }  // namespace
 
-CurveAuthenticator::CurveAuthenticator(zmq::context_t& context, std::filesystem::path key_dir)
-    : socket_(context, zmq::socket_type::rep), key_dir_(std::move(key_dir)) {
+CurveAuthenticator::CurveAuthenticator(zmq::context_t& context, std::filesystem::path key_dir,
+                                       std::function<void()> skipped_key_file)
+    : socket_(context, zmq::socket_type::rep),
+      key_dir_(std::move(key_dir)),
+      skipped_key_file_(std::move(skipped_key_file)) {
   socket_.set(zmq::sockopt::linger, 0);
   socket_.bind(kZapEndpoint);
 }
@@ -43,10 +48,12 @@ bool CurveAuthenticator::answer_one(std::string& key, std::string& reason) {
   key = well_formed ? z85(request[6]) : "";
   if (!well_formed) {
     reason = "not a CURVE request";
-  } else if (Expected<std::vector<std::string>> authorized = read_authorized_keys(key_dir_); !authorized) {
+  } else if (Expected<AuthorizedKeys> authorized = scan_authorized_keys(key_dir_); !authorized) {
     reason = authorized.error();
-  } else if (!std::binary_search(authorized->begin(), authorized->end(), key)) {
-    reason = "its public key is not in " + (key_dir_ / "authorized").string();
+  } else {
+    note_bad_files(authorized->bad_files);
+    if (!std::binary_search(authorized->keys.begin(), authorized->keys.end(), key))
+      reason = "its public key is not in " + (key_dir_ / "authorized").string();
   }
   const std::string request_id = request.size() > 1 ? request[1].to_string() : "";
   const std::string status = reason.empty() ? "200" : "400";
@@ -57,6 +64,15 @@ bool CurveAuthenticator::answer_one(std::string& key, std::string& reason) {
   socket_.send(zmq::buffer(key), zmq::send_flags::sndmore);  // user id: the key
   socket_.send(zmq::str_buffer(""), zmq::send_flags::none);  // no metadata
   return true;
+}
+
+void CurveAuthenticator::note_bad_files(const std::map<std::string, std::string>& bad_files) {
+  std::erase_if(bad_files_, [&](const std::string& path) { return !bad_files.contains(path); });
+  for (const auto& [path, problem] : bad_files) {
+    if (!bad_files_.insert(path).second) continue;
+    spdlog::warn("CURVE: skipped {}; the other authorised keys still work", problem);
+    if (skipped_key_file_) skipped_key_file_();
+  }
 }
 
 }  // namespace poet

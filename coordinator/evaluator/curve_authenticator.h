@@ -2,10 +2,14 @@
 // The coordinator's ZAP handler (ZeroMQ RFC 27) for CURVE: every worker's handshake asks it whether the client's
 // public key is one of DIR/authorized/*.key. The folder is read at each handshake, so a key copied in takes effect
 // for the next connection, without a restart. A worker whose key is refused never gets a connection: it can
-// neither be sent work nor submit any.
+// neither be sent work nor submit any. A file there that holds no key (half-copied, garbage) is skipped: logged
+// once and counted, while the other keys go on working.
 
 #include <cstdint>
 #include <filesystem>
+#include <functional>
+#include <map>
+#include <set>
 #include <string>
 #include <zmq.hpp>
 
@@ -14,8 +18,10 @@ namespace poet {
 class CurveAuthenticator {
  public:
   // Binds the ZAP endpoint in `context`; it must exist before a CURVE socket of that context binds. Throws
-  // zmq::error_t when it cannot.
-  CurveAuthenticator(zmq::context_t& context, std::filesystem::path key_dir);
+  // zmq::error_t when it cannot. skipped_key_file, when given, is called once for each file of authorized/ found
+  // to hold no key (again if it is fixed and then spoiled again), on the thread that calls answer_all.
+  CurveAuthenticator(zmq::context_t& context, std::filesystem::path key_dir,
+                     std::function<void()> skipped_key_file = {});
 
   zmq::socket_t& socket() { return socket_; }
 
@@ -34,9 +40,13 @@ class CurveAuthenticator {
   static constexpr int kMaxPerTurn = 256;
   // False when no request was waiting; otherwise answers it, and sets reason when it was refused.
   bool answer_one(std::string& key, std::string& reason);
+  // logs and counts the files newly found bad; forgets those fixed or gone
+  void note_bad_files(const std::map<std::string, std::string>& bad_files);
 
   zmq::socket_t socket_;
   std::filesystem::path key_dir_;
+  std::function<void()> skipped_key_file_;
+  std::set<std::string> bad_files_;  // the paths logged already
 };
 
 }  // namespace poet

@@ -45,7 +45,9 @@ Expected<std::unique_ptr<RemoteEvaluator>> RemoteEvaluator::bind(const std::stri
   std::unique_ptr<RemoteEvaluator> evaluator(new RemoteEvaluator(settings, std::move(stop)));
   try {
     evaluator->context_ = std::make_unique<zmq::context_t>(1);
-    if (curve) evaluator->authenticator_ = std::make_unique<CurveAuthenticator>(*evaluator->context_, curve->key_dir);
+    if (curve)
+      evaluator->authenticator_ =
+          std::make_unique<CurveAuthenticator>(*evaluator->context_, curve->key_dir, curve->skipped_key_file);
     evaluator->socket_ = std::make_unique<zmq::socket_t>(*evaluator->context_, zmq::socket_type::router);
     zmq::socket_t& socket = *evaluator->socket_;
     if (curve) {

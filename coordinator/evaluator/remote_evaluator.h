@@ -35,6 +35,7 @@ class CurveAuthenticator;
 struct CurveServer {
   std::string secret_key;  // Z85
   std::filesystem::path key_dir;
+  std::function<void()> skipped_key_file;  // told of each file of authorized/ that holds no key (curve_authenticator.h)
 };
 
 class RemoteEvaluator final : public Evaluator {

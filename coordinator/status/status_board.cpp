@@ -194,6 +194,11 @@ void StatusBoard::set_state(RunPhase phase, std::string note) {
   note_ = std::move(note);
 }
 
+void StatusBoard::count_skipped_key_file() {
+  std::lock_guard lock(mutex_);
+  ++skipped_key_files_;
+}
+
 StatusBoard::View StatusBoard::view() const {
   std::lock_guard lock(mutex_);
   View v;
@@ -204,6 +209,7 @@ StatusBoard::View StatusBoard::view() const {
   v.note = note_;
   v.rollouts_per_s = rate(rate_samples_, [](const RateSample& s) { return s.rollouts; });
   v.env_steps_per_s = rate(rate_samples_, [](const RateSample& s) { return s.env_steps; });
+  v.skipped_key_files = skipped_key_files_;
   return v;
 }
 
@@ -477,6 +483,9 @@ std::string StatusBoard::metrics_text() const {
   for (const auto& [reason, count] : dispatch.dropped_frames) dropped[reason] = count;
   for (const auto& [reason, count] : dropped)
     sample("poet_dropped_frames_total{reason=\"" + label_value(reason) + "\"}", count);
+  family("poet_skipped_key_files_total", "counter",
+         "Files in the CURVE authorized/ folder skipped because they hold no key, each counted once when found.");
+  sample("poet_skipped_key_files_total", v.skipped_key_files);
 
   family("poet_uptime_seconds", "gauge", "Seconds since the coordinator started.");
   char uptime[32];

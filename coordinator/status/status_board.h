@@ -106,6 +106,8 @@ class StatusBoard {
   void publish_dispatch(DispatchSnapshot snapshot);
   // The phase and a free-text note (empty clears it). The board starts in kStarting.
   void set_state(RunPhase phase, std::string note = "");
+  // A file of the CURVE authorized/ folder was found to hold no key, and skipped (counted once per file).
+  void count_skipped_key_file();
 
   // GET /status.
   status::Status status() const;
@@ -161,6 +163,7 @@ class StatusBoard {
     std::string note;
     double rollouts_per_s = 0;
     double env_steps_per_s = 0;
+    int64_t skipped_key_files = 0;
   };
   // The rows of pair_stats.csv read so far, by pair; read on from `offset` when a reader asks (a second lock,
   // which only readers take).
@@ -193,6 +196,7 @@ class StatusBoard {
   RunPhase phase_ = RunPhase::kStarting;
   std::string note_;
   std::deque<RateSample> rate_samples_;  // the last kRateWindow publishes
+  int64_t skipped_key_files_ = 0;
 
   mutable std::mutex stats_mutex_;
   mutable StatsCache stats_;

@@ -88,6 +88,16 @@ struct StatusServer::Impl {
   bool listen_returned = false;  // under mutex
 };
 
+StatusServerOptions health_listener_options() {
+  StatusServerOptions options;
+  options.threads = 2;  // a probe, and one straggler
+  options.read_timeout = 1s;
+  options.write_timeout = 1s;
+  options.keep_alive_seconds = 1;
+  options.health_only = true;
+  return options;
+}
+
 StatusServer::StatusServer(StatusBoard& board, StatusServerOptions options) : board_(board), options_(options) {}
 
 StatusServer::~StatusServer() { stop(); }
@@ -108,6 +118,9 @@ Expected<int> StatusServer::start(const std::string& address) {
   server.set_keep_alive_timeout(std::max(options_.keep_alive_seconds, 1));
   server.set_keep_alive_max_count(std::max<size_t>(options_.keep_alive_max_requests, 1));
   server.set_payload_max_length(options_.payload_max_bytes);
+  // a response leaves in two writes (headers, body): with Nagle the second waits for the client's delayed ACK,
+  // 40 ms on Linux, on every request of a kept-alive connection after the first
+  server.set_tcp_nodelay(true);
   server.set_default_headers({{"Cache-Control", "no-store"}});
   // SO_REUSEADDR (a restart may bind while old connections linger) but not httplib's default SO_REUSEPORT, with
   // which a second coordinator could bind the same port and silently share its connections
@@ -118,8 +131,13 @@ Expected<int> StatusServer::start(const std::string& address) {
 
   // every request goes to status_response; httplib reads a request's body (up to the limit) before routing it
   StatusBoard& board = board_;
-  auto answer = [&board](const httplib::Request& request, httplib::Response& response) {
-    const StatusResponse r = status_response(board, request.method, request.path, request.params);
+  auto answer = [&board, health_only = options_.health_only](const httplib::Request& request,
+                                                             httplib::Response& response) {
+    const StatusResponse r = health_only && request.path != "/healthz"
+                                 ? error_response(404,
+                                                  "this listener answers /healthz only; the rest is on the "
+                                                  "status socket (--status-address)")
+                                 : status_response(board, request.method, request.path, request.params);
     response.status = r.status;
     if (!r.allow.empty()) response.set_header("Allow", r.allow);
     response.set_content(r.body, r.content_type);

@@ -6,7 +6,8 @@
 // threads, or wait that long when every thread is held. A client that trickles a byte at a time can hold a
 // thread longer (httplib 0.11 has no deadline for a whole request). Nothing a client does touches the run: the
 // board's lock is held only to copy a pointer. SIGPIPE is blocked in the server's threads, so a client that
-// hangs up mid-answer cannot end the process. Headers, URI and body are limited (414, 413).
+// hangs up mid-answer cannot end the process. Headers, URI and body are limited (414, 413). TCP_NODELAY: a kept-alive
+// connection's requests are answered at once, not after the client's delayed ACK.
 //
 // Not in this header: httplib.h (whose <resolv.h> defines `_res`, a name Eigen uses), so any file may include it.
 //
@@ -32,7 +33,14 @@ struct StatusServerOptions {
   int keep_alive_seconds = 2;                     // an idle kept-alive connection is closed after this
   size_t keep_alive_max_requests = 100;           // requests on one connection
   size_t payload_max_bytes = 16 * 1024;           // a request body beyond this is refused (413)
+  bool health_only = false;                       // answer /healthz alone (404 elsewhere): the probes' listener
 };
+
+// The probes' listener (poet-coordinator --health-address): /healthz alone, on a port of its own, because the
+// status socket's pool can be held by its clients (200 that trickle header lines hold it for as long as they
+// like) and an orchestrator that cannot reach /healthz restarts the coordinator. Short timeouts: a probe sends
+// its request at once.
+StatusServerOptions health_listener_options();
 
 struct HostPort {
   std::string host;

@@ -486,7 +486,7 @@ def check_compose_config(args):
         check.finish("compose_config")
 
     env = {"POET_CONFIG": "es_alone", "POET_ITERATIONS": "7", "POET_JOB_PORT": "6101", "POET_STATUS_PORT": "6102",
-           "POET_WORKER_THREADS": "3", "POET_IMAGE": "example/poet:test", "POET_START_FROM": ""}
+           "POET_HEALTH_PORT": "6103", "POET_WORKER_THREADS": "3", "POET_IMAGE": "example/poet:test", "POET_START_FROM": ""}
     for files, label in ((base, "docker-compose.yml"), (both, "docker-compose.yml + docker-compose.curve.yml")):
         config = compose_config(files, env)
         services = config.get("services", {})
@@ -504,6 +504,9 @@ def check_compose_config(args):
         check.expect(endpoint_port(listen) == 6101, f"{label}: POET_JOB_PORT does not set --listen ({listen})")
         check.expect(endpoint_port(status) == 6102,
                      f"{label}: POET_STATUS_PORT does not set --status-address ({status})")
+        health = flag_value(c_argv, "--health-address")
+        check.expect(endpoint_port(health) == 6103,
+                     f"{label}: POET_HEALTH_PORT does not set --health-address ({health})")
         check.expect(flag_value(w_argv, "--threads") == "3", f"{label}: POET_WORKER_THREADS does not set --threads")
         check.expect(coordinator.get("image") == worker.get("image") == "example/poet:test",
                      f"{label}: the services do not share the image POET_IMAGE names")
@@ -515,11 +518,12 @@ def check_compose_config(args):
                      endpoint_port(flag_value(w_argv, "--connect")) == 6101,
                      f"{label}: the worker does not connect to coordinator:POET_JOB_PORT: {w_argv}")
 
-        # the coordinator: healthcheck on /healthz at the status port, restart, a grace period, the named volume
+        # the coordinator: healthcheck on /healthz at the health port (which the status socket's clients cannot
+        # hold up), restart, a grace period, the named volume
         hc = healthcheck_argv(coordinator.get("healthcheck"))
         url = next((a for a in hc if a.startswith("http")), "")
-        check.expect(url.endswith("/healthz") and endpoint_port(url) == 6102,
-                     f"{label}: the coordinator's healthcheck does not ask /healthz on the status port: {hc}")
+        check.expect(url.endswith("/healthz") and endpoint_port(url) == 6103,
+                     f"{label}: the coordinator's healthcheck does not ask /healthz on the health port: {hc}")
         check.expect(coordinator.get("restart") in ("on-failure", "always", "unless-stopped") or
                      str(coordinator.get("restart", "")).startswith("on-failure"),
                      f"{label}: the coordinator has no restart policy")
@@ -601,9 +605,12 @@ def check_k8s(args):
     c_argv = command_list(coordinator.get("command")) + command_list(coordinator.get("args"))
     check.expect(c_argv[:1] == ["poet-coordinator"], f"the StatefulSet does not run poet-coordinator: {c_argv}")
     status_port = endpoint_port(flag_value(c_argv, "--status-address"))
+    health_port = endpoint_port(flag_value(c_argv, "--health-address"))
     job_port = endpoint_port(flag_value(c_argv, "--listen"))
     check.expect(container_port(coordinator, status_port) == status_port,
                  f"the status port {status_port} (--status-address) is not a container port")
+    check.expect(container_port(coordinator, health_port) == health_port,
+                 f"the health port {health_port} (--health-address) is not a container port")
     check.expect(container_port(coordinator, job_port) == job_port,
                  f"the job port {job_port} (--listen) is not a container port")
     for probe in ("livenessProbe", "readinessProbe", "startupProbe"):
@@ -611,8 +618,8 @@ def check_k8s(args):
         if probe == "startupProbe" and p is None:
             continue
         get = (p or {}).get("httpGet") or {}
-        check.expect(get.get("path") == "/healthz" and container_port(coordinator, get.get("port")) == status_port,
-                     f"the coordinator's {probe} is not httpGet /healthz on the status port {status_port}: {p}")
+        check.expect(get.get("path") == "/healthz" and container_port(coordinator, get.get("port")) == health_port,
+                     f"the coordinator's {probe} is not httpGet /healthz on the health port {health_port}: {p}")
     claims = [t["metadata"]["name"] for t in sts["spec"].get("volumeClaimTemplates", []) or []]
     check.expect(len(claims) == 1, f"the StatefulSet has {len(claims)} volumeClaimTemplates")
     run_dir = flag_value(c_argv, "--run-dir") or ""
@@ -932,7 +939,7 @@ def compose_run(args, binaries, curve):
         if check.errors:
             check.finish("compose_run")
         env = {"POET_CONFIG": "quick", "POET_ITERATIONS": "2", "POET_JOB_PORT": str(free_port()),
-               "POET_STATUS_PORT": str(free_port()), "POET_WORKER_THREADS": "1"}
+               "POET_STATUS_PORT": str(free_port()), "POET_HEALTH_PORT": str(free_port()), "POET_WORKER_THREADS": "1"}
         if curve:
             keys = os.path.join(root, "keys")
             poetctl = image.executable("poetctl")

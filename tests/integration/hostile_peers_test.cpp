@@ -2,7 +2,8 @@
 // truncated, multi-part, oversized, wrong-version and wrong-fingerprint frames, Results from a stranger and a
 // flood of Hellos from many identities are refused or dropped and counted in /metrics, while a real worker
 // still runs the run to the same files as threads do. With CURVE keys, workers with an unknown key or no key get
-// no connection at all (and say why), and the authorised one runs the run.
+// no connection at all (and say why), and the authorised one runs the run; a refused worker gets in once its key
+// is authorised; a malformed file in authorized/ is skipped (logged once, counted), not fatal to every handshake.
 
 #include <gtest/gtest.h>
 #include <httplib.h>
@@ -144,6 +145,59 @@ TEST_F(HostilePeersTest, WithCurveOnlyAWorkerWithAnAuthorisedKeyGetsWork) {
   }
   for (const char* name : {"intruder", "keyless"})
     EXPECT_FALSE(contains(read(root_ / (std::string(name) + ".err")), "welcomed")) << name << " got in";
+}
+
+TEST_F(HostilePeersTest, AKeyAuthorisedLaterLetsTheRefusedWorkerIn) {
+  const fs::path keys = root_ / "keys";
+  keygen(root_, {keys.string(), "coordinator"});
+  keygen(root_, {keys.string(), "worker"});  // not authorised yet
+  fs::create_directories(keys / "authorized");
+  const pid_t pid = coordinator(root_ / "C", {"--listen", "tcp://127.0.0.1:*", "--curve-keys", keys.string()}, "C");
+  const std::string endpoint = await_log("C", "workers connect to (tcp://[0-9.]+:[0-9]+)");
+  ASSERT_FALSE(endpoint.empty());
+  const pid_t worker = spawn(POET_WORKER_BIN, {"--connect", endpoint, "--curve-keys", keys.string()}, "worker");
+  await_log("worker", "(refused this worker's CURVE key)");
+
+  // copied in while both run (as an operator would, then renamed: a half-written file is not a key yet)
+  fs::copy_file(keys / "worker.key", keys / "authorized" / "worker.key.partial");
+  fs::rename(keys / "authorized" / "worker.key.partial", keys / "authorized" / "worker.key");
+  ASSERT_EQ(await_log("worker", "(welcomed) by the coordinator"), "welcomed") << read(root_ / "worker.err");
+  EXPECT_EQ(wait(pid), 0) << read(root_ / "C.err");
+  EXPECT_EQ(wait(worker), 0);
+}
+
+TEST_F(HostilePeersTest, AMalformedKeyFileIsSkippedLoggedOnceAndCounted) {
+  const fs::path keys = root_ / "keys";
+  const fs::path intruder_keys = root_ / "intruder";
+  keygen(root_, {keys.string(), "coordinator"});
+  keygen(root_, {keys.string(), "worker", "--authorize"});
+  keygen(root_, {intruder_keys.string(), "worker"});
+  fs::copy_file(keys / "coordinator.key", intruder_keys / "coordinator.key");
+  const pid_t pid = coordinator(root_ / "C", {"--listen", "tcp://127.0.0.1:*", "--curve-keys", keys.string()}, "C");
+  const std::string endpoint = await_log("C", "workers connect to (tcp://[0-9.]+:[0-9]+)");
+  const std::string port = await_log("C", "status: http://127.0.0.1:([0-9]+)/status");
+  ASSERT_FALSE(endpoint.empty());
+  ASSERT_FALSE(port.empty());
+
+  // half a key copied in beside the good one, then handshakes: the intruder's, again and again, and the worker's
+  const std::string good = read(keys / "authorized" / "worker.key");
+  std::ofstream(keys / "authorized" / "half.key") << good.substr(0, 20);
+  const pid_t intruder =
+      spawn(POET_WORKER_BIN, {"--connect", endpoint, "--curve-keys", intruder_keys.string()}, "intruder");
+  await_log("intruder", "(refused this worker's CURVE key)");
+  await_log("C", "(half.key)");
+  EXPECT_EQ(metrics(std::stoi(port))["poet_skipped_key_files_total"], 1);
+
+  const pid_t worker = spawn(POET_WORKER_BIN, {"--connect", endpoint, "--curve-keys", keys.string()}, "worker");
+  ASSERT_EQ(await_log("worker", "(welcomed) by the coordinator"), "welcomed") << read(root_ / "worker.err");
+  EXPECT_EQ(wait(pid), 0) << read(root_ / "C.err");
+  EXPECT_EQ(wait(worker), 0);
+  const std::string log = read(root_ / "C.err");
+  size_t lines = 0;
+  for (size_t at = log.find("half.key"); at != std::string::npos; at = log.find("half.key", at + 1)) ++lines;
+  EXPECT_EQ(lines, 1u) << log;
+  ASSERT_EQ(::kill(intruder, SIGTERM), 0);
+  EXPECT_EQ(wait(intruder), 0);
 }
 
 TEST_F(HostilePeersTest, CurveKeyProblemsAreRefusedAtStart) {

@@ -1,7 +1,8 @@
 // Tests coordinator/status/status_server.cpp over real loopback sockets: a StatusServer on an ephemeral port in
 // this process, fed a hand-made run, asked by a real HTTP client (every endpoint, the 404/405/400 rules), by raw
-// TCP (garbage request lines, oversized requests, slow clients that send half a request and sit), and by poetctl
-// run as a real process. Every wait is bounded; TearDown closes every socket, kills every child, stops the server
+// TCP (garbage request lines, oversized requests, slow clients that send half a request and sit, 200 slowloris
+// clients while the probes' listener answers, requests on a kept-alive connection), and by poetctl run as a real
+// process. Every wait is bounded; TearDown closes every socket, kills every child, stops the server
 // and removes the directory, even when a test fails.
 
 #include "status/status_server.h"
@@ -17,6 +18,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <chrono>
 #include <csignal>
@@ -391,6 +393,26 @@ TEST_F(StatusServerTest, MalformedRequestsGet400AndTheServerGoesOn) {
   EXPECT_EQ(r->status, 200);
 }
 
+TEST_F(StatusServerTest, KeptAliveRequestsAreAnsweredAtOnce) {
+  // a response written in two pieces (headers, body) waits for the client's delayed ACK (40 ms on Linux) unless
+  // the server sets TCP_NODELAY; the first request escapes it (a new connection ACKs at once), the rest do not
+  const int fd = raw();
+  ASSERT_GE(fd, 0);
+  std::vector<double> ms;
+  for (int i = 0; i < 10; ++i) {
+    const auto started = Clock::now();
+    ASSERT_TRUE(send_all(fd, "GET /healthz HTTP/1.1\r\nHost: x\r\n\r\n"));
+    const Received r = receive(fd, std::chrono::duration_cast<std::chrono::milliseconds>(kReadTimeout), true);
+    ms.push_back(std::chrono::duration<double, std::milli>(Clock::now() - started).count());
+    ASSERT_TRUE(r.data.starts_with("HTTP/1.1 200")) << "request " << i << ": " << r.data;
+    ASSERT_FALSE(r.closed) << "request " << i << ": the connection was not kept alive";
+  }
+  // the median: one request slowed by a loaded machine is not the delay this is about
+  std::vector<double> sorted = ms;
+  std::nth_element(sorted.begin(), sorted.begin() + 5, sorted.end());
+  EXPECT_LT(sorted[5], 20.0) << "ms per request: " << ::testing::PrintToString(ms);
+}
+
 TEST_F(StatusServerTest, ASlowClientDoesNotStopOthers) {
   // one client sends half a request and sits; the other pool thread answers at once
   const int slow = raw();
@@ -423,6 +445,55 @@ TEST_F(StatusServerTest, MoreSlowClientsThanThreadsOnlyDelayOthersByTheTimeout) 
   EXPECT_EQ(r->status, 200);
   EXPECT_LT(Clock::now() - started, kReadTimeout + kMargin);
   for (int fd : slow) EXPECT_TRUE(receive(fd, std::chrono::duration_cast<std::chrono::milliseconds>(kMargin)).closed);
+}
+
+TEST_F(StatusServerTest, HealthAnswersWhileSlowlorisHoldsTheStatusSocket) {
+  // the coordinator's pool and timeouts (3 threads, 3 s), and 200 clients that each send a header line every 1.5 s:
+  // they hold the status socket for as long as they keep at it, while the probes' listener answers at once
+  StatusServer status(*board_);
+  StatusServer health(*board_, health_listener_options());
+  const Expected<int> status_port = status.start("127.0.0.1:0");
+  const Expected<int> health_port = health.start("127.0.0.1:0");
+  ASSERT_TRUE(status_port) << status_port.error();
+  ASSERT_TRUE(health_port) << health_port.error();
+  std::vector<int> slow;
+  // however the test ends: the trickle stops, then the connections close, then the servers stop (a held pool
+  // thread is let go when its client hangs up)
+  struct Closer {
+    std::vector<int>& fds;
+    ~Closer() {
+      for (int fd : fds) ::close(fd);
+    }
+  } closer{slow};
+  for (int i = 0; i < 200; ++i) {
+    slow.push_back(connect_to(*status_port));
+    ASSERT_GE(slow.back(), 0);
+    ASSERT_TRUE(send_all(slow.back(), "GET /status HTTP/1.1\r\nHost: x\r\n"));
+  }
+  std::jthread trickle([&slow](std::stop_token stop) {
+    for (int line = 0; !stop.stop_requested(); ++line) {
+      for (int fd : slow) send_all(fd, "X-Slow-" + std::to_string(line) + ": x\r\n");
+      for (int i = 0; i < 30 && !stop.stop_requested(); ++i) std::this_thread::sleep_for(50ms);
+    }
+  });
+  std::this_thread::sleep_for(500ms);  // so that the server has taken them
+
+  httplib::Client probe("127.0.0.1", *health_port);
+  probe.set_connection_timeout(1, 0);  // kubelet's default probe timeout
+  probe.set_read_timeout(1, 0);
+  for (int i = 0; i < 8; ++i) {  // over 4 s: past the status socket's read timeout
+    const auto started = Clock::now();
+    const httplib::Result r = probe.Get("/healthz");
+    ASSERT_TRUE(r) << "probe " << i << ": " << httplib::to_string(r.error());
+    EXPECT_EQ(r->status, 200);
+    EXPECT_TRUE(contains(r->body, "\"ok\":true")) << r->body;
+    EXPECT_LT(Clock::now() - started, 1s) << "probe " << i;
+    std::this_thread::sleep_for(500ms);
+  }
+  // the listener serves the probes and nothing else
+  const httplib::Result other = probe.Get("/status");
+  ASSERT_TRUE(other);
+  EXPECT_EQ(other->status, 404);
 }
 
 TEST_F(StatusServerTest, StopIsBoundedAndTheServerStartsAgain) {

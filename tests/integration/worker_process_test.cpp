@@ -3,12 +3,17 @@
 // until Welcome; jobs come back bit for bit equal to run_task in this process; θ travels once per batch;
 // heartbeats flow while idle and while a job runs; hostile frames are survived; Refused exits 2 and Shutdown 0;
 // a restarted coordinator is found again; SIGTERM abandons a long job with a Goodbye; the test-only faults do
-// what the coordinator's tests need. The fixture kills its children and removes its files even on failure.
+// what the coordinator's tests need; an unreachable coordinator and a peer that speaks another protocol are
+// reported for what they are. The fixture kills its children and removes its files even on failure.
 
+#include <arpa/inet.h>
 #include <fcntl.h>
 #include <gtest/gtest.h>
+#include <netinet/in.h>
+#include <poll.h>
 #include <spawn.h>
 #include <sys/resource.h>
+#include <sys/socket.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -601,6 +606,70 @@ TEST_F(WorkerProcessTest, IgnoreJobsFaultHeartbeatsButNeverAnswers) {
   }
   EXPECT_GE(heartbeats_[peer], 7);
   EXPECT_EQ(::waitpid(pid, nullptr, WNOHANG), 0);
+}
+
+// A loopback TCP socket bound to an ephemeral port, listening or not; closed with the object.
+struct TcpPort {
+  explicit TcpPort(bool listening) : fd(::socket(AF_INET, SOCK_STREAM | SOCK_CLOEXEC, 0)) {
+    sockaddr_in address{};
+    address.sin_family = AF_INET;
+    address.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+    socklen_t length = sizeof address;
+    if (fd < 0 || ::bind(fd, reinterpret_cast<sockaddr*>(&address), length) != 0 ||
+        (listening && ::listen(fd, 16) != 0) || ::getsockname(fd, reinterpret_cast<sockaddr*>(&address), &length) != 0)
+      return;
+    endpoint = "tcp://127.0.0.1:" + std::to_string(ntohs(address.sin_port));
+  }
+  ~TcpPort() {
+    if (fd >= 0) ::close(fd);
+  }
+  int fd;
+  std::string endpoint;  // empty when it could not be bound
+};
+
+size_t count(const std::string& text, const std::string& part) {
+  size_t n = 0;
+  for (size_t at = text.find(part); at != std::string::npos; at = text.find(part, at + 1)) ++n;
+  return n;
+}
+
+TEST_F(WorkerProcessTest, UnreachableCoordinatorIsReportedAgainWithBackoff) {
+  const TcpPort nobody(false);  // bound, so that nothing else takes the port, but not listening
+  ASSERT_FALSE(nobody.endpoint.empty());
+  const pid_t pid = spawn({}, "worker", nobody.endpoint);
+  // no Welcome: a line after 2 s, then after gaps that double (6 s, 14 s, ... from the start)
+  const auto deadline = Clock::now() + 12s;
+  while (Clock::now() < deadline && count(err(), "still trying") < 2) std::this_thread::sleep_for(50ms);
+  std::this_thread::sleep_until(deadline);  // and no third line before 14 s: the gaps grow
+  const std::string log = err();
+  EXPECT_EQ(count(log, "still trying"), 2u) << log;
+  EXPECT_EQ(count(log, "still trying to reach the coordinator at " + nobody.endpoint), 2u) << log;
+  EXPECT_EQ(::waitpid(pid, nullptr, WNOHANG), 0) << "the worker keeps trying";
+}
+
+TEST_F(WorkerProcessTest, APeerSendingGarbageIsReportedAsSuch) {
+  // a plain TCP server that answers every connection with bytes of another protocol, then hangs up
+  const TcpPort server(true);
+  ASSERT_FALSE(server.endpoint.empty());
+  std::jthread garbage([fd = server.fd](std::stop_token stop) {
+    while (!stop.stop_requested()) {
+      pollfd p{fd, POLLIN, 0};
+      if (::poll(&p, 1, 50) <= 0) continue;
+      const int client = ::accept4(fd, nullptr, nullptr, SOCK_CLOEXEC);
+      if (client < 0) continue;
+      constexpr char kReply[] = "HTTP/1.1 400 Bad Request\r\nContent-Length: 0\r\n\r\n";
+      (void)!::send(client, kReply, sizeof kReply - 1, MSG_NOSIGNAL);
+      std::this_thread::sleep_for(300ms);
+      ::close(client);
+    }
+  });
+  const pid_t pid = spawn({}, "worker", server.endpoint);
+  const auto deadline = Clock::now() + 10s;
+  while (Clock::now() < deadline && !contains(err(), "ZeroMQ/poet protocol")) std::this_thread::sleep_for(50ms);
+  const std::string log = err();
+  EXPECT_TRUE(contains(log, "the peer at " + server.endpoint + " does not speak the ZeroMQ/poet protocol")) << log;
+  EXPECT_FALSE(contains(log, "CURVE")) << log;
+  EXPECT_EQ(::waitpid(pid, nullptr, WNOHANG), 0) << "the worker keeps trying";
 }
 
 TEST_F(WorkerProcessTest, BadCommandLinesExit2AndFingerprintMatchesThisBuild) {

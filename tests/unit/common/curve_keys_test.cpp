@@ -89,5 +89,20 @@ TEST_F(CurveKeysTest, AuthorizedKeysAreTheFolderKeyFiles) {
   EXPECT_TRUE(contains(bad.error(), "c.key")) << bad.error();
 }
 
+TEST_F(CurveKeysTest, AScanSetsFilesThatHoldNoKeyAside) {
+  EXPECT_FALSE(scan_authorized_keys(dir_));  // no folder
+  fs::create_directories(dir_ / "authorized");
+  std::ofstream(dir_ / "authorized" / "a.key") << kPublic << "\n";
+  std::ofstream(dir_ / "authorized" / "half.key") << std::string(kPublic).substr(0, 20);  // half-copied
+  std::ofstream(dir_ / "authorized" / "junk.key") << "\x01\x02 garbage";
+  const Expected<AuthorizedKeys> found = scan_authorized_keys(dir_);
+  ASSERT_TRUE(found) << found.error();
+  EXPECT_EQ(found->keys, std::vector<std::string>{kPublic});
+  ASSERT_EQ(found->bad_files.size(), 2u);
+  const std::string half = (dir_ / "authorized" / "half.key").string();
+  ASSERT_TRUE(found->bad_files.contains(half));
+  EXPECT_TRUE(contains(found->bad_files.at(half), "half.key: not a CURVE key")) << found->bad_files.at(half);
+}
+
 }  // namespace
 }  // namespace poet

@@ -199,8 +199,10 @@ TEST(WorkerSession, SilenceForTheLivenessWindowMeansReconnectWithBackoff) {
     session.on_message(welcome(), t);
     t += 600ms;
     ASSERT_TRUE(session.on_tick(t).close_socket);
-    EXPECT_EQ(session.next_deadline() - t, expected);
-    t = session.next_deadline();
+    // the reconnection, unless the still-trying line (2 s after the loss) comes first
+    EXPECT_EQ(session.next_deadline() - t, std::min(expected, Millis(2000)));
+    EXPECT_FALSE(session.on_tick(t + expected - 1ms).open_socket);
+    t += expected;
     ASSERT_TRUE(session.on_tick(t).open_socket);
   }
   // a connection that lives a whole liveness window resets it
@@ -226,6 +228,53 @@ TEST(WorkerSession, ConnectFailureWaitsWithBackoff) {
   EXPECT_TRUE(session.on_tick(kT0 + 250ms).open_socket);
   session.on_connect_failed(kT0 + 250ms);
   EXPECT_EQ(session.next_deadline(), kT0 + 750ms);
+}
+
+TEST(WorkerSession, WithoutAWelcomeItSaysItIsStillTryingWithGrowingGaps) {
+  WorkerSession session(settings());
+  session.start(kT0);
+  EXPECT_EQ(session.next_deadline(), kT0 + 1000ms);  // the next Hello comes first
+  // the lines come 2 s after the start, then after gaps that double up to a minute
+  std::vector<Millis> said;
+  for (auto t = kT0; t <= kT0 + 190s; t += 10ms) {
+    if (const Actions a = session.on_tick(t); a.still_trying) said.push_back(*a.still_trying);
+  }
+  EXPECT_EQ(said, (std::vector<Millis>{2s, 6s, 14s, 30s, 62s, 122s, 182s}));
+
+  // welcomed: nothing more; lost: the lines count from the loss
+  session.on_message(welcome(), kT0 + 200s);
+  EXPECT_FALSE(session.on_tick(kT0 + 200s + 500ms).still_trying);
+  ASSERT_TRUE(session.on_tick(kT0 + 200s + 600ms).close_socket);
+  EXPECT_FALSE(session.on_tick(kT0 + 200s + 2599ms).still_trying);
+  const Actions again = session.on_tick(kT0 + 200s + 2600ms);
+  ASSERT_TRUE(again.still_trying);
+  EXPECT_EQ(*again.still_trying, 2000ms);
+}
+
+TEST(WorkerSession, AFailedHandshakeGetsAFreshSocketAfterTheBackoff) {
+  WorkerSession session(settings());
+  session.start(kT0);
+  const Actions failed = session.on_handshake_failed(kT0 + 10ms);
+  EXPECT_TRUE(failed.close_socket);
+  EXPECT_FALSE(failed.exit_code);
+  EXPECT_EQ(session.state(), SessionState::kWaitingToReconnect);
+  EXPECT_EQ(session.next_deadline(), kT0 + 260ms);
+  const Actions reopened = session.on_tick(kT0 + 260ms);
+  EXPECT_TRUE(reopened.open_socket);
+  ASSERT_EQ(reopened.send.size(), 1u);
+  EXPECT_TRUE(reopened.send[0].has_hello());
+  // refused again: the backoff doubles, and the still-trying lines keep their clock
+  session.on_handshake_failed(kT0 + 300ms);
+  EXPECT_EQ(session.next_deadline(), kT0 + 800ms);
+  EXPECT_TRUE(session.on_handshake_failed(kT0 + 400ms).send.empty()) << "already waiting";
+  EXPECT_EQ(session.next_deadline(), kT0 + 800ms);
+  session.on_tick(kT0 + 800ms);
+  const Actions line = session.on_tick(kT0 + 2000ms);
+  ASSERT_TRUE(line.still_trying);
+  EXPECT_EQ(*line.still_trying, 2000ms);
+  // finished: nothing
+  session.on_stop(kT0 + 3s, "test");
+  EXPECT_FALSE(session.on_handshake_failed(kT0 + 4s).close_socket);
 }
 
 TEST(WorkerSession, JobIsDecodedAndHandedToTheRunner) {

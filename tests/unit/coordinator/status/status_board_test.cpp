@@ -341,6 +341,9 @@ TEST_F(StatusBoardTest, MetricsAreInPrometheusTextFormat) {
   dispatch.in_flight_jobs = 4;
   dispatch.dropped_frames = {{"wrong_fingerprint", 3}, {"bad_result", 1}};
   board.publish_dispatch(dispatch);
+  EXPECT_TRUE(board.metrics_text().find("\npoet_skipped_key_files_total 0\n") != std::string::npos);
+  board.count_skipped_key_file();
+  board.count_skipped_key_file();
   const std::string text = board.metrics_text();
 
   // every line is a HELP, a TYPE or a sample of the family just announced
@@ -377,6 +380,7 @@ TEST_F(StatusBoardTest, MetricsAreInPrometheusTextFormat) {
   EXPECT_EQ(values["poet_dropped_frames_total{reason=\"wrong_fingerprint\"}"], "3");
   EXPECT_EQ(values["poet_dropped_frames_total{reason=\"malformed\"}"], "0");   // every known reason, from the start
   EXPECT_EQ(values["poet_dropped_frames_total{reason=\"bad_result\"}"], "1");  // and any other counted
+  EXPECT_EQ(values["poet_skipped_key_files_total"], "2");
   EXPECT_TRUE(text.find("# TYPE poet_rollouts_total counter\n") != std::string::npos);
 }
 
