@@ -30,7 +30,8 @@ std::optional<std::string> handshake_failure(uint16_t event, uint32_t value, boo
         return "the peer at " + endpoint +
                " hung up during the security handshake: is the coordinator's public key (coordinator.key) the right "
                "one, and is it a poet-coordinator at all?";
-      return garbage + ": it hung up during the handshake";
+      // so does a CURVE coordinator whose reset overtakes its greeting: the worker cannot always tell the two apart
+      return garbage + ": it hung up during the handshake (a coordinator that requires keys may do the same)";
     default:
       return std::nullopt;
   }

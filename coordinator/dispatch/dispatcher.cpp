@@ -212,7 +212,8 @@ void Dispatcher::on_result(const WorkerId& id, const wire::Result& result, Milli
   w.view.last_heard = now;
   w.jobs.erase(j.id);
   if (result.has_error()) {
-    if (result.missing_theta()) {  // the worker dropped θs it was sent: send them again
+    // the worker dropped θs it was sent: send them again; the job comes with them, so a second time is an error
+    if (result.missing_theta() && j.missing_theta.insert(id).second) {
       w.thetas_sent.clear();
       if (j.leases.empty()) requeue(j, false);
       return;
@@ -292,6 +293,11 @@ void Dispatcher::on_answer(Worker& worker, Job& job, std::vector<RolloutResult> 
       accept(job, results, job.answers[0].worker, true);
       return;
     }
+    if (worker.view.local) {  // a worker this coordinator started decides at once
+      refuse_wrong(job.answers[0].worker);
+      accept(job, results, worker.view.id, true);
+      return;
+    }
     job.answers.push_back({worker.view.id, std::move(results)});
     if (job.leases.empty()) enqueue_front(job);  // a third worker decides
     return;
@@ -306,9 +312,9 @@ void Dispatcher::on_answer(Worker& worker, Job& job, std::vector<RolloutResult> 
     return;
   }
   verified_ += 1;
-  const WorkerId wrong = first ? job.answers[1].worker : job.answers[0].worker;
+  // refused first: its results held back must not become final with this job, which may be the batch's last
+  refuse_wrong(first ? job.answers[1].worker : job.answers[0].worker);
   accept(job, results, worker.view.id, true);  // ends the job
-  refuse_wrong(wrong);
 }
 
 void Dispatcher::accept(Job& job, const std::vector<RolloutResult>& results, const WorkerId& from, bool final_now) {
@@ -332,18 +338,9 @@ void Dispatcher::accept(Job& job, const std::vector<RolloutResult>& results, con
   for (auto& [id, worker] : workers_) worker.taken_back.erase(job.id);
   if (job.queued) remove_from_queue(job.id);
   jobs_.erase(job.id);
-  if (remaining_ == 0) {  // the batch is whole: what was held back is final now
-    for (size_t t = 0; t < reported_.size(); ++t) {
-      if (reported_[t]) continue;
-      size_t end = t;
-      while (end < reported_.size() && !reported_[end]) reported_[end++] = true;
-      ready_ranges_.emplace_back(t, end);
-      t = end - 1;
-    }
-  }
 }
 
-void Dispatcher::refuse_wrong(const WorkerId& id) {
+void Dispatcher::refuse_wrong(const WorkerId id) {  // a copy: the answers it may name are erased below
   if (!refused_.insert(id).second) return;
   // its answers awaiting a check are worth nothing: those jobs wait for answers from others
   for (auto& [job_id, job] : jobs_) {
@@ -361,10 +358,12 @@ void Dispatcher::refuse_wrong(const WorkerId& id) {
     remove_worker(id, /*died=*/false);
   }
   // every result of the batch taken from it is computed again, by others
+  // (those reported final were checked by another worker, or came from a local one: they stand)
+  const auto redo = [&](size_t t) { return result_from_[t] == id && have_result_[t] && !reported_[t]; };
   for (size_t t = 0; t < result_from_.size(); ++t) {
-    if (result_from_[t] != id || !have_result_[t]) continue;
+    if (!redo(t)) continue;
     size_t end = t;
-    while (end < result_from_.size() && result_from_[end] == id && have_result_[end]) {
+    while (end < result_from_.size() && redo(end)) {
       have_result_[end] = false;
       result_from_[end].clear();
       remaining_ += 1;
@@ -406,22 +405,29 @@ void Dispatcher::expire_leases(Millis now) {
   }
 }
 
-bool Dispatcher::may_take(const Job& job, const Worker& worker, bool proven_present) const {
+bool Dispatcher::proven_can_take(const Job& job) const {
+  return std::any_of(workers_.begin(), workers_.end(), [&](const auto& w) {
+    return w.second.ready && w.second.view.proven && may_take(job, w.second);
+  });
+}
+
+bool Dispatcher::may_take(const Job& job, const Worker& worker) const {
   const WorkerId& id = worker.view.id;
   if (job.failed.contains(id)) return false;
   if (std::any_of(job.leases.begin(), job.leases.end(), [&](const Lease& l) { return l.worker == id; })) return false;
   if (std::any_of(job.answers.begin(), job.answers.end(), [&](const Answer& a) { return a.worker == id; }))
     return false;
-  // a worker not proven takes no job another such worker failed while a proven one is connected, and no such
-  // check at all (eligible_checker)
-  return worker.view.proven || !job.tainted || (!proven_present && job.answers.empty());
+  if (worker.view.proven || !job.tainted) return true;
+  // a job a worker not proven failed goes to a worker not proven only when no proven one may take it, and never
+  // as a check (settle_unverifiable takes the answer as it is instead)
+  return job.answers.empty() && !proven_can_take(job);
 }
 
-Dispatcher::Job* Dispatcher::next_job(const Worker& worker, Millis now, bool proven_present) {
+Dispatcher::Job* Dispatcher::next_job(const Worker& worker, Millis now) {
   size_t scanned = 0;
   for (auto it = queue_.begin(); it != queue_.end() && scanned < kQueueScan; ++it, ++scanned) {
     Job& job = jobs_.at(*it);
-    if (!may_take(job, worker, proven_present)) continue;
+    if (!may_take(job, worker)) continue;
     queue_.erase(it);
     job.queued = false;
     return &job;
@@ -435,7 +441,7 @@ Dispatcher::Job* Dispatcher::next_job(const Worker& worker, Millis now, bool pro
     if (job.queued || job.leases.empty() || job.leases.size() >= static_cast<size_t>(settings_.max_leases)) continue;
     Millis newest = 0;
     for (const Lease& l : job.leases) newest = std::max(newest, l.since);
-    if (now - newest < lease || !may_take(job, worker, proven_present)) continue;
+    if (now - newest < lease || !may_take(job, worker)) continue;
     if (!worker.view.proven && job.tainted) continue;
     if (oldest == nullptr || newest < oldest_since) {
       oldest = &job;
@@ -447,21 +453,26 @@ Dispatcher::Job* Dispatcher::next_job(const Worker& worker, Millis now, bool pro
 }
 
 bool Dispatcher::eligible_checker(const Job& job, const Worker& worker) const {
-  // a check that a worker not proven already failed waits for proven workers only
-  return worker.ready && !worker.view.demoted && (worker.view.proven || !job.tainted) &&
-         !job.failed.contains(worker.view.id) &&
-         std::none_of(job.answers.begin(), job.answers.end(),
-                      [&](const Answer& a) { return a.worker == worker.view.id; });
+  return worker.ready && !worker.view.demoted && may_take(job, worker);
 }
 
 void Dispatcher::settle_unverifiable() {
   std::vector<uint64_t> settle;
+  disputes_waiting_ = 0;
+  const size_t proven = proven_workers();
   for (const uint64_t id : queue_) {
     const Job& job = jobs_.at(id);
-    if (job.answers.size() != 1) continue;
+    // proven workers that refused it may now be all there are (the others left): the error rule says again
+    if (!job.refusing.empty() && job.refusing.size() >= std::min<size_t>(2, std::max<size_t>(1, proven)) &&
+        !failure_)
+      failure_ = "workers refused " + describe_task(job.begin) + " (" + std::to_string(job.refusing.size()) +
+                 " of the " + std::to_string(proven) + " proven workers connected)";
+    if (job.answers.empty()) continue;
     const bool someone = std::any_of(workers_.begin(), workers_.end(),
                                      [&](const auto& w) { return eligible_checker(job, w.second); });
-    if (!someone) settle.push_back(id);
+    if (someone) continue;
+    if (job.answers.size() == 1) settle.push_back(id);
+    if (job.answers.size() == 2) disputes_waiting_ += 1;  // two workers disagree: a third must decide
   }
   for (const uint64_t id : settle) {
     Job& job = jobs_.at(id);
@@ -507,14 +518,12 @@ std::vector<Outgoing> Dispatcher::outgoing(Millis now) {
   // one job per worker per pass, so a batch spreads over every worker before any gets a second
   for (bool assigned = true; assigned && !failure_ && batch_active_;) {
     assigned = false;
-    bool proven_present = false;  // tainted jobs and checks wait for proven workers while any is connected
-    for (const auto& [id, worker] : workers_) proven_present = proven_present || (worker.ready && worker.view.proven);
     for (const WorkerId& id : arrival_) {
       Worker& worker = workers_.at(id);
       // a worker not yet proven holds one job at a time; a demoted one none
       const size_t room = worker.view.proven ? static_cast<size_t>(settings_.jobs_ahead) : 1;
       if (!worker.ready || worker.view.demoted || worker.jobs.size() >= room) continue;
-      Job* job = next_job(worker, now, proven_present);
+      Job* job = next_job(worker, now);
       if (job == nullptr) continue;
       send(*job, id, now, out);
       assigned = true;
@@ -589,7 +598,18 @@ std::vector<RolloutResult> Dispatcher::take_results() {
   return out;
 }
 
-std::vector<std::pair<size_t, size_t>> Dispatcher::take_ready_ranges() { return std::exchange(ready_ranges_, {}); }
+std::vector<std::pair<size_t, size_t>> Dispatcher::take_ready_ranges() {
+  if (batch_done()) {  // the batch is whole: what was held back for a check is final now
+    for (size_t t = 0; t < reported_.size(); ++t) {
+      if (reported_[t]) continue;
+      size_t end = t;
+      while (end < reported_.size() && !reported_[end]) reported_[end++] = true;
+      ready_ranges_.emplace_back(t, end);
+      t = end - 1;
+    }
+  }
+  return std::exchange(ready_ranges_, {});
+}
 
 size_t Dispatcher::ready_workers() const {
   return static_cast<size_t>(std::count_if(workers_.begin(), workers_.end(), [](const auto& w) {

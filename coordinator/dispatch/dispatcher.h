@@ -17,10 +17,13 @@
 // deterministic.
 //
 // Verification. With verify_fraction > 0, a seeded fraction of jobs answered by a worker that is not local is also
-// run on a second, different worker, and the results must match bit for bit; on a mismatch a third run decides.
-// The worker found wrong is refused from then on (Refused, and its Hellos), and every result of the batch taken
-// from it is computed again. Such results are reported final (take_ready_ranges) only at the end of the batch, as
-// a wrong one may still be found. A job that no other worker is there to check is taken unverified (counted).
+// run on a second, different worker, and the results must match bit for bit; on a mismatch a third run decides
+// (a local worker's answer decides at once). The worker found wrong is refused from then on (Refused, and its
+// Hellos), and every result of the batch taken from it and not yet reported final is computed again. Unchecked
+// results of workers that are not local are reported final (take_ready_ranges) only once the batch is whole, as a
+// wrong one may still be found. A job that no other worker is there to check is taken unverified (counted); one
+// whose two answers differ waits for a third worker (disputes_waiting).
+
 #include <cstdint>
 #include <deque>
 #include <map>
@@ -128,6 +131,8 @@ class Dispatcher {
   int64_t workers_demoted() const { return demoted_; }
   int64_t verified_jobs() const { return verified_; }      // jobs answered alike by two workers
   int64_t unverified_jobs() const { return unverified_; }  // chosen for a check no other worker was there to make
+  // Jobs two workers answered differently that wait for a third worker to decide (none connected may).
+  int64_t disputes_waiting() const { return disputes_waiting_; }
   // Workers refused for a wrong result, with their names, in order (the log and /metrics read them).
   const std::vector<std::string>& wrong_workers() const { return wrong_workers_; }
   void count_drop(const std::string& reason) { dropped_[reason] += 1; }
@@ -153,6 +158,7 @@ class Dispatcher {
     bool verify = false;        // chosen for a check: an answer from a worker that is not local needs a second
     std::set<WorkerId> failed;  // workers that returned an error or let their lease expire: not sent to them again
     std::set<WorkerId> refusing;  // proven workers that returned an error for it
+    std::set<WorkerId> missing_theta;  // workers that said they lacked its θ (once each is believed)
     std::vector<Answer> answers;  // answers awaiting a check: one, or two that differ
   };
   struct Worker {
@@ -176,16 +182,18 @@ class Dispatcher {
   // Takes jobs back from workers not proven whose lease ran out, and demotes them.
   void expire_leases(Millis now);
   // The queued job worker id may take, or a job to back up on it; nullptr when none.
-  Job* next_job(const Worker& worker, Millis now, bool proven_present);
-  bool may_take(const Job& job, const Worker& worker, bool proven_present) const;
+  Job* next_job(const Worker& worker, Millis now);
+  bool may_take(const Job& job, const Worker& worker) const;
+  bool proven_can_take(const Job& job) const;  // a ready proven worker may take it
   // An error Result: the job goes back, and the run stops only when proven workers agree.
   void on_error(Worker& worker, Job& job, const std::string& error);
   // A valid answer: taken, held for a check, compared, or deciding between two.
   void on_answer(Worker& worker, Job& job, std::vector<RolloutResult> results);
   void accept(Job& job, const std::vector<RolloutResult>& results, const WorkerId& from, bool final_now);
   // Refuses a worker found wrong: removed, its Hellos refused, and the batch's results taken from it redone.
-  void refuse_wrong(const WorkerId& id);
-  // Jobs awaiting a second answer that no connected worker can give are taken as they are.
+  void refuse_wrong(WorkerId id);
+  // Jobs awaiting a second answer that no connected worker can give are taken as they are; those awaiting a
+  // third are counted (disputes_waiting); jobs refused by every proven worker connected stop the run.
   void settle_unverifiable();
   bool eligible_checker(const Job& job, const Worker& worker) const;
   void demote(Worker& worker);
@@ -226,6 +234,7 @@ class Dispatcher {
   int64_t demoted_ = 0;
   int64_t verified_ = 0;
   int64_t unverified_ = 0;
+  int64_t disputes_waiting_ = 0;
   std::set<WorkerId> refused_;  // found wrong: their Hellos and messages are refused
   std::vector<std::string> wrong_workers_;
   std::vector<Outgoing> refusals_;  // Refused messages to send

@@ -196,6 +196,11 @@ void RemoteEvaluator::loop() {
                      "no more jobs ({} so far){}",
                      demoted, dispatcher_.workers_demoted(), LogThrottle::held_back_note(*held_back));
     }
+    if (dispatcher_.disputes_waiting() > 0 && now - last_dispute_note_ >= 10'000) {  // while it lasts
+      spdlog::warn("{} job(s) answered differently by two workers wait for a third worker to decide",
+                   dispatcher_.disputes_waiting());
+      last_dispute_note_ = now;
+    }
     for (size_t i = wrong_before; i < dispatcher_.wrong_workers().size(); ++i)
       spdlog::error("worker {} returned results that two other workers did not: refused, and its results of this "
                     "batch are computed again",

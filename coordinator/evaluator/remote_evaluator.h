@@ -96,6 +96,7 @@ class RemoteEvaluator final : public Evaluator {
   LogThrottle log_lost_{5};
   LogThrottle log_backups_{1};
   LogThrottle log_demoted_{1};
+  Millis last_dispute_note_ = 0;
   LogThrottle log_refused_{5};
   std::thread thread_;
 };

@@ -7,7 +7,9 @@
 
 #include <gtest/gtest.h>
 
+#include <optional>
 #include <set>
+#include <span>
 
 #include "envgen/named_courses.h"
 #include "policy/mlp.h"
@@ -520,6 +522,100 @@ TEST(Dispatcher, ALocalWorkersAnswersAreNotChecked) {
   ASSERT_TRUE(d.batch_done());
   const std::vector<RolloutResult> results = d.take_results();
   for (size_t i = 0; i < results.size(); ++i) EXPECT_EQ(results[i].total_reward, static_cast<double>(i));
+}
+
+TEST(Dispatcher, WhatIsReportedFinalNeverChangesWhateverTheOrderOfAnswersAndALiar) {
+  // a liar among three workers, half the jobs checked, answers in a different order for each seed: a result
+  // reported final (take_ready_ranges) is reported once and is the one the batch returns
+  for (uint64_t seed = 0; seed < 40; ++seed) {
+    DispatchSettings s = settings();
+    s.verify_fraction = 0.5;
+    s.verify_seed = seed;
+    Dispatcher d(s);
+    for (const char* id : {"liar", "b", "c"}) join(d, id, stranger_hello(id), 0);
+    d.start_batch(batch(24));
+    RandomStream order(stream_key(seed, "answer-order"));
+    std::vector<Outgoing> held;
+    std::vector<std::optional<double>> reported(24);
+    Millis now = 1;
+    for (int round = 0; round < 2000 && !d.batch_done() && !d.failure(); ++round) {
+      for (Outgoing& o : jobs_in(d.outgoing(now))) held.push_back(std::move(o));
+      if (!held.empty()) {  // one held job answered, chosen at random
+        const size_t k =
+            held.size() == 1 ? 0 : static_cast<size_t>(order.uniform_int(0, static_cast<int64_t>(held.size()) - 1));
+        const Outgoing o = held[k];
+        held.erase(held.begin() + static_cast<std::ptrdiff_t>(k));
+        wire::Result r = answer(o.message.job());
+        if (o.worker == "liar")
+          for (wire::TaskResult& t : *r.mutable_results()) t.set_total_reward(t.total_reward() + 1);
+        d.on_result(o.worker, r, now);
+      }
+      for (const auto& [first, end] : d.take_ready_ranges()) {
+        const std::span<const RolloutResult> values = d.results(first, end);
+        for (size_t t = first; t < end; ++t) {
+          ASSERT_FALSE(reported[t]) << "seed " << seed << ": task " << t << " reported twice";
+          reported[t] = values[t - first].total_reward;
+        }
+      }
+      now += 10;
+      for (const WorkerView& w : d.workers()) d.heard_from(w.id, now);
+    }
+    ASSERT_FALSE(d.failure()) << "seed " << seed << ": " << *d.failure();
+    ASSERT_TRUE(d.batch_done()) << "seed " << seed << ": queue " << d.queue_depth() << ", in flight " << d.in_flight()
+                                << ", workers " << d.worker_count() << ", held " << held.size() << ", disputes "
+                                << d.disputes_waiting() << ", wrong " << d.wrong_workers().size() << " "
+                                << (d.wrong_workers().empty() ? "" : d.wrong_workers()[0]);
+    for (const auto& [first, end] : d.take_ready_ranges())
+      for (size_t t = first; t < end; ++t) reported[t] = d.results(first, end)[t - first].total_reward;
+    const std::vector<RolloutResult> results = d.take_results();
+    for (size_t t = 0; t < results.size(); ++t) {
+      ASSERT_TRUE(reported[t]) << "seed " << seed << ": task " << t << " never reported";
+      EXPECT_EQ(*reported[t], results[t].total_reward) << "seed " << seed << ": task " << t;
+    }
+  }
+}
+
+TEST(Dispatcher, AnErrorStopsTheRunWhenTheWorkersThatRefusedAreAllThatIsLeft) {
+  Dispatcher d(settings());
+  join(d, "p", hello(), 0);
+  join(d, "q", hello(), 0);
+  d.start_batch(batch(1));
+  const std::vector<Outgoing> jobs = jobs_in(d.outgoing(1));
+  ASSERT_EQ(jobs.size(), 1u);
+  wire::Result refusal;
+  refusal.set_job_id(jobs[0].message.job().job_id());
+  refusal.set_error("task refused");
+  d.on_result(jobs[0].worker, refusal, 2);
+  EXPECT_FALSE(d.failure());
+  d.remove_worker(jobs[0].worker == "p" ? "q" : "p", /*died=*/false);  // the other leaves before it answers
+  d.outgoing(3);
+  ASSERT_TRUE(d.failure()) << "the job would wait forever";
+  EXPECT_TRUE(contains(*d.failure(), "1 of the 1 proven workers")) << *d.failure();
+}
+
+TEST(Dispatcher, APeerSayingItLacksTheThetaOfAJobSentWithItIsRefusedTheJob) {
+  Dispatcher d(settings());
+  join(d, "peer", stranger_hello("peer"), 0);
+  join(d, "real", hello(), 0);
+  d.start_batch(batch(8));
+  Millis now = 1;
+  std::vector<Outgoing> for_real;
+  for (int round = 0; round < 3; ++round) {
+    for (const Outgoing& o : jobs_in(d.outgoing(now++))) {
+      if (o.worker == "real") {
+        for_real.push_back(o);
+        continue;
+      }
+      wire::Result missing;
+      missing.set_job_id(o.message.job().job_id());
+      missing.set_error("no θ");
+      missing.set_missing_theta(true);
+      d.on_result("peer", missing, now);
+    }
+  }
+  EXPECT_EQ(d.workers_demoted(), 1) << "believed once, then an error";
+  drive(d, for_real, now);
+  EXPECT_TRUE(d.batch_done());
 }
 
 TEST(Dispatcher, AFailedSendCountsTheWorkerAsLost) {
