@@ -44,6 +44,7 @@
 #include "status/status_server.h"
 #include "stop_signals.h"
 #include "tool_flags.h"
+#include "wire_timing.h"
 
 namespace poet {
 namespace {
@@ -61,7 +62,7 @@ struct Options {
   std::string log_level = "info";
   std::string listen;     // workers connect here; empty: rollouts on threads of this process
   int local_workers = 0;  // worker processes to start and supervise on this machine
-  int liveness_ms = 5000;
+  int liveness_ms = wire_timing::kLivenessMs;
   std::string worker_binary;
   std::vector<std::string> worker_args;           // passed to every local worker (tests' fault switches)
   std::string status_address = "127.0.0.1:8580";  // the HTTP status socket; empty: none
@@ -88,6 +89,14 @@ std::string describe_event(const nlohmann::ordered_json& event) {
     text += " " + key + "=" + (value.is_string() ? value.get<std::string>() : value.dump(-1, ' ', false, kReplace));
   }
   return text;
+}
+
+// The level an event is logged at: the events that change the population, and one line per reproduction and
+// transfer round, at info; each mutation attempt ("child": dozens a reproduction) at debug (--verbose).
+spdlog::level::level_enum log_level_of(const nlohmann::ordered_json& event) {
+  const auto name = event.is_object() ? event.find("event") : event.end();
+  const bool attempt = event.is_object() && name != event.end() && name->is_string() && *name == "child";
+  return attempt ? spdlog::level::debug : spdlog::level::info;
 }
 
 void print_summary(const RunState& state, double wall_seconds) {
@@ -237,7 +246,7 @@ std::optional<Rollouts> make_rollouts(const Options& options, StopSignals& signa
   }
   DispatchSettings settings;
   settings.liveness_ms = options.liveness_ms;
-  settings.heartbeat_ms = std::max(options.liveness_ms / 5, 1);
+  settings.heartbeat_ms = wire_timing::heartbeat_ms(options.liveness_ms);
   settings.fingerprint_digest = build_fingerprint_digest();
   settings.local_token = make_local_token();
   settings.verify_fraction = options.verify_fraction.value_or(
@@ -387,7 +396,7 @@ int run(const Options& options, StopSignals& signals) {
     }
     dir.append(report);
     if (!report.events.empty() && spdlog::should_log(spdlog::level::info)) progress.clear();
-    for (const auto& event : report.events) spdlog::info("{}", describe_event(event));
+    for (const auto& event : report.events) spdlog::log(log_level_of(event), "{}", describe_event(event));
     if (state.next_iteration % interval == 0 || run_complete(state) || signals.stop_requested()) {
       if (!save()) return kExitError;
     }
@@ -443,7 +452,8 @@ int main(int argc, char** argv) {
                  "--local-workers: a free loopback port");
   app.add_option("--local-workers", options.local_workers, "Start and supervise N poet-worker processes here")
       ->check(CLI::Range(0, 256));
-  app.add_option("--liveness-ms", options.liveness_ms, "A worker silent this long is dead (default 5000)")
+  app.add_option("--liveness-ms", options.liveness_ms, "A worker silent this long is dead")
+      ->capture_default_str()
       ->check(CLI::Range(50, 600'000));
   double verify_fraction = 0;
   auto* verify_option =
@@ -465,10 +475,14 @@ int main(int argc, char** argv) {
                  "CURVE authentication: DIR holds coordinator.key(_secret) and authorized/*.key, the workers' public "
                  "keys (made by `poetctl keygen`); workers without an authorised key get no connection")
       ->check(CLI::ExistingDirectory);
-  app.add_option("--log-level", options.log_level, "trace, debug, info (default), warn, error or off")
-      ->check(CLI::IsMember({"trace", "debug", "info", "warn", "error", "off"}));
+  auto* log_level = app.add_option("--log-level", options.log_level, "trace, debug, info (default), warn, error or off")
+                        ->check(CLI::IsMember({"trace", "debug", "info", "warn", "error", "off"}));
+  bool verbose = false;
+  app.add_flag("--verbose", verbose, "Log every mutation attempt and the dispatcher's details (--log-level debug)")
+      ->excludes(log_level);
   poet::add_fingerprint_flag(app);
   if (const std::optional<int> code = poet::parse_command_line(app, argc, argv)) return *code;
+  if (verbose) options.log_level = "debug";
   if (iterations_option->count() > 0) options.iterations = iterations;
   if (verify_option->count() > 0) options.verify_fraction = verify_fraction;
 

@@ -13,8 +13,8 @@ namespace {
 
 using namespace std::chrono_literals;
 
-constexpr Millis kDefaultHeartbeat = 1000ms;
-constexpr Millis kDefaultLiveness = 5000ms;
+constexpr Millis kDefaultHeartbeat{wire_timing::kHeartbeatMs};
+constexpr Millis kDefaultLiveness{wire_timing::kLivenessMs};
 constexpr Millis kMinTiming = 10ms;
 constexpr Millis kMaxTiming = 3'600'000ms;
 constexpr auto kDropLogInterval = 1s;

@@ -31,6 +31,7 @@
 #include "job_runner.h"
 #include "rollout_task_proto.h"
 #include "wire.pb.h"
+#include "wire_timing.h"
 
 namespace poet::worker {
 
@@ -152,8 +153,8 @@ class WorkerSession {
 
   SessionSettings settings_;
   SessionState state_ = SessionState::kGreeting;
-  Millis heartbeat_{1000};  // from Welcome
-  Millis liveness_{5000};   // from Welcome
+  Millis heartbeat_{wire_timing::kHeartbeatMs};  // from Welcome
+  Millis liveness_{wire_timing::kLivenessMs};    // from Welcome
   Millis backoff_;
   TimePoint next_hello_{};
   TimePoint last_sent_{};

@@ -35,18 +35,18 @@ constexpr size_t kQueueScan = 4096;
 wire::CoordinatorMessage Dispatcher::on_hello(const WorkerId& id, const wire::Hello& hello, Millis now) {
   wire::CoordinatorMessage reply;
   if (refused_.contains(id)) {
-    count_drop("wrong_worker");
+    count_drop(DropReason::kWrongWorker);
     reply.mutable_refused()->set_reason("this worker returned wrong results");
     return reply;
   }
   if (hello.protocol_version() != wire::PROTOCOL_VERSION) {
-    count_drop("wrong_version");
+    count_drop(DropReason::kWrongVersion);
     reply.mutable_refused()->set_reason("protocol version " + std::to_string(hello.protocol_version()) +
                                         ", the coordinator speaks " + std::to_string(wire::PROTOCOL_VERSION));
     return reply;
   }
   if (settings_.fingerprint_digest != 0 && hello.fingerprint_digest() != settings_.fingerprint_digest) {
-    count_drop("wrong_fingerprint");
+    count_drop(DropReason::kWrongFingerprint);
     reply.mutable_refused()->set_reason("build fingerprint " + hex64(hello.fingerprint_digest()) +
                                         " differs from the coordinator's " + hex64(settings_.fingerprint_digest) +
                                         ": its returns would differ (compare --fingerprint of both binaries)");
@@ -54,7 +54,7 @@ wire::CoordinatorMessage Dispatcher::on_hello(const WorkerId& id, const wire::He
   }
   if (workers_.contains(id)) remove_worker(id, /*died=*/false);  // said Hello again: a fresh start
   if (workers_.size() >= settings_.max_workers) {
-    count_drop("worker_limit");
+    count_drop(DropReason::kWorkerLimit);
     reply.mutable_refused()->set_reason("the coordinator already has " + std::to_string(workers_.size()) +
                                         " workers, its limit");
     return reply;
@@ -201,8 +201,8 @@ void Dispatcher::on_result(const WorkerId& id, const wire::Result& result, Milli
   const bool taken_back = worker != workers_.end() && worker->second.taken_back.erase(result.job_id()) > 0;
   if (worker == workers_.end() || job == jobs_.end() || (!holds && !taken_back)) {
     // a job its backup finished first; or a stranger, or a job this worker no longer holds (re-queued, or done)
-    count_drop(worker != workers_.end() && worker->second.beaten.erase(result.job_id()) ? "late_result"
-                                                                                        : "unexpected_result");
+    count_drop(worker != workers_.end() && worker->second.beaten.erase(result.job_id()) ? DropReason::kLateResult
+                                                                                        : DropReason::kUnexpectedResult);
     return;
   }
   Worker& w = worker->second;
@@ -230,7 +230,7 @@ void Dispatcher::on_result(const WorkerId& id, const wire::Result& result, Milli
     valid = r.has_value();
   }
   if (!valid) {  // a worker that sends nonsense is treated as one that died with the job
-    count_drop("bad_result");
+    count_drop(DropReason::kBadResult);
     if (!w.view.proven) demote(w);
     j.leases.push_back({id, now});  // released below as by a death
     release(j.id, w, /*died=*/true);
@@ -256,7 +256,7 @@ void Dispatcher::on_error(Worker& worker, Job& job, const std::string& error) {
   job.failed.insert(worker.view.id);
   if (!worker.view.proven) {
     // a peer that never returned a result cannot stop the run: the job goes to a proven worker
-    count_drop("error_from_unproven");
+    count_drop(DropReason::kErrorFromUnproven);
     demote(worker);
     job.tainted = true;
     if (job.leases.empty()) requeue(job, false);

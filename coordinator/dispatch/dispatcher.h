@@ -35,7 +35,9 @@
 #include <utility>
 #include <vector>
 
+#include "dispatch/drop_reason.h"
 #include "rollout_task.h"
+#include "wire_timing.h"
 #include "wire.pb.h"
 
 namespace poet {
@@ -44,8 +46,9 @@ using Millis = int64_t;
 using WorkerId = std::string;  // the ROUTER's routing id of the worker's socket
 
 struct DispatchSettings {
-  Millis heartbeat_ms = 1000;  // send something to each worker at least this often (and ask the same of them)
-  Millis liveness_ms = 5000;   // a worker silent this long is dead; its jobs go back to the queue
+  // send something to each worker at least this often (and ask the same of them)
+  Millis heartbeat_ms = wire_timing::kHeartbeatMs;
+  Millis liveness_ms = wire_timing::kLivenessMs;  // a worker silent this long is dead; its jobs go back to the queue
   int max_attempts = 3;        // a task whose worker died this many times stops the run (the first + 2 retries)
   int jobs_ahead = 2;          // jobs a worker holds at once: one running, one arriving
   int max_chunk = 64;          // tasks per job at most
@@ -122,7 +125,7 @@ class Dispatcher {
   int64_t queue_depth() const { return static_cast<int64_t>(queue_.size()); }
   int64_t in_flight() const;
   std::vector<WorkerView> workers() const;
-  // Frames and Hellos refused or dropped, by reason (status_board.h's kDropReasonNames).
+  // Frames and Hellos refused or dropped, by reason's name (drop_reason.h).
   const std::map<std::string, int64_t>& dropped() const { return dropped_; }
   int64_t workers_joined() const { return joined_; }  // Welcomes given
   int64_t workers_lost() const { return lost_; }      // workers removed for silence or a failed send
@@ -135,7 +138,7 @@ class Dispatcher {
   int64_t disputes_waiting() const { return disputes_waiting_; }
   // Workers refused for a wrong result, with their names, in order (the log and /metrics read them).
   const std::vector<std::string>& wrong_workers() const { return wrong_workers_; }
-  void count_drop(const std::string& reason) { dropped_[reason] += 1; }
+  void count_drop(DropReason reason) { dropped_[name(reason)] += 1; }
   const DispatchSettings& settings() const { return settings_; }
 
  private:

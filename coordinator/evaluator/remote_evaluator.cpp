@@ -166,7 +166,7 @@ void RemoteEvaluator::loop() {
     std::lock_guard lock(mutex_);
     if (authenticator_) {
       authenticator_->answer_all([&](const std::string& key, const std::string& reason) {
-        note_drop("unauthorised_key", "a worker with CURVE key " + key + " (" + reason + ")");
+        note_drop(DropReason::kUnauthorisedKey, "a worker with CURVE key " + key + " (" + reason + ")");
       });
     }
     const int64_t demoted_before = dispatcher_.workers_demoted();
@@ -232,11 +232,11 @@ void RemoteEvaluator::receive_all(Millis now) {
     }
     const std::string id = peer.to_string();
     if (frames.size() != 1) {
-      note_drop("malformed", "peer " + printable(id));
+      note_drop(DropReason::kMalformed, "peer " + printable(id));
       continue;
     }
     if (frames[0].size() > kMaxWorkerMessageBytes) {
-      note_drop("oversized", "peer " + printable(id));
+      note_drop(DropReason::kOversized, "peer " + printable(id));
       continue;
     }
     handle(id, frames[0].to_string(), now);
@@ -246,7 +246,7 @@ void RemoteEvaluator::receive_all(Millis now) {
 void RemoteEvaluator::handle(const std::string& peer, const std::string& payload, Millis now) {
   wire::WorkerMessage message;
   if (!message.ParseFromString(payload) || message.kind_case() == wire::WorkerMessage::KIND_NOT_SET) {
-    note_drop("malformed", "peer " + printable(peer));
+    note_drop(DropReason::kMalformed, "peer " + printable(peer));
     return;
   }
   if (shutting_down_) {  // whoever it is: the run is over
@@ -275,7 +275,7 @@ void RemoteEvaluator::handle(const std::string& peer, const std::string& payload
     case wire::WorkerMessage::kHeartbeat:
       if (!dispatcher_.heard_from(peer, now)) {
         // a worker of an earlier coordinator on this port, or one counted dead: it must start afresh
-        note_drop("unknown_peer", "peer " + printable(peer));
+        note_drop(DropReason::kUnknownPeer, "peer " + printable(peer));
         Outgoing rejoin{peer, {}};
         rejoin.message.mutable_rejoin()->set_reason("this coordinator does not know the worker: say Hello again");
         send(rejoin);
@@ -291,7 +291,7 @@ void RemoteEvaluator::handle(const std::string& peer, const std::string& payload
                      LogThrottle::held_back_note(*held_back));
       return;
     default:
-      note_drop("malformed", "peer " + printable(peer));
+      note_drop(DropReason::kMalformed, "peer " + printable(peer));
   }
 }
 
@@ -311,11 +311,11 @@ void RemoteEvaluator::send(const Outgoing& message) {
   }
 }
 
-void RemoteEvaluator::note_drop(const std::string& reason, const std::string& who) {
+void RemoteEvaluator::note_drop(DropReason reason, const std::string& who) {
   dispatcher_.count_drop(reason);
   const auto held_back = log_drops_[reason].admit(now_ms());
   if (!held_back) return;
-  spdlog::warn("refused {}: {} ({} so far){}", who, reason, dispatcher_.dropped().at(reason),
+  spdlog::warn("refused {}: {} ({} so far){}", who, name(reason), dispatcher_.dropped().at(name(reason)),
                LogThrottle::held_back_note(*held_back));
 }
 

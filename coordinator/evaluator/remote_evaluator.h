@@ -71,7 +71,7 @@ class RemoteEvaluator final : public Evaluator {
   void receive_all(Millis now);
   void handle(const std::string& peer, const std::string& payload, Millis now);
   void send(const Outgoing& message);
-  void note_drop(const std::string& reason, const std::string& who);  // counts, and logs at most once a second
+  void note_drop(DropReason reason, const std::string& who);  // counts, and logs at most once a second
 
   std::unique_ptr<zmq::context_t> context_;
   std::unique_ptr<CurveAuthenticator> authenticator_;  // with CURVE only
@@ -90,7 +90,7 @@ class RemoteEvaluator final : public Evaluator {
   bool shutdown_requested_ = false;
   bool shutting_down_ = false;  // Shutdowns sent: every message is answered with another
   // the log of a flood of peers: a few lines a second of each kind
-  std::map<std::string, LogThrottle> log_drops_;  // by reason, one a second
+  std::map<DropReason, LogThrottle> log_drops_;  // by reason, one a second
   LogThrottle log_joined_{5};
   LogThrottle log_left_{5};
   LogThrottle log_lost_{5};

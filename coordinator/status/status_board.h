@@ -20,6 +20,7 @@
 #include <string_view>
 #include <vector>
 
+#include "dispatch/drop_reason.h"
 #include "expected.h"
 #include "poet/run_state.h"
 #include "status.pb.h"
@@ -43,7 +44,7 @@ struct DispatchSnapshot {
   std::vector<WorkerSnapshot> workers;
   int64_t queue_depth = 0;
   int64_t in_flight_jobs = 0;
-  std::map<std::string, int64_t> dropped_frames;  // by reason (kDropReasonNames and any other the dispatcher counts)
+  std::map<std::string, int64_t> dropped_frames;  // by reason (drop_reason.h)
   int64_t workers_joined = 0;                     // Welcomes given since the coordinator started
   int64_t workers_lost = 0;                       // workers removed for silence or a failed send
   int64_t backup_jobs = 0;                        // jobs also sent to a second worker (dispatcher.h)
@@ -52,22 +53,6 @@ struct DispatchSnapshot {
   int64_t verified_jobs = 0;                      // jobs two workers answered alike
   int64_t unverified_jobs = 0;                    // jobs chosen for a check no other worker was there to make
   int64_t wrong_workers = 0;                      // workers refused for wrong results
-};
-
-// The drop reasons /metrics always lists (as 0 until counted), so a dashboard's series exist from the start.
-inline constexpr const char* kDropReasonNames[] = {
-    "malformed",          // not one WorkerMessage in one frame
-    "oversized",          // a frame over the coordinator's cap
-    "wrong_version",      // a Hello of another protocol version
-    "wrong_fingerprint",  // a Hello of another build
-    "worker_limit",       // a Hello beyond the coordinator's limit of workers
-    "unknown_peer",       // a Heartbeat or Result from a peer that never said Hello
-    "unexpected_result",  // a Result for a job the peer does not hold
-    "late_result",        // a Result for a job its backup on another worker finished first
-    "bad_result",         // a Result of the wrong size or with non-finite numbers
-    "unauthorised_key",   // CURVE: a handshake with a key not in authorized/
-    "error_from_unproven",  // an error Result from a worker that never returned a valid one
-    "wrong_worker",       // a Hello from a worker refused for wrong results
 };
 
 // What the coordinator is doing, for /status's "state".
