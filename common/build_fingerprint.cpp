@@ -4,11 +4,11 @@
 
 #include <bit>
 #include <cfloat>
-#include <cstdio>
 #include <initializer_list>
 
 #include "rng.h"
 #include "walker/walker_constants.h"
+#include "text_format.h"
 
 // Each guard refuses a build whose arithmetic could differ from the coordinator's or a worker's.
 #ifdef __FAST_MATH__
@@ -69,12 +69,6 @@ constexpr uint64_t walker_constants_digest() {
   return d.value();
 }
 
-std::string hex16(uint64_t x) {
-  char buf[17];
-  std::snprintf(buf, sizeof buf, "%016llx", static_cast<unsigned long long>(x));
-  return buf;
-}
-
 const char* compiler() {
 #if defined(__clang__)
   return "clang " __clang_version__;
@@ -106,7 +100,7 @@ std::string fingerprint_body() {
   // the loaded library's own b2_version, then the package built against: Debian's 2.4.1 library reports 2.4.0
   text += "box2d: " + std::to_string(b2_version.major) + "." + std::to_string(b2_version.minor) + "." +
           std::to_string(b2_version.revision) + " (b2_version; package " POET_BOX2D_PACKAGE_VERSION ")\n";
-  text += "walker: " + hex16(walker_constants_digest()) + "\n";
+  text += "walker: " + hex_text(walker_constants_digest()) + "\n";
   return text;
 }
 
@@ -117,10 +111,10 @@ uint64_t build_fingerprint_digest() {
   return digest;
 }
 
-std::string build_fingerprint() { return fingerprint_body() + "digest: " + hex16(build_fingerprint_digest()) + "\n"; }
+std::string build_fingerprint() { return fingerprint_body() + "digest: " + hex_text(build_fingerprint_digest()) + "\n"; }
 
 std::string build_fingerprint_line() {
-  return "digest " + hex16(build_fingerprint_digest()) + ", float mode " POET_FLOAT_MODE;
+  return "digest " + hex_text(build_fingerprint_digest()) + ", float mode " POET_FLOAT_MODE;
 }
 
 }  // namespace poet

@@ -1,12 +1,12 @@
 #include "envgen/env_proto.h"
 
-#include <charconv>
 #include <optional>
 #include <string>
 #include <string_view>
 #include <utility>
 
 #include "utf8.h"
+#include "text_format.h"
 
 namespace poet {
 namespace {
@@ -37,23 +37,17 @@ constexpr IntervalField kIntervalFields[] = {
      &pb::EnvEncoding::mutable_stair_steps, &EnvEncoding::stair_steps},
 };
 
-std::string number(double value) {
-  char buffer[64];
-  const auto [end, ec] = std::to_chars(buffer, buffer + sizeof buffer, value);
-  return std::string(buffer, end);
-}
-
 // validate()'s message in the schema's terms: it speaks the reference's JSON key for roughness, and it does not
 // quote the value, which a reader of a config file needs to find the mistake.
 std::string schema_message(std::string message, const EnvEncoding& encoding) {
   constexpr std::string_view kJsonName = "ground_roughness";
   if (message.starts_with(kJsonName)) message.replace(0, kJsonName.size(), "roughness");
   const std::string_view field = std::string_view(message).substr(0, message.find(':'));
-  if (field == "roughness") return message + " (got " + number(encoding.roughness) + ")";
+  if (field == "roughness") return message + " (got " + number_text(encoding.roughness) + ")";
   for (const IntervalField& f : kIntervalFields) {
     const std::optional<Interval>& interval = encoding.*f.member;
     if (field == f.name && interval)
-      return message + " (got [" + number(interval->lo) + ", " + number(interval->hi) + "])";
+      return message + " (got [" + number_text(interval->lo) + ", " + number_text(interval->hi) + "])";
   }
   return message;
 }

@@ -6,7 +6,6 @@
 #include <google/protobuf/message.h>
 #include <google/protobuf/text_format.h>
 
-#include <charconv>
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -16,6 +15,7 @@
 
 #include "envgen/env_proto.h"
 #include "text_file.h"
+#include "text_format.h"
 
 namespace poet {
 namespace {
@@ -45,12 +45,6 @@ class FirstErrorCollector : public protobuf::io::ErrorCollector {
 };
 
 // Shortest form that reads back to the same double, so a message shows exactly the value that was refused.
-std::string number(double value) {
-  char buffer[64];
-  const auto [end, ec] = std::to_chars(buffer, buffer + sizeof buffer, value);
-  return std::string(buffer, end);
-}
-std::string number(int64_t value) { return std::to_string(value); }
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
@@ -64,9 +58,9 @@ struct Range {
   bool contains(double v) const { return (lo_open ? v > lo : v >= lo) && (hi_open ? v < hi : v <= hi); }
   std::string describe() const {
     if (hi == kInf)
-      return lo == -kInf ? "must be a finite number" : (lo_open ? "must be > " : "must be >= ") + number(lo);
-    if (lo == -kInf) return (hi_open ? "must be < " : "must be <= ") + number(hi);
-    return std::string("must be in ") + (lo_open ? "(" : "[") + number(lo) + ", " + number(hi) + (hi_open ? ")" : "]");
+      return lo == -kInf ? "must be a finite number" : (lo_open ? "must be > " : "must be >= ") + number_text(lo);
+    if (lo == -kInf) return (hi_open ? "must be < " : "must be <= ") + number_text(hi);
+    return std::string("must be in ") + (lo_open ? "(" : "[") + number_text(lo) + ", " + number_text(hi) + (hi_open ? ")" : "]");
   }
 };
 
@@ -85,28 +79,28 @@ class Checks {
   void real(std::string_view path, double value, Range range) {
     if (problem_) return;
     if (!std::isfinite(value)) {
-      fail(path, "must be a finite number (got " + number(value) + ")");
+      fail(path, "must be a finite number (got " + number_text(value) + ")");
     } else if (!range.contains(value)) {
-      fail(path, range.describe() + " (got " + number(value) + ")");
+      fail(path, range.describe() + " (got " + number_text(value) + ")");
     }
   }
   void integer(std::string_view path, int64_t value, int64_t lo, int64_t hi = std::numeric_limits<int64_t>::max()) {
     if (problem_ || (value >= lo && value <= hi)) return;
     const std::string rule = hi == std::numeric_limits<int64_t>::max()
-                                 ? "must be >= " + number(lo)
-                                 : "must be in [" + number(lo) + ", " + number(hi) + "]";
-    fail(path, rule + " (got " + number(value) + ")");
+                                 ? "must be >= " + number_text(lo)
+                                 : "must be in [" + number_text(lo) + ", " + number_text(hi) + "]";
+    fail(path, rule + " (got " + number_text(value) + ")");
   }
   // Two fields that must be ordered (a decay's floor and its starting value; mc_low and mc_high): a config that
   // breaks the order contradicts itself, so the message names both fields.
   void at_most(std::string_view path, double value, std::string_view other_path, double other) {
     if (problem_ || value <= other) return;
-    fail(path, number(value) + " exceeds " + std::string(other_path) + " " + number(other));
+    fail(path, number_text(value) + " exceeds " + std::string(other_path) + " " + number_text(other));
   }
   template <class IsValid>
   void known_enum(std::string_view path, int value, IsValid is_valid) {
     if (problem_ || is_valid(value)) return;
-    fail(path, "unknown value " + number(int64_t{value}));
+    fail(path, "unknown value " + number_text(int64_t{value}));
   }
   void fail(std::string_view path, const std::string& what) { fail_message(std::string(path) + ": " + what); }
   void fail_message(std::string message) {
@@ -190,12 +184,12 @@ void check_batch_size(Checks& c, const pb::RunConfig& config) {
   if (c.failed() || (mode != pb::RunConfig::POET && mode != pb::RunConfig::POET_WITHOUT_TRANSFER)) return;
   const int64_t n = config.es().perturbations();  // both within their bounds here, so no product overflows
   const int64_t pairs = config.poet().active_cap();
-  const std::string too_many = " rollouts in one batch, more than " + number(kMaxBatchRollouts);
+  const std::string too_many = " rollouts in one batch, more than " + number_text(kMaxBatchRollouts);
   // step 2: one ES step of 2n rollouts for every active pair
   const int64_t es_batch = 2 * n * pairs;
   if (es_batch > kMaxBatchRollouts) {
-    c.fail("es.perturbations", "2 · es.perturbations · poet.active_cap = 2 · " + number(n) + " · " + number(pairs) +
-                                   " = " + number(es_batch) + too_many);
+    c.fail("es.perturbations", "2 · es.perturbations · poet.active_cap = 2 · " + number_text(n) + " · " + number_text(pairs) +
+                                   " = " + number_text(es_batch) + too_many);
     return;
   }
   // step 3 (mode POET only): every ordered pair of active pairs gets a proposal's ES step and a direct
@@ -207,8 +201,8 @@ void check_batch_size(Checks& c, const pb::RunConfig& config) {
     c.fail("poet.active_cap",
            "a transfer round of poet.active_cap · (poet.active_cap − 1) · (2 · es.perturbations + evaluation "
            "episodes) = " +
-               number(pairs) + " · " + number(pairs - 1) + " · (2 · " + number(n) + " + " + number(episodes) +
-               ") = " + number(transfer_batch) + too_many);
+               number_text(pairs) + " · " + number_text(pairs - 1) + " · (2 · " + number_text(n) + " + " + number_text(episodes) +
+               ") = " + number_text(transfer_batch) + too_many);
 }
 
 void check_walker(Checks& c, const pb::WalkerConfig& walker) {

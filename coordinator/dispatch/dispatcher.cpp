@@ -2,19 +2,13 @@
 
 #include <algorithm>
 #include <bit>
-#include <cstdio>
 
 #include "rng.h"
 #include "rollout_task_proto.h"
+#include "text_format.h"
 
 namespace poet {
 namespace {
-
-std::string hex64(uint64_t value) {
-  char buffer[24];
-  std::snprintf(buffer, sizeof buffer, "%016llx", static_cast<unsigned long long>(value));
-  return buffer;
-}
 
 // Bit for bit: every worker of one build computes exactly the same numbers.
 bool same_results(const std::vector<RolloutResult>& a, const std::vector<RolloutResult>& b) {
@@ -47,8 +41,8 @@ wire::CoordinatorMessage Dispatcher::on_hello(const WorkerId& id, const wire::He
   }
   if (settings_.fingerprint_digest != 0 && hello.fingerprint_digest() != settings_.fingerprint_digest) {
     count_drop(DropReason::kWrongFingerprint);
-    reply.mutable_refused()->set_reason("build fingerprint " + hex64(hello.fingerprint_digest()) +
-                                        " differs from the coordinator's " + hex64(settings_.fingerprint_digest) +
+    reply.mutable_refused()->set_reason("build fingerprint " + hex_text(hello.fingerprint_digest()) +
+                                        " differs from the coordinator's " + hex_text(settings_.fingerprint_digest) +
                                         ": its returns would differ (compare --fingerprint of both binaries)");
     return reply;
   }
@@ -636,9 +630,9 @@ std::vector<WorkerView> Dispatcher::workers() const {
 std::string Dispatcher::describe_task(size_t index) const {
   const RolloutTask& task = tasks_.at(index);
   std::string text = "task " + std::to_string(index) + " of the batch (course " + task.env.encoding.name + " seed " +
-                     std::to_string(task.env.seed) + ", θ " + hex64(task_theta_hash_.at(index));
+                     std::to_string(task.env.seed) + ", θ " + hex_text(task_theta_hash_.at(index));
   if (task.perturbation)
-    text += ", perturbation " + hex64(task.perturbation->key) + " sign " + std::to_string(task.perturbation->sign);
+    text += ", perturbation " + hex_text(task.perturbation->key) + " sign " + std::to_string(task.perturbation->sign);
   return text + ")";
 }
 

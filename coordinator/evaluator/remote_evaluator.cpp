@@ -7,6 +7,7 @@
 #include <zmq.hpp>
 
 #include "evaluator/curve_authenticator.h"
+#include "text_format.h"
 
 namespace poet {
 namespace {
@@ -22,16 +23,6 @@ constexpr int64_t kMaxFrameBytes = 16 << 20;
 Millis now_ms() {
   return std::chrono::duration_cast<std::chrono::milliseconds>(std::chrono::steady_clock::now().time_since_epoch())
       .count();
-}
-
-std::string printable(const std::string& peer) {
-  static const char* kHex = "0123456789abcdef";
-  std::string out;
-  for (unsigned char c : peer) {
-    out += kHex[c >> 4];
-    out += kHex[c & 15];
-  }
-  return out;
 }
 
 }  // namespace
@@ -176,7 +167,7 @@ void RemoteEvaluator::loop() {
       if (ready_) (*ready_)(first, dispatcher_.results(first, end));
     for (const WorkerId& dead : dispatcher_.expire(now)) {
       if (const auto held_back = log_lost_.admit(now))
-        spdlog::warn("worker {} silent for {} ms: removed, its jobs go back to the queue{}", printable(dead),
+        spdlog::warn("worker {} silent for {} ms: removed, its jobs go back to the queue{}", peer_id_text(dead),
                      dispatcher_.settings().liveness_ms, LogThrottle::held_back_note(*held_back));
     }
     if (shutdown_requested_) {
@@ -232,11 +223,11 @@ void RemoteEvaluator::receive_all(Millis now) {
     }
     const std::string id = peer.to_string();
     if (frames.size() != 1) {
-      note_drop(DropReason::kMalformed, "peer " + printable(id));
+      note_drop(DropReason::kMalformed, "peer " + peer_id_text(id));
       continue;
     }
     if (frames[0].size() > kMaxWorkerMessageBytes) {
-      note_drop(DropReason::kOversized, "peer " + printable(id));
+      note_drop(DropReason::kOversized, "peer " + peer_id_text(id));
       continue;
     }
     handle(id, frames[0].to_string(), now);
@@ -246,7 +237,7 @@ void RemoteEvaluator::receive_all(Millis now) {
 void RemoteEvaluator::handle(const std::string& peer, const std::string& payload, Millis now) {
   wire::WorkerMessage message;
   if (!message.ParseFromString(payload) || message.kind_case() == wire::WorkerMessage::KIND_NOT_SET) {
-    note_drop(DropReason::kMalformed, "peer " + printable(peer));
+    note_drop(DropReason::kMalformed, "peer " + peer_id_text(peer));
     return;
   }
   if (shutting_down_) {  // whoever it is: the run is over
@@ -275,7 +266,7 @@ void RemoteEvaluator::handle(const std::string& peer, const std::string& payload
     case wire::WorkerMessage::kHeartbeat:
       if (!dispatcher_.heard_from(peer, now)) {
         // a worker of an earlier coordinator on this port, or one counted dead: it must start afresh
-        note_drop(DropReason::kUnknownPeer, "peer " + printable(peer));
+        note_drop(DropReason::kUnknownPeer, "peer " + peer_id_text(peer));
         Outgoing rejoin{peer, {}};
         rejoin.message.mutable_rejoin()->set_reason("this coordinator does not know the worker: say Hello again");
         send(rejoin);
@@ -287,11 +278,11 @@ void RemoteEvaluator::handle(const std::string& peer, const std::string& payload
       if (!dispatcher_.heard_from(peer, now)) return;
       dispatcher_.remove_worker(peer, /*died=*/false);
       if (const auto held_back = log_left_.admit(now))
-        spdlog::info("worker {} left: {} connected{}", printable(peer), dispatcher_.worker_count(),
+        spdlog::info("worker {} left: {} connected{}", peer_id_text(peer), dispatcher_.worker_count(),
                      LogThrottle::held_back_note(*held_back));
       return;
     default:
-      note_drop(DropReason::kMalformed, "peer " + printable(peer));
+      note_drop(DropReason::kMalformed, "peer " + peer_id_text(peer));
   }
 }
 
@@ -307,7 +298,7 @@ void RemoteEvaluator::send(const Outgoing& message) {
     // EHOSTUNREACH: the peer's connection is gone (a killed worker, or libzmq cut it for a frame over
     // maxmsgsize); its jobs go back to the queue
     dispatcher_.lose_worker(message.worker);  // a no-op for a peer it does not know
-    spdlog::debug("send to {}: {}", printable(message.worker), e.what());
+    spdlog::debug("send to {}: {}", peer_id_text(message.worker), e.what());
   }
 }
 

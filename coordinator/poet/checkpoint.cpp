@@ -1,6 +1,5 @@
 #include "poet/checkpoint.h"
 
-#include <charconv>
 #include <cmath>
 #include <cstdint>
 #include <optional>
@@ -13,6 +12,7 @@
 #include "envgen/env_proto.h"
 #include "poet/state_consistency.h"
 #include "policy/mlp.h"
+#include "text_format.h"
 
 namespace poet {
 namespace {
@@ -87,44 +87,38 @@ pb::RunCounters to_proto(const RunCounters& counters) {
 
 using Error = std::optional<std::string>;
 
-std::string number(double value) {
-  char buffer[64];
-  const auto [end, ec] = std::to_chars(buffer, buffer + sizeof buffer, value);
-  return std::string(buffer, end);
-}
-std::string number(int64_t value) { return std::to_string(value); }
 
 Error check_finite(const std::string& field, double value) {
   if (std::isfinite(value)) return std::nullopt;
-  return field + ": must be finite (got " + number(value) + ")";
+  return field + ": must be finite (got " + number_text(value) + ")";
 }
 
 // The learning rate and σ decay toward floors that may be 0, never below.
 Error check_non_negative(const std::string& field, double value) {
   if (std::isfinite(value) && value >= 0) return std::nullopt;
-  return field + ": must be finite and >= 0 (got " + number(value) + ")";
+  return field + ": must be finite and >= 0 (got " + number_text(value) + ")";
 }
 
 Error check_at_least(const std::string& field, int64_t value, int64_t lo) {
   if (value >= lo) return std::nullopt;
-  return field + ": must be >= " + number(lo) + " (got " + number(value) + ")";
+  return field + ": must be >= " + number_text(lo) + " (got " + number_text(value) + ")";
 }
 
 // An iteration that is either kNone or one the run has reached (t <= next_iteration).
 Error check_iteration_or_none(const std::string& field, int value, int next_iteration) {
   if (value == kNone || (value >= 0 && value <= next_iteration)) return std::nullopt;
-  return field + ": must be -1 or in [0, " + number(int64_t{next_iteration}) + "] (got " + number(int64_t{value}) + ")";
+  return field + ": must be -1 or in [0, " + number_text(int64_t{next_iteration}) + "] (got " + number_text(int64_t{value}) + ")";
 }
 
 // kParamCount finite values, and none negative when non_negative (Adam's second moment is a mean of squares).
 Error check_params(const std::string& field, const google::protobuf::RepeatedField<double>& params,
                    bool non_negative = false) {
   if (params.size() != kParamCount)
-    return field + ": " + number(int64_t{params.size()}) + " values, expected " + number(int64_t{kParamCount});
+    return field + ": " + number_text(int64_t{params.size()}) + " values, expected " + number_text(int64_t{kParamCount});
   for (int i = 0; i < params.size(); ++i) {
     if (!std::isfinite(params[i]) || (non_negative && params[i] < 0))
-      return field + "[" + number(int64_t{i}) + "]: must be " + (non_negative ? "finite and >= 0" : "finite") +
-             " (got " + number(params[i]) + ")";
+      return field + "[" + number_text(int64_t{i}) + "]: must be " + (non_negative ? "finite and >= 0" : "finite") +
+             " (got " + number_text(params[i]) + ")";
   }
   return std::nullopt;
 }
@@ -179,10 +173,10 @@ Expected<Pair> read_pair(const std::string& field, const pb::PairState& message,
   if (!error) error = check_at_least(field + ".es_steps", message.es_steps(), 0);
   if (!error) error = check_at_least(field + ".transfer_attempts", message.transfer_attempts(), 0);
   if (!error && static_cast<size_t>(message.recent_scores_size()) > kRecentScores)
-    error = field + ".recent_scores: " + number(int64_t{message.recent_scores_size()}) + " scores, at most " +
-            number(static_cast<int64_t>(kRecentScores));
+    error = field + ".recent_scores: " + number_text(int64_t{message.recent_scores_size()}) + " scores, at most " +
+            number_text(static_cast<int64_t>(kRecentScores));
   for (int i = 0; !error && i < message.recent_scores_size(); ++i)
-    error = check_finite(field + ".recent_scores[" + number(int64_t{i}) + "]", message.recent_scores(i));
+    error = check_finite(field + ".recent_scores[" + number_text(int64_t{i}) + "]", message.recent_scores(i));
   if (error) return Unexpected{*error};
 
   Expected<OptimizerState> optimizer = read_optimizer(field + ".optimizer", message);
@@ -191,7 +185,7 @@ Expected<Pair> read_pair(const std::string& field, const pb::PairState& message,
 
   for (int i = 0; i < message.transfers_size(); ++i) {
     const pb::TransferRecord& record = message.transfers(i);
-    const std::string path = field + ".transfers[" + number(int64_t{i}) + "]";
+    const std::string path = field + ".transfers[" + number_text(int64_t{i}) + "]";
     error = check_iteration_or_none(path + ".iteration", record.iteration(), next_iteration);
     if (!error && record.iteration() < 0) error = path + ".iteration: must be >= 0 (got -1)";
     if (!error) error = check_finite(path + ".score", record.score());
@@ -226,13 +220,13 @@ Error check_references(const std::vector<Pair>& pairs) {
   for (size_t i = 0; i < pairs.size(); ++i) {
     const Pair& p = pairs[i];
     const std::string field = "pairs[" + std::to_string(i) + "]";
-    if (dangling(p.parent_id)) return field + ".parent_id: no pair has id " + number(int64_t{p.parent_id});
+    if (dangling(p.parent_id)) return field + ".parent_id: no pair has id " + number_text(int64_t{p.parent_id});
     if (dangling(p.initial_source_pair))
-      return field + ".initial_source_pair: no pair has id " + number(int64_t{p.initial_source_pair});
+      return field + ".initial_source_pair: no pair has id " + number_text(int64_t{p.initial_source_pair});
     for (size_t k = 0; k < p.transfers.size(); ++k) {
       if (p.transfers[k].source_pair == kNone || dangling(p.transfers[k].source_pair))
         return field + ".transfers[" + std::to_string(k) + "].source_pair: no pair has id " +
-               number(int64_t{p.transfers[k].source_pair});
+               number_text(int64_t{p.transfers[k].source_pair});
     }
   }
   return std::nullopt;

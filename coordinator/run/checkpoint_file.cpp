@@ -3,10 +3,10 @@
 #include <google/protobuf/io/coded_stream.h>
 #include <google/protobuf/io/zero_copy_stream_impl_lite.h>
 
-#include <cstdio>
 
 #include "run/crc32.h"
 #include "text_file.h"
+#include "text_format.h"
 
 namespace poet {
 namespace {
@@ -19,12 +19,6 @@ uint64_t get_le(std::string_view in, size_t offset, int bytes) {
   uint64_t value = 0;
   for (int i = bytes - 1; i >= 0; --i) value = (value << 8) | static_cast<unsigned char>(in[offset + i]);
   return value;
-}
-
-std::string hex32(uint32_t value) {
-  char buffer[16];
-  std::snprintf(buffer, sizeof buffer, "%08x", value);
-  return buffer;
 }
 
 }  // namespace
@@ -67,8 +61,8 @@ Expected<pb::Checkpoint> decode_checkpoint_file(std::string_view bytes) {
   const uint32_t expected = static_cast<uint32_t>(get_le(bytes, 20, 4));
   const uint32_t actual = crc32_extend(0, body);
   if (expected != actual)
-    return Unexpected{"checksum mismatch: the header records CRC-32 " + hex32(expected) + ", the body has " +
-                      hex32(actual) + " (the file is corrupt)"};
+    return Unexpected{"checksum mismatch: the header records CRC-32 " + hex_text(expected, 8) + ", the body has " +
+                      hex_text(actual, 8) + " (the file is corrupt)"};
   pb::Checkpoint checkpoint;
   if (!checkpoint.ParseFromArray(body.data(), static_cast<int>(body.size())))
     return Unexpected{"the body is not a valid checkpoint message"};

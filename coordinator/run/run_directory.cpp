@@ -5,7 +5,6 @@
 #include <unistd.h>
 
 #include <cerrno>
-#include <charconv>
 #include <exception>
 #include <new>
 #include <string_view>
@@ -18,6 +17,7 @@
 #include "policy/policy_file.h"
 #include "run/crc32.h"
 #include "text_file.h"
+#include "text_format.h"
 
 namespace poet {
 namespace {
@@ -25,12 +25,6 @@ namespace {
 namespace fs = std::filesystem;
 
 std::string errno_text(int err) { return std::generic_category().message(err); }
-
-std::string number(double value) {
-  char buffer[64];
-  const auto [end, ec] = std::to_chars(buffer, buffer + sizeof buffer, value);
-  return std::string(buffer, end);
-}
 
 std::string csv_field(const std::string& text) {
   if (text.find_first_of(",\"\r\n") == std::string::npos) return text;
@@ -159,10 +153,10 @@ std::string pair_stats_header() {
 
 std::string pair_stats_row(const PairStatsRow& row) {
   std::string line = std::to_string(row.iteration) + "," + std::to_string(row.pair) + "," + csv_field(row.env);
-  line += "," + number(row.score) + "," + (row.finished ? "true" : "false") + "," + std::to_string(row.eval_steps);
-  line += "," + number(row.best_score) + "," + (row.solved ? "true" : "false") + "," + std::to_string(row.es_steps);
-  line += "," + number(row.lr) + "," + number(row.sigma) + "," + number(row.perturbation_mean);
-  line += "," + number(row.perturbation_max) + "," + number(row.grad_norm) + "," + number(row.theta_norm);
+  line += "," + number_text(row.score) + "," + (row.finished ? "true" : "false") + "," + std::to_string(row.eval_steps);
+  line += "," + number_text(row.best_score) + "," + (row.solved ? "true" : "false") + "," + std::to_string(row.es_steps);
+  line += "," + number_text(row.lr) + "," + number_text(row.sigma) + "," + number_text(row.perturbation_mean);
+  line += "," + number_text(row.perturbation_max) + "," + number_text(row.grad_norm) + "," + number_text(row.theta_norm);
   line += "," + std::to_string(row.run_rollouts) + "," + std::to_string(row.run_env_steps) + "\n";
   return line;
 }

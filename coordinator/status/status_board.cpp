@@ -3,7 +3,6 @@
 #include <google/protobuf/util/json_util.h>
 
 #include <algorithm>
-#include <charconv>
 #include <cstdio>
 #include <fstream>
 #include <system_error>
@@ -15,30 +14,12 @@
 #include "envgen/env_proto.h"
 #include "poet/engine.h"
 #include "run/run_directory.h"
+#include "text_format.h"
 
 namespace poet {
 namespace {
 
 using SteadyTime = std::chrono::steady_clock::time_point;
-
-// A worker id as text: as is when printable ASCII, else "0x" and its bytes in hex (ZeroMQ's routing ids are binary).
-std::string printable_id(std::string_view id) {
-  const bool printable = std::all_of(id.begin(), id.end(), [](char c) { return c > 0x20 && c < 0x7F; });
-  if (printable) return std::string(id);
-  std::string out = "0x";
-  char byte[3];
-  for (char c : id) {
-    std::snprintf(byte, sizeof byte, "%02x", static_cast<unsigned char>(c));
-    out += byte;
-  }
-  return out;
-}
-
-std::string hex16(uint64_t value) {
-  char text[17];
-  std::snprintf(text, sizeof text, "%016llx", static_cast<unsigned long long>(value));
-  return text;
-}
 
 // A Prometheus label value: backslash, double quote and newline escaped.
 std::string label_value(std::string_view text) {
@@ -357,13 +338,13 @@ status::WorkerList StatusBoard::workers() const {
   const double age = std::max(0.0, std::chrono::duration<double>(clock_() - v.dispatch_at).count());
   for (const WorkerSnapshot& w : v.dispatch->workers) {
     status::Worker* worker = list.add_workers();
-    worker->set_id(printable_id(w.id));
+    worker->set_id(peer_id_text(w.id));
     worker->set_address(valid_utf8(w.address));
     worker->set_threads(w.threads);
     worker->set_jobs_done(w.jobs_done);
     worker->set_results_done(w.results_done);
     worker->set_seconds_since_heartbeat(w.seconds_since_heartbeat + age);
-    worker->set_fingerprint_digest(hex16(w.fingerprint_digest));
+    worker->set_fingerprint_digest(hex_text(w.fingerprint_digest));
   }
   list.set_queue_depth(v.dispatch->queue_depth);
   list.set_in_flight_jobs(v.dispatch->in_flight_jobs);

@@ -14,7 +14,6 @@
 #include <CLI/CLI.hpp>
 #include <algorithm>
 #include <array>
-#include <charconv>
 #include <cmath>
 #include <csignal>
 #include <cstdio>
@@ -32,6 +31,7 @@
 #include "status.pb.h"
 #include "status/status_server.h"
 #include "tool_flags.h"
+#include "text_format.h"
 
 namespace poet {
 namespace {
@@ -48,9 +48,7 @@ constexpr time_t kReadTimeoutS = 5;
 std::string number(double value) {
   if (!std::isfinite(value)) return value > 0 ? "inf" : value < 0 ? "-inf" : "nan";
   if (value == std::floor(value) && std::abs(value) < 1e15) return std::to_string(static_cast<long long>(value));
-  char text[32];
-  const auto [end, ec] = std::to_chars(text, text + sizeof text, value);
-  return ec == std::errc() ? std::string(text, end) : std::to_string(value);
+  return poet::number_text(value);
 }
 
 std::string fixed(double value, int decimals) {

@@ -1,0 +1,31 @@
+#include "text_format.h"
+
+#include <algorithm>
+#include <charconv>
+
+namespace poet {
+
+std::string number_text(double value) {
+  char buffer[64];
+  const auto [end, ec] = std::to_chars(buffer, buffer + sizeof buffer, value);
+  return std::string(buffer, end);
+}
+
+std::string number_text(int64_t value) { return std::to_string(value); }
+
+std::string hex_text(uint64_t value, int digits) {
+  static constexpr char kHex[] = "0123456789abcdef";
+  std::string out(static_cast<size_t>(std::clamp(digits, 1, 16)), '0');
+  for (auto it = out.rbegin(); it != out.rend(); ++it, value >>= 4) *it = kHex[value & 15];
+  return out;
+}
+
+std::string peer_id_text(std::string_view id) {
+  const bool printable = !id.empty() && std::all_of(id.begin(), id.end(), [](char c) { return c > 0x20 && c < 0x7F; });
+  if (printable) return std::string(id);
+  std::string out = "0x";
+  for (char c : id) out += hex_text(static_cast<unsigned char>(c), 2);
+  return out;
+}
+
+}  // namespace poet

@@ -1,0 +1,20 @@
+#pragma once
+// Numbers and ids as text, each written one way everywhere: in files, messages and logs.
+
+#include <cstdint>
+#include <string>
+#include <string_view>
+
+namespace poet {
+
+// The shortest decimal form that reads back to the same bits ("0.1", "1e+300", "-0", "inf", "nan").
+std::string number_text(double value);
+std::string number_text(int64_t value);
+
+// `digits` lowercase hex digits, zero-padded ("00000000deadbeef" for hex_text(0xdeadbeef, 16)).
+std::string hex_text(uint64_t value, int digits = 16);
+
+// A peer's id (ZeroMQ routing ids are bytes): as is when printable ASCII, else "0x" and its bytes in hex.
+std::string peer_id_text(std::string_view id);
+
+}  // namespace poet

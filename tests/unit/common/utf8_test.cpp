@@ -1,0 +1,29 @@
+// Tests common/utf8: well-formed UTF-8 accepted; stray, overlong, surrogate, out-of-range and cut sequences refused.
+
+#include "utf8.h"
+
+#include <gtest/gtest.h>
+
+#include <string>
+
+namespace poet {
+namespace {
+
+TEST(Utf8, WellFormedTextIsAccepted) {
+  for (const char* text : {"", "flat", "r0.5.p0.0_0.8", "σ = 0.05", "€", "\xf0\x9f\x9a\xb6 walker", "\xf4\x8f\xbf\xbf"})
+    EXPECT_TRUE(is_valid_utf8(text)) << text;
+}
+
+TEST(Utf8, MalformedBytesAreRefused) {
+  for (const std::string& text : {std::string("\xff"), std::string("bad \xff\xfe name"), std::string("\x80"),
+                                 std::string("\xc0\xaf"),          // overlong '/'
+                                 std::string("\xe0\x80\xaf"),      // overlong, three bytes
+                                 std::string("\xed\xa0\x80"),      // a UTF-16 surrogate
+                                 std::string("\xf4\x90\x80\x80"),  // past U+10FFFF
+                                 std::string("\xe2\x82"),          // cut short
+                                 std::string("\xe2\x28\xa1")})     // a continuation byte missing
+    EXPECT_FALSE(is_valid_utf8(text)) << testing::PrintToString(text);
+}
+
+}  // namespace
+}  // namespace poet
