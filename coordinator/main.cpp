@@ -65,7 +65,7 @@ struct Options {
   int liveness_ms = wire_timing::kLivenessMs;
   std::string worker_binary;
   std::vector<std::string> worker_args;           // passed to every local worker (tests' fault switches)
-  std::string status_address = "127.0.0.1:8580";  // the HTTP status socket; empty: none
+  std::string status_address = kCoordinatorStatusAddress;  // the HTTP status socket; empty: none
   std::string health_address;                     // the probes' listener (/healthz alone); empty: none
   std::string curve_keys;                         // CURVE key directory; empty: no authentication
   std::string start_from;                         // a policy file for the first pair's θ; empty: the init stream
@@ -467,7 +467,8 @@ int main(int argc, char** argv) {
   app.add_option("--worker-arg", options.worker_args, "An argument for every local worker (repeatable)")
       ->group("");  // for tests: fault switches
   app.add_option("--status-address", options.status_address,
-                 "HOST:PORT of the HTTP status socket (default 127.0.0.1:8580; port 0: any free port; empty: none)");
+                 "HOST:PORT of the HTTP status socket (port 0: any free port; empty: none)")
+      ->capture_default_str();
   app.add_option("--health-address", options.health_address,
                  "HOST:PORT of a listener that answers /healthz alone, for liveness probes: clients of the status "
                  "socket, however many or slow, cannot delay it (default: none; /healthz is on the status socket too)");

@@ -25,6 +25,8 @@
 namespace poet {
 
 inline constexpr char kDefaultStatusAddress[] = "127.0.0.1:0";  // loopback, an ephemeral port
+// Where poet-coordinator serves its status socket unless told otherwise, and where poetctl asks.
+inline constexpr char kCoordinatorStatusAddress[] = "127.0.0.1:8580";
 
 struct StatusServerOptions {
   int threads = 3;                                // the pool answering requests, in [1, 16]

@@ -36,7 +36,6 @@
 namespace poet {
 namespace {
 
-constexpr char kDefaultAddress[] = "127.0.0.1:8580";
 constexpr char kAddressVariable[] = "POET_STATUS";
 constexpr int kExitUnreachable = 1;
 constexpr time_t kConnectTimeoutS = 3;
@@ -423,7 +422,7 @@ int main(int argc, char** argv) {
   std::string address;
   app.add_option("--address", address,
                  std::string("The coordinator's status socket HOST:PORT (default: $") + kAddressVariable +
-                     " if set, else " + kDefaultAddress + ")");
+                     " if set, else " + poet::kCoordinatorStatusAddress + ")");
   bool json = false;
   app.add_flag("--json", json, "Print the server's JSON as it came (/metrics is always text)");
   add_fingerprint_flag(app);
@@ -477,7 +476,7 @@ int main(int argc, char** argv) {
 
   if (address.empty()) {
     const char* from_environment = std::getenv(kAddressVariable);
-    address = from_environment && *from_environment ? from_environment : kDefaultAddress;
+    address = from_environment && *from_environment ? from_environment : poet::kCoordinatorStatusAddress;
   }
 
   Command command;

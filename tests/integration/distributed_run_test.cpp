@@ -88,7 +88,7 @@ TEST_F(DistributedRunTest, ARunWhoseWorkersAllLeaveWaitsForTheNext) {
   ASSERT_EQ(::waitpid(pid, nullptr, WNOHANG), 0) << "the run ended before the worker left";
   ASSERT_EQ(::kill(first, SIGTERM), 0);
   EXPECT_EQ(wait(first), 0);
-  await_log("L", "worker [0-9a-f]+ (left): 0 connected");
+  await_log("L", "worker 0x[0-9a-f]+ (left): 0 connected");
   await_log("L", "(waiting for workers)");
   const pid_t second = spawn(POET_WORKER_BIN, {"--connect", endpoint, "--threads", "2"}, "second");
   EXPECT_EQ(wait(pid), 0) << read(root_ / "L.err");
