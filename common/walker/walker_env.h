@@ -8,6 +8,7 @@
 #include <span>
 
 #include "walker/terrain.h"
+#include "walker/walker_constants.h"
 
 class b2World;
 class b2Body;
@@ -25,7 +26,7 @@ enum class LidarRule {
 };
 
 struct WalkerOptions {
-  double push_scale = 5.0;  // initial horizontal push F ~ U[-push_scale, push_scale) N; 0 removes it
+  double push_scale = walker::kDefaultPushScale;  // initial horizontal push F ~ U[-push_scale, push_scale) N; 0: none
   LidarRule lidar = LidarRule::kNearest;
 };
 

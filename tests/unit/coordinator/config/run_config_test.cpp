@@ -132,7 +132,7 @@ TEST(RunConfig, PaperPresetHasThePapersNumbers) {
   EXPECT_EQ(c.es().init_sigma(), 0.1);
   EXPECT_EQ(c.es().init_lr(), 0.01);
   EXPECT_EQ(c.es().adam_epsilon(), 1e-8);
-  EXPECT_EQ(c.walker().push_scale(), 5);
+  EXPECT_EQ(c.walker().push_scale(), walker::kDefaultPushScale);  // the schema's default is the walker's
 }
 
 // Quick exists to show the loop at work within minutes: small populations, frequent reproduction and transfer.
@@ -235,7 +235,7 @@ TEST(RunConfig, DefaultsAreTheReferenceValues) {
   EXPECT_EQ(c.poet().admission_proposal(), pb::SGD_PROPOSAL);
   EXPECT_EQ(c.poet().transfer_proposal(), pb::ADAM_PROPOSAL);
   EXPECT_EQ(c.poet().solved_score(), 230);
-  EXPECT_EQ(c.walker().push_scale(), 5);
+  EXPECT_EQ(c.walker().push_scale(), walker::kDefaultPushScale);  // the schema's default is the walker's
   EXPECT_EQ(c.walker().lidar(), pb::WalkerConfig::NEAREST);
   EXPECT_EQ(c.walker().max_steps(), 2000);
   EXPECT_EQ(c.walker().eval_episodes(), 5);
