@@ -103,7 +103,7 @@ class CoordinatorProcessTest : public ::testing::Test {
   pid_t spawn(const std::vector<std::string>& args, const std::string& name, int blocked_signal = 0) {
     std::vector<std::string> all = {POET_COORDINATOR_BIN};
     all.insert(all.end(), args.begin(), args.end());
-    const pid_t pid = spawn_child(all, root_ / (name + ".out"), root_ / (name + ".err"), blocked_signal);
+    const pid_t pid = spawn_child(all, root_ / (name + ".out"), root_ / (name + ".err"), {.blocked_signal = blocked_signal});
     EXPECT_GT(pid, 0) << "posix_spawn " << POET_COORDINATOR_BIN;
     if (pid > 0) children_.push_back(pid);
     return pid;

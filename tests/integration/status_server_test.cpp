@@ -246,37 +246,15 @@ class StatusServerTest : public ::testing::Test {
                   const std::vector<std::string>& extra_env = {}) {
     std::vector<std::string> all = {POETCTL_BIN};
     all.insert(all.end(), args.begin(), args.end());
-    std::vector<char*> argv;
-    for (std::string& a : all) argv.push_back(a.data());
-    argv.push_back(nullptr);
-    std::vector<std::string> env_text(extra_env);
-    for (char** e = environ; *e; ++e)
-      if (!std::string_view(*e).starts_with("POET_STATUS=")) env_text.emplace_back(*e);
-    std::vector<char*> envp;
-    for (std::string& e : env_text) envp.push_back(e.data());
-    envp.push_back(nullptr);
-
+    std::vector<std::string> environment = poet::testing::environment_without({"POET_STATUS"});
+    environment.insert(environment.begin(), extra_env.begin(), extra_env.end());
     const fs::path out = root_ / (name + ".out"), err = root_ / (name + ".err");
-    posix_spawn_file_actions_t actions;
-    posix_spawn_file_actions_init(&actions);
-    posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, out.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-    posix_spawn_file_actions_addopen(&actions, STDERR_FILENO, err.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
     // the child starts with default signal handling, whatever this process ignores or blocks
-    posix_spawnattr_t attributes;
-    posix_spawnattr_init(&attributes);
-    sigset_t none, pipe;
-    sigemptyset(&none);
-    sigemptyset(&pipe);
-    sigaddset(&pipe, SIGPIPE);
-    posix_spawnattr_setsigmask(&attributes, &none);
-    posix_spawnattr_setsigdefault(&attributes, &pipe);
-    posix_spawnattr_setflags(&attributes, POSIX_SPAWN_SETSIGMASK | POSIX_SPAWN_SETSIGDEF);
-    pid_t pid = -1;
-    const int rc = posix_spawn(&pid, argv[0], &actions, &attributes, argv.data(), envp.data());
-    posix_spawn_file_actions_destroy(&actions);
-    posix_spawnattr_destroy(&attributes);
-    if (rc != 0) {
-      ADD_FAILURE() << "posix_spawn " << POETCTL_BIN << ": " << std::strerror(rc);
+    std::string error;
+    const pid_t pid =
+        poet::testing::spawn_child(all, out, err, {.default_signals = true, .environment = environment}, &error);
+    if (pid < 0) {
+      ADD_FAILURE() << "posix_spawn " << POETCTL_BIN << ": " << error;
       return {};
     }
     children_.push_back(pid);

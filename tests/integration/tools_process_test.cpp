@@ -70,20 +70,11 @@ class ToolsProcessTest : public ::testing::Test {
   Outcome run(const char* path, const std::vector<std::string>& args, const std::string& name) {
     std::vector<std::string> all = {path};
     all.insert(all.end(), args.begin(), args.end());
-    std::vector<char*> argv;
-    for (std::string& a : all) argv.push_back(a.data());
-    argv.push_back(nullptr);
     const fs::path out = root_ / (name + ".out"), err = root_ / (name + ".err");
-    posix_spawn_file_actions_t actions;
-    posix_spawn_file_actions_init(&actions);
-    posix_spawn_file_actions_addchdir_np(&actions, root_.c_str());
-    posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, out.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-    posix_spawn_file_actions_addopen(&actions, STDERR_FILENO, err.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-    pid_t pid = -1;
-    const int rc = posix_spawn(&pid, argv[0], &actions, nullptr, argv.data(), environ);
-    posix_spawn_file_actions_destroy(&actions);
-    if (rc != 0) {
-      ADD_FAILURE() << "posix_spawn " << path << ": " << std::strerror(rc);
+    std::string error;
+    const pid_t pid = poet::testing::spawn_child(all, out, err, {.directory = root_}, &error);
+    if (pid < 0) {
+      ADD_FAILURE() << "posix_spawn " << path << ": " << error;
       return {};
     }
     children_.push_back(pid);

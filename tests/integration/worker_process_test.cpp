@@ -189,21 +189,11 @@ class WorkerProcessTest : public ::testing::Test {
   }
 
   pid_t spawn_raw(std::vector<std::string> all, const std::string& name) {
-    std::vector<char*> argv;
-    for (std::string& a : all) argv.push_back(a.data());
-    argv.push_back(nullptr);
-    const std::string out = (root_ / (name + ".out")).string();
-    const std::string err = (root_ / (name + ".err")).string();
-    posix_spawn_file_actions_t actions;
-    posix_spawn_file_actions_init(&actions);
-    posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, out.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-    posix_spawn_file_actions_addopen(&actions, STDERR_FILENO, err.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-    pid_t pid = -1;
-    const int rc = posix_spawn(&pid, argv[0], &actions, nullptr, argv.data(), environ);
-    posix_spawn_file_actions_destroy(&actions);
-    EXPECT_EQ(rc, 0) << "posix_spawn " << argv[0];
-    if (rc == 0) children_.push_back(pid);
-    return rc == 0 ? pid : -1;
+    std::string error;
+    const pid_t pid = poet::testing::spawn_child(all, root_ / (name + ".out"), root_ / (name + ".err"), {}, &error);
+    EXPECT_GT(pid, 0) << "posix_spawn " << all[0] << ": " << error;
+    if (pid > 0) children_.push_back(pid);
+    return pid;
   }
 
   std::string err(const std::string& name = "worker") { return read_file(root_ / (name + ".err")); }
