@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "child_process.h"
+#include "scratch_dir.h"
 
 namespace poet::testing {
 
@@ -50,21 +51,14 @@ inline std::vector<pid_t> children_of(pid_t pid) {
 
 class CoordinatorRunTest : public ::testing::Test {
  protected:
-  void SetUp() override {
-    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    root_ = fs::temp_directory_path() / ("poet_run_test_" + std::to_string(::getpid()) + "_" + info->name());
-    fs::remove_all(root_);
-    fs::create_directories(root_);
-    config_ = root_ / "tiny.textproto";
-    std::ofstream(config_) << kConfig;
-  }
+  void SetUp() override { std::ofstream(config_) << kConfig; }
+  // the children first: the directory goes with the fixture, after them
   void TearDown() override {
     for (pid_t pid : children_) {
       for (pid_t worker : children_of(pid)) ::kill(worker, SIGKILL);
       ::kill(pid, SIGKILL);
       ::waitpid(pid, nullptr, 0);
     }
-    fs::remove_all(root_);
   }
 
   pid_t spawn(const char* binary, std::vector<std::string> args, const std::string& name) {
@@ -126,8 +120,9 @@ class CoordinatorRunTest : public ::testing::Test {
     }
   }
 
-  fs::path root_;
-  fs::path config_;
+  ScratchDir scratch_{"poet_run_test"};
+  fs::path root_ = scratch_.path();
+  fs::path config_ = root_ / "tiny.textproto";
   std::vector<pid_t> children_;
 };
 

@@ -18,6 +18,8 @@
 #include <string>
 #include <thread>
 
+#include "scratch_dir.h"
+
 namespace poet {
 namespace {
 
@@ -45,16 +47,6 @@ auto within_deadline(Body body, const fs::path& fifo) {
 // A fresh directory per test, removed even when the test fails.
 class TextFileTest : public ::testing::Test {
  protected:
-  void SetUp() override {
-    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    dir_ = fs::temp_directory_path() / ("poet_text_file_test_" + std::to_string(::getpid()) + "_" + info->name());
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
-  void TearDown() override {
-    std::error_code ec;
-    fs::remove_all(dir_, ec);
-  }
   fs::path write(const std::string& name, const std::string& text) {
     const fs::path path = dir_ / name;
     std::ofstream(path, std::ios::binary) << text;
@@ -65,7 +57,8 @@ class TextFileTest : public ::testing::Test {
     EXPECT_EQ(::mkfifo(path.c_str(), 0600), 0) << std::strerror(errno);
     return path;
   }
-  fs::path dir_;
+  poet::testing::ScratchDir scratch_;
+  fs::path dir_ = scratch_.path();
 };
 
 TEST_F(TextFileTest, ReadsARegularFileWhole) {

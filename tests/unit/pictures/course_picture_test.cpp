@@ -8,18 +8,18 @@
 
 #include "envgen/named_courses.h"
 #include "policy/mlp.h"
+#include "scratch_dir.h"
 
 namespace poet {
 namespace {
 
 class CoursePicture : public ::testing::Test {
  protected:
-  void TearDown() override { std::filesystem::remove_all(dir_); }
-  std::filesystem::path dir_ = std::filesystem::temp_directory_path() / ("poet-picture-" + std::to_string(::getpid()));
+  poet::testing::ScratchDir scratch_;
+  std::filesystem::path dir_ = scratch_.path();
 };
 
 TEST_F(CoursePicture, SvgShowsEveryObstacleAndThePath) {
-  std::filesystem::create_directories(dir_);
   const Terrain t = Terrain::generate({*named_course("hardcore-like"), 1});
   const RolloutResult r = rollout(Mlp(zero_params()), t, {}, {.max_steps = 60, .record_trajectory = true});
   const auto path = (dir_ / "course.svg").string();
@@ -46,7 +46,6 @@ TEST_F(CoursePicture, SvgShowsEveryObstacleAndThePath) {
 }
 
 TEST_F(CoursePicture, PngAndErrors) {
-  std::filesystem::create_directories(dir_);
   const Terrain t = Terrain::generate({*named_course("flat"), 1});
   const RolloutResult r = rollout(Mlp(zero_params()), t, {}, {.max_steps = 5, .record_trajectory = true});
   const auto png = (dir_ / "course.png").string();

@@ -11,6 +11,7 @@
 
 #include "awkward_env_def.h"
 #include "envgen/named_courses.h"
+#include "scratch_dir.h"
 
 namespace poet {
 namespace {
@@ -208,12 +209,6 @@ TEST(EnvJson, DeepNestingIsAnErrorNotACrash) {
 
 class EnvJsonFile : public ::testing::Test {
  protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() / ("poet_env_json_test." + std::to_string(::getpid()));
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
 
   std::vector<fs::path> entries() const {
     std::vector<fs::path> out;
@@ -221,7 +216,8 @@ class EnvJsonFile : public ::testing::Test {
     return out;
   }
 
-  fs::path dir_;
+  poet::testing::ScratchDir scratch_;
+  fs::path dir_ = scratch_.path();
 };
 
 TEST_F(EnvJsonFile, SaveThenLoadLeavesOnlyTheFile) {

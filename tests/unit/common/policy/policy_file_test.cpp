@@ -20,6 +20,7 @@
 
 #include "policy/mlp.h"
 #include "rng.h"
+#include "scratch_dir.h"
 
 namespace poet {
 namespace {
@@ -63,13 +64,6 @@ std::vector<std::string> with(size_t index, const std::string& value) {
 // A fresh empty directory per test, removed afterwards.
 class PolicyFileDirTest : public ::testing::Test {
  protected:
-  void SetUp() override {
-    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    dir_ = fs::temp_directory_path() / ("poet_policy_file_test_" + std::to_string(::getpid()) + "_" + info->name());
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
 
   std::vector<fs::path> files() const {
     std::vector<fs::path> out;
@@ -77,7 +71,8 @@ class PolicyFileDirTest : public ::testing::Test {
     return out;
   }
 
-  fs::path dir_;
+  poet::testing::ScratchDir scratch_;
+  fs::path dir_ = scratch_.path();
 };
 
 TEST(PolicyFileTest, TextRoundTripIsExactWithScore) {

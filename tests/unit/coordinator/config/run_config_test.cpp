@@ -22,6 +22,7 @@
 #include <vector>
 
 #include "envgen/env_proto.h"
+#include "scratch_dir.h"
 
 namespace poet {
 namespace {
@@ -681,17 +682,13 @@ TEST(RunConfig, DefaultConfigPrintsEmpty) { EXPECT_EQ(run_config_text(pb::RunCon
 
 class RunConfigFile : public ::testing::Test {
  protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() / ("poet_run_config_test_" + std::to_string(::getpid()));
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
   std::string write(const std::string& name, const std::string& text) {
     const fs::path path = dir_ / name;
     std::ofstream(path) << text;
     return path.string();
   }
-  fs::path dir_;
+  poet::testing::ScratchDir scratch_;
+  fs::path dir_ = scratch_.path();
 };
 
 TEST_F(RunConfigFile, LoadsAFile) {

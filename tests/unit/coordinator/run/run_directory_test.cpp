@@ -24,6 +24,7 @@
 #include "policy/policy_file.h"
 #include "rng.h"
 #include "run/crc32.h"
+#include "scratch_dir.h"
 
 namespace poet {
 namespace {
@@ -117,14 +118,6 @@ std::string stats_text(const IterationReport& report) {
 // A fresh directory per test, removed afterwards even when the test fails.
 class RunDirectoryTest : public ::testing::Test {
  protected:
-  void SetUp() override {
-    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    root_ = fs::temp_directory_path() / ("poet_run_directory_test_" + std::to_string(::getpid()) + "_" + info->name());
-    fs::remove_all(root_);
-    fs::create_directories(root_);
-    dir_ = root_ / "run";
-  }
-  void TearDown() override { fs::remove_all(root_); }
 
   // Creates the run and saves state; fails the test on any error.
   RunDirectory create_and_save(const RunState& state) {
@@ -136,8 +129,9 @@ class RunDirectoryTest : public ::testing::Test {
     return std::move(*dir);
   }
 
-  fs::path root_;
-  fs::path dir_;
+  poet::testing::ScratchDir scratch_;
+  fs::path root_ = scratch_.path();
+  fs::path dir_ = root_ / "run";
 };
 
 TEST_F(RunDirectoryTest, CreateAndSaveWriteTheFiles) {

@@ -11,6 +11,8 @@
 #include <sstream>
 #include <string>
 
+#include "scratch_dir.h"
+
 namespace poet {
 namespace {
 
@@ -18,12 +20,6 @@ namespace fs = std::filesystem;
 
 class WallTimesTest : public ::testing::Test {
  protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() / ("poet-wall-times-" + std::to_string(::getpid()));
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
 
   std::string text() const {
     std::ifstream in(dir_ / kWallTimesFile);
@@ -33,7 +29,8 @@ class WallTimesTest : public ::testing::Test {
   }
   void write(const std::string& text) const { std::ofstream(dir_ / kWallTimesFile) << text; }
 
-  fs::path dir_;
+  poet::testing::ScratchDir scratch_;
+  fs::path dir_ = scratch_.path();
 };
 
 TEST_F(WallTimesTest, ANewRunStartsTheClockAtZero) {

@@ -18,6 +18,7 @@
 
 #include "../poet/engine_test_support.h"
 #include "run/run_directory.h"
+#include "scratch_dir.h"
 
 namespace poet {
 namespace {
@@ -72,20 +73,14 @@ json parse(const google::protobuf::Message& message) {
 
 class StatusBoardTest : public ::testing::Test {
  protected:
-  void SetUp() override {
-    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    dir_ = fs::temp_directory_path() / ("poet_status_board_test_" + std::to_string(::getpid()) + "_" + info->name());
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
 
   void write(const std::string& file, const std::string& text, bool append = false) {
     std::ofstream out(dir_ / file, std::ios::binary | (append ? std::ios::app : std::ios::trunc));
     out << text;
   }
 
-  fs::path dir_;
+  poet::testing::ScratchDir scratch_;
+  fs::path dir_ = scratch_.path();
   FakeClock clock_;
 };
 

@@ -12,6 +12,7 @@
 
 #include "../poet/engine_test_support.h"
 #include "run/run_directory.h"
+#include "scratch_dir.h"
 
 namespace poet {
 namespace {
@@ -22,19 +23,12 @@ using nlohmann::json;
 class StatusRoutesTest : public ::testing::Test {
  protected:
   void SetUp() override {
-    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    dir_ = fs::temp_directory_path() / ("poet_status_routes_test_" + std::to_string(::getpid()) + "_" + info->name());
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
     std::ofstream(dir_ / kEventsFile) << "{\"iteration\":0,\"event\":\"pair_created\",\"pair\":0}\n"
                                       << "{\"iteration\":1,\"event\":\"solved\",\"pair\":0}\n";
     board_ = std::make_unique<StatusBoard>(dir_);
     board_->publish_run(testing::state_at(testing::tiny_config(), 3, 50.0), 3);
   }
-  void TearDown() override {
-    board_.reset();
-    fs::remove_all(dir_);
-  }
+  void TearDown() override { board_.reset(); }  // before its directory goes
 
   StatusResponse get(const std::string& path, const QueryParams& query = {}, const std::string& method = "GET") {
     return status_response(*board_, method, path, query);
@@ -49,7 +43,8 @@ class StatusRoutesTest : public ::testing::Test {
     return body;
   }
 
-  fs::path dir_;
+  poet::testing::ScratchDir scratch_;
+  fs::path dir_ = scratch_.path();
   std::unique_ptr<StatusBoard> board_;
 };
 
