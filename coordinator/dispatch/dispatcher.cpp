@@ -236,7 +236,7 @@ void Dispatcher::on_result(const WorkerId& id, const wire::Result& result, Milli
   }
   w.view.jobs_done += 1;
   w.view.results_done += static_cast<int64_t>(count);
-  if (took > 0 || holds) {
+  if (holds) {  // a result taken back from an expired lease says nothing of how long jobs take
     job_times_.push_back(took);
     std::vector<Millis> times = job_times_;
     const auto middle = times.begin() + static_cast<std::ptrdiff_t>(times.size() / 2);

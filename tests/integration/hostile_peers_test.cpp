@@ -109,14 +109,20 @@ void keygen(const fs::path& root, std::vector<std::string> args) {
   ASSERT_EQ(exit_code(status), 0) << read(root / "keygen.err");
 }
 
+// keys/: the coordinator's pair and an authorised worker's; intruder/: a valid worker pair, not authorised, with
+// the coordinator's public key.
+void make_keys(const fs::path& root) {
+  keygen(root, {(root / "keys").string(), "coordinator"});
+  keygen(root, {(root / "keys").string(), "worker", "--authorize"});
+  keygen(root, {(root / "intruder").string(), "worker"});
+  fs::copy_file(root / "keys" / "coordinator.key", root / "intruder" / "coordinator.key");
+}
+
 TEST_F(HostilePeersTest, WithCurveOnlyAWorkerWithAnAuthorisedKeyGetsWork) {
   const fs::path reference = threads_run();
   const fs::path keys = root_ / "keys";
   const fs::path intruder_keys = root_ / "intruder";
-  keygen(root_, {keys.string(), "coordinator"});
-  keygen(root_, {keys.string(), "worker", "--authorize"});
-  keygen(root_, {intruder_keys.string(), "worker"});  // a valid pair, not authorised
-  fs::copy_file(keys / "coordinator.key", intruder_keys / "coordinator.key");
+  make_keys(root_);
   EXPECT_EQ(fs::status(keys / "coordinator.key_secret").permissions() & fs::perms::all,
             fs::perms::owner_read | fs::perms::owner_write);
 
@@ -173,10 +179,7 @@ TEST_F(HostilePeersTest, AMalformedKeyFileIsSkippedLoggedOnceAndCounted) {
   const fs::path reference = threads_run();
   const fs::path keys = root_ / "keys";
   const fs::path intruder_keys = root_ / "intruder";
-  keygen(root_, {keys.string(), "coordinator"});
-  keygen(root_, {keys.string(), "worker", "--authorize"});
-  keygen(root_, {intruder_keys.string(), "worker"});
-  fs::copy_file(keys / "coordinator.key", intruder_keys / "coordinator.key");
+  make_keys(root_);
   const pid_t pid = coordinator(root_ / "C", {"--listen", "tcp://127.0.0.1:*", "--curve-keys", keys.string()}, "C");
   const std::string endpoint = await_log("C", "workers connect to (tcp://[0-9.]+:[0-9]+)");
   const std::string port = await_log("C", "status: http://127.0.0.1:([0-9]+)/status");

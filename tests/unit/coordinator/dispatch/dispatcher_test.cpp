@@ -79,6 +79,18 @@ DispatchSettings settings() {
   return s;
 }
 
+// Settings under which every job answered by a worker that is not local is checked by another.
+DispatchSettings checking_every_job() {
+  DispatchSettings s = settings();
+  s.verify_fraction = 1;
+  return s;
+}
+
+// The batch's results in task order: each task's reward is its index (answer()).
+void expect_task_order(const std::vector<RolloutResult>& results) {
+  for (size_t i = 0; i < results.size(); ++i) EXPECT_EQ(results[i].total_reward, static_cast<double>(i)) << i;
+}
+
 TEST(Dispatcher, RefusesOtherVersionsAndBuilds) {
   Dispatcher d(settings());
   wire::Hello old = hello();
@@ -119,7 +131,7 @@ TEST(Dispatcher, ABatchSpreadsOverWorkersAndComesBackInTaskOrder) {
   }
   const std::vector<RolloutResult> results = d.take_results();
   ASSERT_EQ(results.size(), 40u);
-  for (size_t i = 0; i < results.size(); ++i) EXPECT_EQ(results[i].total_reward, static_cast<double>(i));
+  expect_task_order(results);
 }
 
 TEST(Dispatcher, DuplicatesAndStrangersAreDropped) {
@@ -164,7 +176,7 @@ TEST(Dispatcher, JobsOfASilentWorkerGoToTheOthers) {
   ASSERT_TRUE(d.batch_done());
   EXPECT_EQ(d.worker_count(), 1u);
   const std::vector<RolloutResult> results = d.take_results();
-  for (size_t i = 0; i < results.size(); ++i) EXPECT_EQ(results[i].total_reward, static_cast<double>(i));
+  expect_task_order(results);
 }
 
 TEST(Dispatcher, AJobThatKillsEveryWorkerStopsTheRunNamingTheTask) {
@@ -278,7 +290,7 @@ TEST(Dispatcher, AJobHeldFarLongerThanTheBatchsJobsGoesToAnIdleWorkerToo) {
   EXPECT_FALSE(d.dropped().contains("unexpected_result"));
   const std::vector<RolloutResult> results = d.take_results();
   ASSERT_EQ(results.size(), 4u);
-  for (size_t i = 0; i < results.size(); ++i) EXPECT_EQ(results[i].total_reward, static_cast<double>(i));
+  expect_task_order(results);
 }
 
 TEST(Dispatcher, TheFirstHolderToAnswerABackedUpJobWins) {
@@ -294,7 +306,7 @@ TEST(Dispatcher, TheFirstHolderToAnswerABackedUpJobWins) {
   EXPECT_EQ(d.dropped().at("late_result"), 2);  // one from each
   EXPECT_EQ(d.in_flight(), 0);
   const std::vector<RolloutResult> results = d.take_results();
-  for (size_t i = 0; i < results.size(); ++i) EXPECT_EQ(results[i].total_reward, static_cast<double>(i));
+  expect_task_order(results);
 }
 
 TEST(Dispatcher, AHolderLostWhileItsBackupRunsLeavesTheJobToTheBackup) {
@@ -383,7 +395,7 @@ TEST(Dispatcher, PeersThatNeverAnswerLoseTheirJobsAfterALeaseAndGetNoMore) {
   EXPECT_EQ(d.workers_demoted(), 50);
   EXPECT_EQ(d.leases_expired(), 50);
   const std::vector<RolloutResult> results = d.take_results();
-  for (size_t i = 0; i < results.size(); ++i) EXPECT_EQ(results[i].total_reward, static_cast<double>(i));
+  expect_task_order(results);
 
   // the next batch goes to the proven worker only
   d.start_batch(batch(20));
@@ -417,7 +429,7 @@ TEST(Dispatcher, ErrorsAndDeathsOfPeersNotProvenDoNotStopTheRun) {
   EXPECT_TRUE(d.batch_done());
   EXPECT_FALSE(d.failure());
   const std::vector<RolloutResult> results = d.take_results();
-  for (size_t i = 0; i < results.size(); ++i) EXPECT_EQ(results[i].total_reward, static_cast<double>(i));
+  expect_task_order(results);
 }
 
 TEST(Dispatcher, AnErrorStopsTheRunWhenTwoProvenWorkersAgree) {
@@ -443,9 +455,7 @@ TEST(Dispatcher, AnErrorStopsTheRunWhenTwoProvenWorkersAgree) {
 }
 
 TEST(Dispatcher, AWrongWorkerIsFoundByAThirdRunRefusedAndItsResultsRedone) {
-  DispatchSettings s = settings();
-  s.verify_fraction = 1;
-  Dispatcher d(s);
+  Dispatcher d(checking_every_job());
   for (const char* id : {"liar", "b", "c"}) join(d, id, stranger_hello(id), 0);
   d.start_batch(batch(30));
   Millis now = 1;
@@ -476,14 +486,11 @@ TEST(Dispatcher, AWrongWorkerIsFoundByAThirdRunRefusedAndItsResultsRedone) {
   for (const auto& [first, end] : d.take_ready_ranges())
     for (size_t t = first; t < end; ++t) reported[t] += 1;
   for (size_t t = 0; t < 30; ++t) EXPECT_EQ(reported[t], 1) << t;
-  const std::vector<RolloutResult> results = d.take_results();
-  for (size_t i = 0; i < results.size(); ++i) EXPECT_EQ(results[i].total_reward, static_cast<double>(i)) << i;
+  expect_task_order(d.take_results());
 }
 
 TEST(Dispatcher, AJobNoOtherWorkerCanCheckIsTakenUnverified) {
-  DispatchSettings s = settings();
-  s.verify_fraction = 1;
-  Dispatcher d(s);
+  Dispatcher d(checking_every_job());
   join(d, "alone", stranger_hello("alone"), 0);
   d.start_batch(batch(4));
   Millis now = 1;
@@ -494,9 +501,7 @@ TEST(Dispatcher, AJobNoOtherWorkerCanCheckIsTakenUnverified) {
 }
 
 TEST(Dispatcher, WorkersThatJoinWhileJobsWaitForACheckTakeThem) {
-  DispatchSettings s = settings();
-  s.verify_fraction = 1;
-  Dispatcher d(s);
+  Dispatcher d(checking_every_job());
   join(d, "a", stranger_hello("a"), 0);
   join(d, "b", stranger_hello("b"), 0);
   d.start_batch(batch(2));  // one task a job
@@ -511,9 +516,7 @@ TEST(Dispatcher, WorkersThatJoinWhileJobsWaitForACheckTakeThem) {
 }
 
 TEST(Dispatcher, ALocalWorkersAnswersAreNotChecked) {
-  DispatchSettings s = settings();
-  s.verify_fraction = 1;
-  Dispatcher d(s);
+  Dispatcher d(checking_every_job());
   join(d, "local", hello(), 0);
   join(d, "other", stranger_hello("other"), 0);
   d.start_batch(batch(8));
@@ -521,7 +524,7 @@ TEST(Dispatcher, ALocalWorkersAnswersAreNotChecked) {
   drive(d, d.outgoing(now), now);
   ASSERT_TRUE(d.batch_done());
   const std::vector<RolloutResult> results = d.take_results();
-  for (size_t i = 0; i < results.size(); ++i) EXPECT_EQ(results[i].total_reward, static_cast<double>(i));
+  expect_task_order(results);
 }
 
 TEST(Dispatcher, WhatIsReportedFinalNeverChangesWhateverTheOrderOfAnswersAndALiar) {
