@@ -65,6 +65,7 @@ Actions WorkerSession::start(TimePoint now) {
   lost_coordinator(now);
   send(actions, hello(), now);
   next_hello_ = now + settings_.hello_interval;
+  greeting_since_ = now;
   return actions;
 }
 
@@ -140,6 +141,7 @@ Actions WorkerSession::on_message(const wire::CoordinatorMessage& message, TimeP
       lost_coordinator(now);
       send(actions, hello(), now);
       next_hello_ = now + settings_.hello_interval;
+      greeting_since_ = now;
       break;
     case wire::CoordinatorMessage::KIND_NOT_SET:
       drop(&DropCounts::unexpected, "a message of no known kind", now);
@@ -286,6 +288,12 @@ Actions WorkerSession::on_tick(TimePoint now) {
   }
   switch (state_) {
     case SessionState::kGreeting:
+      if (now - greeting_since_ >= settings_.greeting_timeout) {
+        spdlog::debug("no Welcome on this connection for {} ms: a fresh one in {} ms", ms(settings_.greeting_timeout),
+                      ms(backoff_));
+        wait_to_reconnect(actions, now);
+        break;
+      }
       if (now >= next_hello_) {
         send(actions, hello(), now);
         next_hello_ = now + settings_.hello_interval;
@@ -313,6 +321,7 @@ Actions WorkerSession::on_tick(TimePoint now) {
         state_ = SessionState::kGreeting;
         send(actions, hello(), now);
         next_hello_ = now + settings_.hello_interval;
+        greeting_since_ = now;
         spdlog::info("connecting again; Hello");
       }
       break;

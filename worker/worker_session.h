@@ -11,7 +11,8 @@
 //   greeting ── the handshake failed (a refused CURVE key, a peer of another protocol) ──▶ waiting to reconnect
 //   Refused (exit 2), Shutdown (exit 0) or a stop (Goodbye, exit 0) ──▶ finished
 //
-// Greeting: Hello now and every second until a Welcome (sooner when a Hello could not be sent because the
+// Greeting: Hello now and every second until a Welcome (a connection that brings none within greeting_timeout
+// is closed and a fresh one opened after the backoff: libzmq can leave a refused handshake hanging) (sooner when a Hello could not be sent because the
 // connection is not up yet); a Heartbeat answers the Welcome at once (ready for jobs). Welcomed: Heartbeat
 // whenever nothing was sent for heartbeat_ms; a Rejoin (the coordinator restarted) drops the jobs and goes back
 // to greeting with a Hello at once; a Job is decoded
@@ -57,6 +58,8 @@ struct SessionSettings {
   std::string name;      // for people: "host:pid" by default (main.cpp)
   std::string local_token;  // told in Hello: from the coordinator that started this worker (--local-workers)
   Millis hello_interval{1000};
+  // A connection that brings no Welcome this long is replaced by a fresh one (a handshake libzmq left hanging).
+  Millis greeting_timeout{wire_timing::kLivenessMs};
   Millis hello_retry{50};  // after a Hello that could not be sent (no connection yet)
   Millis first_backoff{250};
   Millis max_backoff{4000};
@@ -161,6 +164,7 @@ class WorkerSession {
   TimePoint last_received_{};
   TimePoint welcomed_at_{};
   TimePoint reconnect_at_{};
+  TimePoint greeting_since_{};  // this connection's first Hello
   TimePoint unwelcomed_since_{};  // the still-trying lines: since when (epoch: not started), the next, the gap after
   TimePoint next_still_trying_{};
   Millis still_trying_gap_{};

@@ -230,6 +230,17 @@ TEST(WorkerSession, ConnectFailureWaitsWithBackoff) {
   EXPECT_EQ(session.next_deadline(), kT0 + 750ms);
 }
 
+TEST(WorkerSession, AConnectionThatBringsNoWelcomeIsReplacedByAFreshOne) {
+  WorkerSession session(settings());
+  session.start(kT0);
+  // Hellos every second on the first connection; no Welcome within the greeting timeout: a fresh socket
+  for (auto t = kT0; t < kT0 + settings().greeting_timeout; t += 100ms) EXPECT_FALSE(session.on_tick(t).close_socket);
+  EXPECT_TRUE(session.on_tick(kT0 + settings().greeting_timeout).close_socket);
+  EXPECT_EQ(session.state(), SessionState::kWaitingToReconnect);
+  EXPECT_TRUE(session.on_tick(kT0 + settings().greeting_timeout + 250ms).open_socket);
+  EXPECT_EQ(session.state(), SessionState::kGreeting);
+}
+
 TEST(WorkerSession, WithoutAWelcomeItSaysItIsStillTryingWithGrowingGaps) {
   WorkerSession session(settings());
   session.start(kT0);
