@@ -10,7 +10,7 @@
 #include <thread>
 #include <vector>
 
-#include "course_sweep.h"
+#include "course_sweep_json.h"
 #include "envgen/env_json.h"
 #include "envgen/named_courses.h"
 #include "policy/policy_file.h"

@@ -1,4 +1,4 @@
-// Tests common/policy/mlp.cpp: the parameter layout by hand-computable networks, the arithmetic against a naive
+// Tests simulation/policy/mlp.cpp: the parameter layout by hand-computable networks, the arithmetic against a naive
 // loop, the boundary checks, and (when the reference data is present) the reference's recorded actions.
 
 #include "policy/mlp.h"

@@ -1,4 +1,4 @@
-// Tests common/es/perturbation.cpp: ε(key) is a deterministic function of the key, extends by prefix, has the
+// Tests simulation/es/perturbation.cpp: ε(key) is a deterministic function of the key, extends by prefix, has the
 // moments of N(0, 1), and perturb() is θ ± σε even in place.
 
 #include "es/perturbation.h"

@@ -1,4 +1,4 @@
-// Tests common/es/centered_ranks.cpp: rank/(n − 1) − 0.5 with ascending ranks and ties broken by index.
+// Tests simulation/es/centered_ranks.cpp: rank/(n − 1) − 0.5 with ascending ranks and ties broken by index.
 
 #include "es/centered_ranks.h"
 

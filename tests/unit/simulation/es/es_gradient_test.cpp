@@ -1,4 +1,4 @@
-// Tests common/es/es_gradient.cpp against the formula written out by hand: ranks over the interleaved returns
+// Tests simulation/es/es_gradient.cpp against the formula written out by hand: ranks over the interleaved returns
 // plus0, minus0, plus1, minus1, g = Σᵢ (rank⁺ᵢ − rank⁻ᵢ) εᵢ / n, and / σ when asked.
 
 #include "es/es_gradient.h"

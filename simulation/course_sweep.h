@@ -6,8 +6,6 @@
 #include <string>
 #include <vector>
 
-#include <nlohmann/json.hpp>
-
 #include "rollout.h"
 
 namespace poet {
@@ -30,9 +28,5 @@ struct CourseSweep {
 CourseSweep sweep_course(const Mlp& policy, const std::string& label, const EnvEncoding& encoding,
                          uint32_t first_seed, int count, const WalkerOptions& options = {},
                          int max_steps = walker::kDefaultTimeLimit, int threads = 1);
-
-// {"course", "first_seed", "episodes", "mean_return", "min_return", "max_return", "finished", "fell",
-//  "timed_out", "mean_steps", "returns": [...], "steps": [...], "finished_seeds": [the seeds it finished on]}
-nlohmann::json to_json(const CourseSweep& sweep);
 
 }  // namespace poet
