@@ -17,8 +17,8 @@ name=${4:?$usage}
 root=$(cd "$(dirname "$0")/.." && pwd)
 [[ $pair =~ ^[0-9]+$ ]] || { echo "PAIR must be a pair id, got '$pair'" >&2; exit 2; }
 [[ $name =~ ^[A-Za-z0-9._-]+$ ]] || { echo "NAME may hold letters, digits, '.', '_' and '-' only, got '$name'" >&2; exit 2; }
-rollout=$build/coordinator/tools/poet-rollout
-eval_tool=$build/coordinator/tools/poet-eval
+rollout=$build/tools/poet-rollout
+eval_tool=$build/tools/poet-eval
 for tool in "$rollout" "$eval_tool"; do [[ -x $tool ]] || { echo "no $tool: build first" >&2; exit 2; }; done
 env_src=$run/envs/pair-$pair.env.json
 walker_src=$run/policies/pair-$pair.best.json
