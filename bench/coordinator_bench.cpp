@@ -95,21 +95,21 @@ class PacedEvaluator final : public Evaluator {
 // The paper preset's state at its first transfer round (iteration 25, no reproduction): active_cap pairs (20) on
 // distinct environments, with distinct θs and fresh optimizers.
 RunState paper_state() {
-  RunState state = initial_state(load_run_config(POET_PAPER_CONFIG).value());
-  const EsSettings es = es_settings(state.config);
-  for (int i = 1; i < state.config.poet().active_cap(); ++i) {
+  RunState state = initial_state(run_settings(load_run_config(POET_PAPER_CONFIG).value()));
+  const EsSettings& es = state.settings.es;
+  for (int i = 1; i < state.settings.poet.active_cap; ++i) {
     Pair p;
     p.id = state.next_pair_id++;
     p.env = EnvDef{named_course("flat").value(), static_cast<uint32_t>(1000 + i)};
     p.env.encoding.roughness = 0.3 * i;
     p.env.encoding.name = "bench" + std::to_string(i);
-    RandomStream init(stream_key(state.config.seed(), "bench-pair", {static_cast<uint64_t>(i)}));
+    RandomStream init(stream_key(state.settings.seed, "bench-pair", {static_cast<uint64_t>(i)}));
     p.theta = random_params(init, 0.1);
     p.best_theta = p.theta;
     p.optimizer = fresh_optimizer(es, p.theta.size());
     state.pairs.push_back(std::move(p));
   }
-  state.next_iteration = state.config.poet().transfer_interval();
+  state.next_iteration = state.settings.poet.transfer_interval;
   return state;
 }
 

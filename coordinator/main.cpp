@@ -38,6 +38,7 @@
 #include "local_token.h"
 #include "poet/engine.h"
 #include "policy/policy_file.h"
+#include "run/event_json.h"
 #include "run/progress_display.h"
 #include "run/run_directory.h"
 #include "run/wall_times.h"
@@ -107,7 +108,7 @@ void print_summary(const RunState& state, double wall_seconds) {
     solved += pair.solved() ? 1 : 0;
   }
   const RunCounters& c = state.counters;
-  std::printf("iterations: %d of %d\n", state.next_iteration, state.config.iterations());
+  std::printf("iterations: %d of %d\n", state.next_iteration, state.settings.iterations);
   std::printf("pairs: %zu created, %d active, %d solved\n", state.pairs.size(), active, solved);
   std::printf("transfers: %lld accepted of %lld attempted\n", static_cast<long long>(c.transfer_successes),
               static_cast<long long>(c.transfer_attempts));
@@ -125,20 +126,22 @@ std::optional<std::pair<RunDirectory, RunState>> continue_run(Expected<std::pair
     return std::nullopt;
   }
   auto& [dir, state] = *resumed;
-  if (iterations && (!state.config.has_iterations() || state.config.iterations() != *iterations)) {
-    state.config.set_iterations(*iterations);
-    if (auto error = validate(state.config)) {
+  if (iterations && (!dir.config().has_iterations() || dir.config().iterations() != *iterations)) {
+    pb::RunConfig config = dir.config();
+    config.set_iterations(*iterations);
+    if (auto error = validate(config)) {
       spdlog::error("--iterations: {}", *error);
       return std::nullopt;
     }
-    std::optional<std::string> error = dir.write_config(state.config);
+    state.settings = run_settings(config);
+    std::optional<std::string> error = dir.write_config(config);
     if (!error) error = dir.save(state);
     if (error) {
       spdlog::error("{}", *error);
       return std::nullopt;
     }
   }
-  spdlog::info("resumed {} at iteration {} of {}", options.run_dir, state.next_iteration, state.config.iterations());
+  spdlog::info("resumed {} at iteration {} of {}", options.run_dir, state.next_iteration, state.settings.iterations);
   return std::move(*resumed);
 }
 
@@ -167,7 +170,7 @@ std::optional<std::pair<RunDirectory, RunState>> start_run(const Options& option
   std::error_code ec;
   if (std::filesystem::exists(std::filesystem::path(options.run_dir) / kCheckpointFile, ec)) {
     Expected<std::pair<RunDirectory, RunState>> resumed = RunDirectory::resume(options.run_dir);
-    if (resumed && !same_run(resumed->second.config, *config)) {
+    if (resumed && !same_run(resumed->first.config(), *config)) {
       spdlog::error("{} already holds a run of another config; resume it with --resume, or choose another directory",
                     options.run_dir);
       return std::nullopt;
@@ -190,7 +193,7 @@ std::optional<std::pair<RunDirectory, RunState>> start_run(const Options& option
     spdlog::error("{}", dir.error());
     return std::nullopt;
   }
-  RunState state = initial_state(*config, std::move(start_theta));
+  RunState state = initial_state(run_settings(*config), std::move(start_theta));
   if (auto error = dir->save(state)) {
     spdlog::error("{}", *error);
     return std::nullopt;
@@ -362,7 +365,7 @@ int run(const Options& options, StopSignals& signals) {
   }
   ProgressDisplay progress(!options.quiet);
   auto elapsed = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count(); };
-  const int interval = state.config.checkpoint_interval();
+  const int interval = state.settings.checkpoint_interval;
   int saved_iteration = state.next_iteration;
   auto save = [&]() {
     if (auto error = dir.save(state)) {
@@ -396,7 +399,7 @@ int run(const Options& options, StopSignals& signals) {
     }
     dir.append(report);
     if (!report.events.empty() && spdlog::should_log(spdlog::level::info)) progress.clear();
-    for (const auto& event : report.events) spdlog::log(log_level_of(event), "{}", describe_event(event));
+    for (const auto& event : events_json(report)) spdlog::log(log_level_of(event), "{}", describe_event(event));
     if (state.next_iteration % interval == 0 || run_complete(state) || signals.stop_requested()) {
       if (!save()) return kExitError;
     }

@@ -300,8 +300,9 @@ Expected<pb::RunConfig> load_run_config(const std::string& path) {
   return config;
 }
 
-EsSettings es_settings(const pb::RunConfig& config) {
-  const pb::EsConfig& es = config.es();
+namespace {
+
+EsSettings es_settings(const pb::EsConfig& es) {
   EsSettings s;
   s.perturbations = es.perturbations();
   s.init_sigma = es.init_sigma();
@@ -318,8 +319,7 @@ EsSettings es_settings(const pb::RunConfig& config) {
   return s;
 }
 
-MutationOptions mutation_options(const pb::RunConfig& config) {
-  const pb::MutationConfig& m = config.poet().mutation();
+MutationOptions mutation_options(const pb::MutationConfig& m) {
   MutationOptions o;
   o.roughness = m.roughness();
   o.pits = m.pits();
@@ -330,11 +330,77 @@ MutationOptions mutation_options(const pb::RunConfig& config) {
   return o;
 }
 
-WalkerOptions walker_options(const pb::RunConfig& config) {
-  WalkerOptions o;
-  o.push_scale = config.walker().push_scale();
-  o.lidar = config.walker().lidar() == pb::WalkerConfig::FIRST ? LidarRule::kFirst : LidarRule::kNearest;
-  return o;
+static_assert(static_cast<int>(LidarRule::kNearest) == pb::WalkerConfig::NEAREST &&
+              static_cast<int>(LidarRule::kFirst) == pb::WalkerConfig::FIRST);
+
+EpisodeSettings episode_settings(const pb::WalkerConfig& w) {
+  EpisodeSettings s;
+  s.walker.push_scale = w.push_scale();
+  s.walker.lidar = static_cast<LidarRule>(w.lidar());
+  s.max_steps = w.max_steps();
+  s.stochastic = w.stochastic_envs();
+  s.eval_episodes = s.stochastic ? w.eval_episodes() : 1;
+  return s;
+}
+
+RunMode run_mode(pb::RunConfig::Mode mode) {
+  switch (mode) {
+    case pb::RunConfig::POET_WITHOUT_TRANSFER:
+      return RunMode::kPoetWithoutTransfer;
+    case pb::RunConfig::ES_ALONE:
+      return RunMode::kEsAlone;
+    case pb::RunConfig::DIRECT_PATH:
+      return RunMode::kDirectPath;
+    default:
+      return RunMode::kPoet;
+  }
+}
+
+ProposalKind proposal_kind(pb::ProposalKind kind) {
+  return kind == pb::ADAM_PROPOSAL ? ProposalKind::kAdam : ProposalKind::kSgd;
+}
+
+PoetSettings poet_settings(const pb::PoetConfig& p) {
+  PoetSettings s;
+  s.mutation_interval = p.mutation_interval();
+  s.transfer_interval = p.transfer_interval();
+  s.repro_threshold = p.repro_threshold();
+  s.max_children = p.max_children();
+  s.max_admitted = p.max_admitted();
+  s.mc_low = p.mc_low();
+  s.mc_high = p.mc_high();
+  s.active_cap = p.active_cap();
+  s.novelty_k = p.novelty_k();
+  s.novelty_normalized = p.novelty_normalized();
+  s.child_ranking = p.child_ranking() == pb::LOWEST_SCORE_FIRST ? ChildRanking::kLowestScoreFirst
+                                                                 : ChildRanking::kNovelty;
+  s.admission_proposal = proposal_kind(p.admission_proposal());
+  s.transfer_proposal = proposal_kind(p.transfer_proposal());
+  s.solved_score = p.solved_score();
+  s.keep_admission_selection = p.keep_admission_selection();
+  s.transfer_test = p.transfer_test() == pb::THRESHOLD_TRANSFER_TEST ? TransferTest::kThreshold : TransferTest::kFull;
+  s.mutation = mutation_options(p.mutation());
+  return s;
+}
+
+}  // namespace
+
+RunSettings run_settings(const pb::RunConfig& config) {
+  RunSettings s;
+  s.mode = run_mode(config.mode());
+  s.seed = config.seed();
+  s.iterations = config.iterations();
+  s.checkpoint_interval = config.checkpoint_interval();
+  s.init_zero = config.init_zero();
+  s.init_stddev = config.init_stddev();
+  s.es = es_settings(config.es());
+  s.episodes = episode_settings(config.walker());
+  s.poet = poet_settings(config.poet());
+  if (s.mode == RunMode::kEsAlone) s.target = env_def_from_proto(config.es_alone().target()).value();
+  if (s.mode == RunMode::kDirectPath) s.target = env_def_from_proto(config.direct_path().target()).value();
+  s.advance_threshold = config.direct_path().advance_threshold();
+  s.budget_es_steps = config.direct_path().budget_es_steps();
+  return s;
 }
 
 std::string run_config_text(const pb::RunConfig& config) {

@@ -8,11 +8,9 @@
 #include <string>
 #include <string_view>
 
-#include "envgen/mutation.h"
-#include "es/es_settings.h"
 #include "expected.h"
 #include "poet.pb.h"
-#include "walker/walker_env.h"
+#include "poet/run_settings.h"
 
 namespace poet {
 
@@ -35,11 +33,9 @@ Expected<pb::RunConfig> load_run_config(const std::string& path);
 // a contradiction names both fields), or nothing when the config is runnable.
 std::optional<std::string> validate(const pb::RunConfig& config);
 
-// The parts of a config, for a config that validate() accepts. WalkerOptions carries the physics options only;
-// max_steps, stochastic_envs and eval_episodes are read from config.walker() by the rollout code.
-EsSettings es_settings(const pb::RunConfig& config);
-MutationOptions mutation_options(const pb::RunConfig& config);
-WalkerOptions walker_options(const pb::RunConfig& config);
+// The config as the engine reads it, for a config that validate() accepts: every field typed, made once (the
+// one route from the config into the engine).
+RunSettings run_settings(const pb::RunConfig& config);
 
 // Text format that parse_run_config reads back to an equal message (same fields set, doubles bit for bit).
 // Only set fields are printed, so a default stays a default.

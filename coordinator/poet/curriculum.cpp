@@ -7,7 +7,6 @@
 #include <stdexcept>
 
 #include "envgen/env_distance.h"
-#include "envgen/env_proto.h"
 #include "envgen/mutation.h"
 #include "poet/iteration_context.h"
 
@@ -71,34 +70,32 @@ void advance_curriculum(IterationContext& ctx) {
   RunState& state = ctx.state;
   Pair& pair = state.pairs.front();
   CurriculumStage& stage = state.stages.back();
-  const pb::DirectPathConfig& config = ctx.config.direct_path();
-  const EnvDef target = env_def_from_proto(config.target()).value();
+  const RunSettings& settings = ctx.settings;
+  const EnvDef target = settings.target.value();
 
-  const bool solved_here = pair.latest_finished && pair.latest_score >= ctx.config.poet().solved_score();
+  const bool solved_here = pair.latest_finished && pair.latest_score >= settings.poet.solved_score;
   if (solved_here && stage.solved_iteration == kNone) {
     stage.solved_iteration = ctx.t;
-    ctx.event("stage_solved", {{"stage", state.stages.size() - 1},
-                               {"env", stage.env.encoding.name},
-                               {"distance_to_target", normalized_distance(stage.env.encoding, target.encoding)}});
+    ctx.event(StageEvent{true, state.stages.size() - 1, stage.env.encoding.name,
+                         normalized_distance(stage.env.encoding, target.encoding)});
   }
   const bool at_target = pair.env.encoding.same_genes(target.encoding);
   if (at_target && stage.solved_iteration != kNone) {
     state.finished = true;
-    ctx.event("run_finished", {{"reason", "target solved"}, {"es_steps", pair.es_steps}});
+    ctx.event(RunFinishedEvent{true, pair.es_steps});
     return;
   }
-  if (pair.es_steps >= config.budget_es_steps()) {
+  if (pair.es_steps >= settings.budget_es_steps) {
     state.finished = true;
-    ctx.event("run_finished", {{"reason", "budget spent"}, {"es_steps", pair.es_steps}});
+    ctx.event(RunFinishedEvent{false, pair.es_steps});
     return;
   }
-  if (!at_target && pair.latest_score >= config.advance_threshold()) {
+  if (!at_target && pair.latest_score >= settings.advance_threshold) {
     RandomStream stream(ctx.key("direct-path", {static_cast<uint64_t>(state.stages.size())}));
     pair.env = EnvDef{step_toward(pair.env.encoding, target.encoding, stream), target.seed};
     state.stages.push_back({pair.env, ctx.t + 1, kNone});
-    ctx.event("stage_advanced", {{"stage", state.stages.size() - 1},
-                                 {"env", pair.env.encoding.name},
-                                 {"distance_to_target", normalized_distance(pair.env.encoding, target.encoding)}});
+    ctx.event(StageEvent{false, state.stages.size() - 1, pair.env.encoding.name,
+                         normalized_distance(pair.env.encoding, target.encoding)});
   }
 }
 

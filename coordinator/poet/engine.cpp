@@ -3,8 +3,6 @@
 #include <cmath>
 #include <string>
 
-#include "config/run_config.h"
-#include "envgen/env_proto.h"
 #include "envgen/named_courses.h"
 #include "poet/iteration_context.h"
 #include "policy/mlp.h"
@@ -13,29 +11,21 @@
 namespace poet {
 
 uint64_t IterationContext::key(std::string_view purpose, std::initializer_list<uint64_t> ids) const {
-  return stream_key(config.seed(), purpose, ids);
-}
-
-void IterationContext::event(std::string_view name, nlohmann::ordered_json fields) {
-  nlohmann::ordered_json e = {{"iteration", t}, {"event", name}};
-  for (auto& [k, v] : fields.items()) e[k] = v;
-  report.events.push_back(std::move(e));
+  return stream_key(settings.seed, purpose, ids);
 }
 
 IterationContext iteration_context(RunState& state, Evaluator& evaluator, IterationReport& report) {
   return {state,
           evaluator,
           report,
-          state.config,
-          es_settings(state.config),
-          episode_settings(state.config),
+          state.settings,
           state.next_iteration};
 }
 
 void record_evaluation(IterationContext& ctx, Pair& pair, const std::vector<double>& theta, const Evaluation& eval) {
   pair.latest_score = eval.score;
   pair.latest_finished = eval.finished;
-  if (ctx.config.poet().transfer_test() == pb::THRESHOLD_TRANSFER_TEST) {
+  if (ctx.settings.poet.transfer_test == TransferTest::kThreshold) {
     pair.recent_scores.push_back(eval.score);
     if (pair.recent_scores.size() > kRecentScores) pair.recent_scores.erase(pair.recent_scores.begin());
   }
@@ -44,12 +34,9 @@ void record_evaluation(IterationContext& ctx, Pair& pair, const std::vector<doub
     pair.best_theta = theta;
     pair.best_iteration = ctx.t;
   }
-  if (!pair.solved() && eval.finished && eval.score >= ctx.config.poet().solved_score()) {
+  if (!pair.solved() && eval.finished && eval.score >= ctx.settings.poet.solved_score) {
     pair.first_solved_iteration = ctx.t;
-    ctx.event("solved", {{"pair", pair.id},
-                         {"env", pair.env.encoding.name},
-                         {"score", eval.score},
-                         {"iterations_to_solve", ctx.t - pair.created_iteration}});
+    ctx.event(SolvedEvent{pair.id, pair.env.encoding.name, eval.score, ctx.t - pair.created_iteration});
   }
 }
 
@@ -65,45 +52,44 @@ void require_finite(const IterationContext& ctx, const Pair& pair, std::span<con
   }
 }
 
-std::vector<double> propose(pb::ProposalKind kind, const std::vector<double>& theta, const std::vector<double>& g,
+std::vector<double> propose(ProposalKind kind, const std::vector<double>& theta, const std::vector<double>& g,
                             const OptimizerState& optimizer, double lr, const EsSettings& es) {
-  if (kind == pb::ADAM_PROPOSAL) return adam_proposal(theta, g, optimizer, lr, es);
+  if (kind == ProposalKind::kAdam) return adam_proposal(theta, g, optimizer, lr, es);
   return sgd_proposal(theta, g, lr, es.l2_coeff);
 }
 
-RunState initial_state(const pb::RunConfig& config, std::optional<std::vector<double>> start_theta) {
+RunState initial_state(const RunSettings& settings, std::optional<std::vector<double>> start_theta) {
   RunState state;
-  state.config = config;
-  const EsSettings es = es_settings(config);
+  state.settings = settings;
 
   Pair first;
   first.id = state.next_pair_id++;
-  switch (config.mode()) {
-    case pb::RunConfig::ES_ALONE:
-      first.env = env_def_from_proto(config.es_alone().target()).value();
+  switch (settings.mode) {
+    case RunMode::kEsAlone:
+      first.env = settings.target.value();
       break;
-    case pb::RunConfig::DIRECT_PATH:
-      first.env = EnvDef{named_course("flat").value(), env_def_from_proto(config.direct_path().target()).value().seed};
+    case RunMode::kDirectPath:
+      first.env = EnvDef{named_course("flat").value(), settings.target.value().seed};
       break;
     default:
-      first.env = EnvDef{named_course("flat").value(), static_cast<uint32_t>(config.seed() % kMaxEnvSeed)};
+      first.env = EnvDef{named_course("flat").value(), static_cast<uint32_t>(settings.seed % kMaxEnvSeed)};
   }
   if (start_theta) {
     first.theta = std::move(*start_theta);
-  } else if (config.init_zero()) {
+  } else if (settings.init_zero) {
     first.theta = zero_params();
   } else {
-    RandomStream init(stream_key(config.seed(), "init", {0}));
-    first.theta = random_params(init, config.init_stddev());
+    RandomStream init(stream_key(settings.seed, "init", {0}));
+    first.theta = random_params(init, settings.init_stddev);
   }
-  first.optimizer = fresh_optimizer(es, first.theta.size());
+  first.optimizer = fresh_optimizer(settings.es, first.theta.size());
   first.best_theta = first.theta;
-  if (config.mode() == pb::RunConfig::DIRECT_PATH) state.stages.push_back({first.env, 0, kNone});
+  if (settings.mode == RunMode::kDirectPath) state.stages.push_back({first.env, 0, kNone});
   state.pairs.push_back(std::move(first));
   return state;
 }
 
-bool run_complete(const RunState& state) { return state.finished || state.next_iteration >= state.config.iterations(); }
+bool run_complete(const RunState& state) { return state.finished || state.next_iteration >= state.settings.iterations; }
 
 IterationReport run_iteration(RunState& state, Evaluator& evaluator) {
   IterationReport report;
@@ -111,12 +97,11 @@ IterationReport run_iteration(RunState& state, Evaluator& evaluator) {
   const int64_t rollouts_before = state.counters.rollouts;
   IterationContext ctx = iteration_context(state, evaluator, report);
 
-  const auto mode = state.config.mode();
-  const bool poet = mode == pb::RunConfig::POET || mode == pb::RunConfig::POET_WITHOUT_TRANSFER;
-  if (poet) reproduce(ctx);
+  const RunMode mode = state.settings.mode;
+  if (mode == RunMode::kPoet || mode == RunMode::kPoetWithoutTransfer) reproduce(ctx);
   optimise(ctx);
-  if (mode == pb::RunConfig::POET) transfer(ctx);
-  if (mode == pb::RunConfig::DIRECT_PATH) advance_curriculum(ctx);
+  if (mode == RunMode::kPoet) transfer(ctx);
+  if (mode == RunMode::kDirectPath) advance_curriculum(ctx);
 
   state.next_iteration += 1;
   report.rollouts = state.counters.rollouts - rollouts_before;

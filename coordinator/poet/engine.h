@@ -24,8 +24,8 @@ class RunDiverged : public std::runtime_error {
 // The state before iteration 0: one pair on the mode's first environment (flat with seed = run seed mod 10^6
 // for POET; the target for ES alone; flat with the target's seed for the direct path), θ from the run's init
 // stream or `start_theta` (a walker that already walks, --start-from), a fresh optimizer. Preconditions:
-// validate(config) passed; start_theta, when given, holds kParamCount finite values.
-RunState initial_state(const pb::RunConfig& config, std::optional<std::vector<double>> start_theta = std::nullopt);
+// settings made from a config that validate() accepts; start_theta, when given, holds kParamCount finite values.
+RunState initial_state(const RunSettings& settings, std::optional<std::vector<double>> start_theta = std::nullopt);
 
 // True when the run has nothing left to do: the iteration limit is reached or a control's stopping rule met.
 bool run_complete(const RunState& state);

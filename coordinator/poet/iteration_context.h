@@ -1,6 +1,6 @@
 #pragma once
-// What the steps of one iteration share (internal to the engine): the state, the evaluator, the settings read
-// once from the config, and the report being filled.
+// What the steps of one iteration share (internal to the engine): the state, the evaluator, the run's settings,
+// and the report being filled.
 
 #include <span>
 #include <string_view>
@@ -17,19 +17,16 @@ struct IterationContext {
   RunState& state;
   Evaluator& evaluator;
   IterationReport& report;
-  const pb::RunConfig& config;
-  EsSettings es;
-  EpisodeSettings episodes;
+  const RunSettings& settings;
   int t = 0;  // this iteration
 
   // The key of the stream for (run seed, purpose, ids): every random number of a run is drawn by address.
   uint64_t key(std::string_view purpose, std::initializer_list<uint64_t> ids) const;
-  // Appends an event {"iteration": t, "event": name, fields...}.
-  void event(std::string_view name, nlohmann::ordered_json fields = nlohmann::ordered_json::object());
-  RolloutBatch batch() const { return RolloutBatch(episodes); }
+  void event(RunEvent e) { report.events.push_back(std::move(e)); }
+  RolloutBatch batch() const { return RolloutBatch(settings.episodes); }
 };
 
-// The context of iteration state.next_iteration, its settings read from the state's config.
+// The context of iteration state.next_iteration, with the state's settings.
 IterationContext iteration_context(RunState& state, Evaluator& evaluator, IterationReport& report);
 
 // Records an evaluation of θ on the pair's own environment: latest score, best score and θ, and the first solve
@@ -41,7 +38,7 @@ void require_finite(const IterationContext& ctx, const Pair& pair, std::span<con
                     std::string_view what);
 
 // A one-step proposal from θ with gradient g: Adam's next update from `optimizer` with learning rate lr, or SGD.
-std::vector<double> propose(pb::ProposalKind kind, const std::vector<double>& theta, const std::vector<double>& g,
+std::vector<double> propose(ProposalKind kind, const std::vector<double>& theta, const std::vector<double>& g,
                             const OptimizerState& optimizer, double lr, const EsSettings& es);
 
 // The steps of an iteration, in the order run_iteration calls them.

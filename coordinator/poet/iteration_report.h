@@ -1,12 +1,13 @@
 #pragma once
 // What one iteration produced for the run directory: its events (pair created or retired, transfers, solves,
-// curriculum stages) and one statistics row per pair that took an ES step. Deterministic: no wall-clock times,
+// curriculum stages; as values, run_event.h) and one statistics row per pair that took an ES step. Deterministic: no wall-clock times,
 // so a resumed run writes the same bytes as an uninterrupted one.
 
 #include <cstdint>
-#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
+
+#include "poet/run_event.h"
 
 namespace poet {
 
@@ -33,7 +34,7 @@ struct PairStatsRow {
 
 struct IterationReport {
   int iteration = 0;
-  std::vector<nlohmann::ordered_json> events;  // objects, "iteration" and "event" first
+  std::vector<RunEvent> events;  // in the order they happened
   std::vector<PairStatsRow> stats;
   int64_t rollouts = 0;  // rollouts this iteration ran (for the progress display)
 };

@@ -18,7 +18,7 @@ double norm(const std::vector<double>& x) {
 
 void optimise(IterationContext& ctx) {
   const std::vector<size_t> active = ctx.state.active_indices();
-  const int n = ctx.es.perturbations;
+  const int n = ctx.settings.es.perturbations;
 
   // every pair's perturbations in one batch
   RolloutBatch steps = ctx.batch();
@@ -28,13 +28,13 @@ void optimise(IterationContext& ctx) {
     const uint64_t key = ctx.key("noise", {static_cast<uint64_t>(p.id), static_cast<uint64_t>(ctx.t)});
     handles.push_back(steps.add_es_step({share(p.theta), p.env, p.optimizer.sigma, key}, n));
   }
-  steps.run(ctx.evaluator, ctx.state.counters, ctx.es);
+  steps.run(ctx.evaluator, ctx.state.counters, ctx.settings.es);
 
   // the updates: Adam on the gradient, then the decays (σ was used before its decay)
   std::vector<PairStatsRow> rows;
   RolloutBatch evals = ctx.batch();
   std::vector<size_t> eval_handles;
-  const std::vector<EsOutcome> outcomes = steps.es_outcomes(handles, ctx.es);
+  const std::vector<EsOutcome> outcomes = steps.es_outcomes(handles, ctx.settings.es);
   for (size_t a = 0; a < active.size(); ++a) {
     Pair& p = ctx.state.pairs[active[a]];
     const EsOutcome& out = outcomes[a];
@@ -47,11 +47,11 @@ void optimise(IterationContext& ctx) {
     row.perturbation_max = out.max_return;
     row.grad_norm = norm(out.gradient);
     require_finite(ctx, p, out.gradient, "the ES gradient");
-    adam_step(p.theta, out.gradient, p.optimizer, ctx.es);
+    adam_step(p.theta, out.gradient, p.optimizer, ctx.settings.es);
     require_finite(ctx, p, p.theta, "θ after the ES step");
     require_finite(ctx, p, p.optimizer.m, "Adam's first moment after the ES step");
     require_finite(ctx, p, p.optimizer.v, "Adam's second moment after the ES step");
-    decay(p.optimizer, ctx.es);
+    decay(p.optimizer, ctx.settings.es);
     p.es_steps += 1;
     row.lr = p.optimizer.lr;
     row.theta_norm = norm(p.theta);

@@ -6,7 +6,6 @@
 #include <numeric>
 #include <optional>
 
-#include "config/run_config.h"
 #include "envgen/env_distance.h"
 #include "envgen/mutation.h"
 #include "poet/iteration_context.h"
@@ -36,18 +35,15 @@ bool archived(const RunState& state, const EnvEncoding& encoding) {
                      [&](const Pair& p) { return p.env.encoding.same_genes(encoding); });
 }
 
-// The "child" event of a mutation attempt: what was made from which parent, with the 5-vector the metrics read
-// (spec §1.4); duplicate, or the minimal-criterion score and verdict, are added when known.
-nlohmann::ordered_json child_event(const Child& child) {
-  const EnvVector e = env_vector(child.env.encoding);
-  return {{"attempt", child.attempt},
-          {"parent", child.parent},
-          {"env", child.env.encoding.name},
-          {"e", e},
-          {"duplicate", false}};
+// The event of a mutation attempt; duplicate, or the minimal-criterion score and verdict, are added when known.
+ChildEvent child_event(const Child& child) {
+  ChildEvent e;
+  e.attempt = child.attempt;
+  e.parent = child.parent;
+  e.env = child.env.encoding.name;
+  e.e = env_vector(child.env.encoding);
+  return e;
 }
-
-bool passes_mc(const pb::PoetConfig& poet, double score) { return poet.mc_low() <= score && score <= poet.mc_high(); }
 
 // Step 1.d: for each active pair in creation order, its θ (direct) and then a one-step proposal from it made
 // with a fresh optimizer's lr and σ; the first best wins ties. The direct scores come first: when one is above
@@ -57,8 +53,8 @@ bool passes_mc(const pb::PoetConfig& poet, double score) { return poet.mc_low() 
 std::optional<Start> best_start(IterationContext& ctx, const Child& child) {
   const auto u = [](auto v) { return static_cast<uint64_t>(v); };
   const std::vector<size_t> active = ctx.state.active_indices();
-  const OptimizerState fresh = fresh_optimizer(ctx.es, kParamCount);
-  const pb::ProposalKind kind = ctx.config.poet().admission_proposal();
+  const OptimizerState fresh = fresh_optimizer(ctx.settings.es, kParamCount);
+  const ProposalKind kind = ctx.settings.poet.admission_proposal;
 
   RolloutBatch first = ctx.batch();
   std::vector<size_t> direct;
@@ -69,7 +65,7 @@ std::optional<Start> best_start(IterationContext& ctx, const Child& child) {
   }
   first.run(ctx.evaluator, ctx.state.counters);
   for (size_t d : direct)
-    if (first.evaluation(d).score > ctx.config.poet().mc_high()) return std::nullopt;
+    if (first.evaluation(d).score > ctx.settings.poet.mc_high) return std::nullopt;
 
   RolloutBatch steps_batch = ctx.batch();
   std::vector<size_t> steps;
@@ -78,18 +74,18 @@ std::optional<Start> best_start(IterationContext& ctx, const Child& child) {
     steps.push_back(steps_batch.add_es_step(
         {share(source.theta), child.env, fresh.sigma,
          ctx.key("admission-noise", {u(ctx.t), u(child.attempt), u(source.id)})},
-        ctx.es.perturbations));
+        ctx.settings.es.perturbations));
   }
-  steps_batch.run(ctx.evaluator, ctx.state.counters, ctx.es);
+  steps_batch.run(ctx.evaluator, ctx.state.counters, ctx.settings.es);
 
   RolloutBatch second = ctx.batch();
   std::vector<std::vector<double>> proposals;
   std::vector<size_t> proposal_evals;
-  const std::vector<EsOutcome> outcomes = steps_batch.es_outcomes(steps, ctx.es);
+  const std::vector<EsOutcome> outcomes = steps_batch.es_outcomes(steps, ctx.settings.es);
   for (size_t s = 0; s < active.size(); ++s) {
     const Pair& source = ctx.state.pairs[active[s]];
     const EsOutcome& out = outcomes[s];
-    proposals.push_back(propose(kind, source.theta, out.gradient, fresh, fresh.lr, ctx.es));
+    proposals.push_back(propose(kind, source.theta, out.gradient, fresh, fresh.lr, ctx.settings.es));
     require_finite(ctx, source, proposals.back(),
                    "its admission proposal for child attempt " + std::to_string(child.attempt));
     proposal_evals.push_back(second.add_evaluation(
@@ -119,16 +115,10 @@ void admit(IterationContext& ctx, const Child& child, Start start) {
   pair.initial_by_proposal = start.proposal;
   pair.admission_score = start.eval.score;
   pair.theta = std::move(start.theta);
-  pair.optimizer = fresh_optimizer(ctx.es, pair.theta.size());
+  pair.optimizer = fresh_optimizer(ctx.settings.es, pair.theta.size());
   state.counters.children_admitted += 1;
-  ctx.event("pair_created", {{"pair", pair.id},
-                             {"env", pair.env.encoding.name},
-                             {"seed", pair.env.seed},
-                             {"parent", pair.parent_id},
-                             {"source", pair.initial_source_pair},
-                             {"proposal", pair.initial_by_proposal},
-                             {"score", pair.admission_score},
-                             {"novelty", child.novelty}});
+  ctx.event(PairCreatedEvent{pair.id, pair.env.encoding.name, pair.env.seed, pair.parent_id, pair.initial_source_pair,
+                             pair.initial_by_proposal, pair.admission_score, child.novelty});
   const std::vector<double> theta = pair.theta;
   record_evaluation(ctx, pair, theta, start.eval);
   state.pairs.push_back(std::move(pair));
@@ -137,34 +127,34 @@ void admit(IterationContext& ctx, const Child& child, Start start) {
 }  // namespace
 
 void reproduce(IterationContext& ctx) {
-  const pb::PoetConfig& poet = ctx.config.poet();
-  if (ctx.t == 0 || ctx.t % poet.mutation_interval() != 0) return;
+  const PoetSettings& poet = ctx.settings.poet;
+  if (ctx.t == 0 || ctx.t % poet.mutation_interval != 0) return;
   RunState& state = ctx.state;
   const auto u = [](auto v) { return static_cast<uint64_t>(v); };
 
   // a. eligible parents
   std::vector<size_t> eligible;
   for (size_t i : state.active_indices())
-    if (state.pairs[i].latest_score >= poet.repro_threshold()) eligible.push_back(i);
+    if (state.pairs[i].latest_score >= poet.repro_threshold) eligible.push_back(i);
   if (eligible.empty()) {
-    ctx.event("reproduction", {{"eligible", 0}});
+    ctx.event(ReproductionEvent{});
     return;
   }
 
   // b. mutation attempts; duplicates of the archive are dropped, the rest evaluated with their parent's θ
-  const MutationOptions mutation = mutation_options(ctx.config);
+  const MutationOptions& mutation = poet.mutation;
   RandomStream stream(ctx.key("reproduce", {u(ctx.t)}));
   std::vector<Child> children;
-  std::vector<nlohmann::ordered_json> attempts;  // one "child" event per attempt, in attempt order
+  std::vector<ChildEvent> attempts;  // one per attempt, in attempt order
   int duplicates = 0;
-  for (int a = 0; a < poet.max_children(); ++a) {
+  for (int a = 0; a < poet.max_children; ++a) {
     const Pair& parent = state.pairs[eligible[static_cast<size_t>(stream.uniform_int(0, eligible.size()))]];
     Child child{mutate_def(parent.env, mutation, stream), parent.id, a, {}, 0};
     state.counters.children_tried += 1;
     attempts.push_back(child_event(child));
     if (archived(state, child.env.encoding)) {
       duplicates += 1;
-      attempts.back()["duplicate"] = true;
+      attempts.back().duplicate = true;
       continue;
     }
     children.push_back(std::move(child));
@@ -180,20 +170,20 @@ void reproduce(IterationContext& ctx) {
   std::vector<Child> survivors;
   for (size_t c = 0; c < children.size(); ++c) {
     children[c].mc = mc_batch.evaluation(mc_handles[c]);
-    const bool passed = passes_mc(poet, children[c].mc.score);
-    nlohmann::ordered_json& event = attempts[static_cast<size_t>(children[c].attempt)];
-    event["mc_score"] = children[c].mc.score;
-    event["passed_mc"] = passed;
+    const bool passed = poet.passes_mc(children[c].mc.score);
+    ChildEvent& event = attempts[static_cast<size_t>(children[c].attempt)];
+    event.mc_score = children[c].mc.score;
+    event.passed_mc = passed;
     if (passed) survivors.push_back(std::move(children[c]));
   }
-  for (nlohmann::ordered_json& event : attempts) ctx.event("child", std::move(event));
+  for (ChildEvent& event : attempts) ctx.event(std::move(event));
   state.counters.children_passed_mc += static_cast<int64_t>(survivors.size());
 
   // c. ranking: most novel first against the archive (or lowest MC score first); ties keep generation order
   std::vector<EnvEncoding> archive;
   for (const Pair& p : state.pairs) archive.push_back(p.env.encoding);
-  for (Child& c : survivors) c.novelty = novelty(c.env.encoding, archive, poet.novelty_k(), poet.novelty_normalized());
-  if (poet.child_ranking() == pb::LOWEST_SCORE_FIRST) {
+  for (Child& c : survivors) c.novelty = novelty(c.env.encoding, archive, poet.novelty_k, poet.novelty_normalized);
+  if (poet.child_ranking == ChildRanking::kLowestScoreFirst) {
     std::stable_sort(survivors.begin(), survivors.end(),
                      [](const Child& a, const Child& b) { return a.mc.score < b.mc.score; });
   } else {
@@ -202,15 +192,15 @@ void reproduce(IterationContext& ctx) {
   }
 
   // d. admission through the best starting agent
-  const bool select = ctx.config.mode() == pb::RunConfig::POET || poet.keep_admission_selection();
+  const bool select = ctx.settings.mode == RunMode::kPoet || poet.keep_admission_selection;
   int admitted = 0;
   for (const Child& c : survivors) {
-    if (admitted >= poet.max_admitted()) break;
+    if (admitted >= poet.max_admitted) break;
     if (archived(state, c.env.encoding)) continue;  // an earlier admission of this walk had the same genes
     Start start;
     if (select) {
       std::optional<Start> found = best_start(ctx, c);
-      if (!found || !passes_mc(poet, found->eval.score)) continue;
+      if (!found || !poet.passes_mc(found->eval.score)) continue;
       start = std::move(*found);
     } else {
       const Pair* parent = state.find(c.parent);
@@ -219,18 +209,14 @@ void reproduce(IterationContext& ctx) {
     admit(ctx, c, std::move(start));
     admitted += 1;
   }
-  ctx.event("reproduction", {{"eligible", eligible.size()},
-                             {"tried", poet.max_children()},
-                             {"duplicates", duplicates},
-                             {"passed_mc", survivors.size()},
-                             {"admitted", admitted}});
+  ctx.event(ReproductionEvent{eligible.size(), poet.max_children, duplicates, survivors.size(), admitted});
 
   // e. the cap: retire the oldest active pairs
   std::vector<size_t> active = state.active_indices();
-  for (size_t r = 0; active.size() > static_cast<size_t>(poet.active_cap()) + r; ++r) {
+  for (size_t r = 0; active.size() > static_cast<size_t>(poet.active_cap) + r; ++r) {
     Pair& old = state.pairs[active[r]];
     old.retired_iteration = ctx.t;
-    ctx.event("pair_retired", {{"pair", old.id}, {"env", old.env.encoding.name}, {"solved", old.solved()}});
+    ctx.event(PairRetiredEvent{old.id, old.env.encoding.name, old.solved()});
   }
 }
 

@@ -6,7 +6,6 @@
 #include <stdexcept>
 #include <thread>
 
-#include "config/run_config.h"
 #include "es/es_gradient.h"
 #include "parallel_for.h"
 #include "poet/background_pool.h"
@@ -24,16 +23,6 @@ uint32_t course_seed(uint64_t key, uint64_t index) {
 int cores() { return static_cast<int>(std::max(1u, std::thread::hardware_concurrency())); }
 
 }  // namespace
-
-EpisodeSettings episode_settings(const pb::RunConfig& config) {
-  const pb::WalkerConfig& w = config.walker();
-  EpisodeSettings s;
-  s.walker = walker_options(config);
-  s.max_steps = w.max_steps();
-  s.stochastic = w.stochastic_envs();
-  s.eval_episodes = s.stochastic ? w.eval_episodes() : 1;
-  return s;
-}
 
 RolloutTask RolloutBatch::task(SharedParams theta, const EnvDef& env) const {
   RolloutTask t;

@@ -12,7 +12,6 @@
 
 #include "es/es_settings.h"
 #include "evaluator/evaluator.h"
-#include "poet.pb.h"
 #include "poet/run_state.h"
 
 namespace poet {
@@ -23,14 +22,6 @@ inline SharedParams share(std::vector<double> params) {
   return std::make_shared<const std::vector<double>>(std::move(params));
 }
 
-// The episode settings every task of a run shares.
-struct EpisodeSettings {
-  WalkerOptions walker;
-  int max_steps = 0;
-  bool stochastic = false;
-  int eval_episodes = 1;  // 1 unless stochastic
-};
-EpisodeSettings episode_settings(const pb::RunConfig& config);
 
 // One ES step's request: perturbations of θ on env with noise σ; ε keys derive from step_key.
 struct EsRequest {

@@ -1,5 +1,5 @@
 #pragma once
-// The complete state of a run (spec §3 "State"): the config, the archive of every pair ever created with its
+// The complete state of a run (spec §3 "State"): its settings, the archive of every pair ever created with its
 // agent, optimizer and lineage, the iteration counter and run-wide counters. Everything a resume needs is here,
 // and nothing else: random numbers are drawn by address (run seed, purpose, ids), so there is no generator state.
 
@@ -8,7 +8,7 @@
 
 #include "envgen/env_encoding.h"
 #include "es/optimizer.h"
-#include "poet.pb.h"
+#include "poet/run_settings.h"
 
 namespace poet {
 
@@ -77,7 +77,7 @@ struct CurriculumStage {
 };
 
 struct RunState {
-  pb::RunConfig config;
+  RunSettings settings;  // made once from the run config (the config message itself is the run directory's)
   int next_iteration = 0;  // the iteration the run does next
   int next_pair_id = 0;
   std::vector<Pair> pairs;  // every pair ever created, in creation order (the archive)

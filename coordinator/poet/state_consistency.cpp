@@ -3,15 +3,12 @@
 #include <cstdint>
 #include <string>
 
-#include "config/run_config.h"
-#include "envgen/env_proto.h"
 #include "envgen/named_courses.h"
 
 namespace poet {
 namespace {
 
 using Error = std::optional<std::string>;
-using Mode = pb::RunConfig::Mode;
 
 std::string str(int64_t value) { return std::to_string(value); }
 std::string pair_field(size_t i) { return "pairs[" + std::to_string(i) + "]"; }
@@ -43,7 +40,7 @@ Error check_pair(const RunState& state, size_t i, const EsSettings& es) {
   if (p.optimizer.sigma > es.init_sigma || p.optimizer.sigma < es.sigma_floor)
     return field + ".optimizer.sigma: " + std::to_string(p.optimizer.sigma) +
            " outside [es.sigma_floor, es.init_sigma]";
-  if (!p.recent_scores.empty() && state.config.poet().transfer_test() != pb::THRESHOLD_TRANSFER_TEST)
+  if (!p.recent_scores.empty() && state.settings.poet.transfer_test != TransferTest::kThreshold)
     return field + ".recent_scores: kept only under poet.transfer_test THRESHOLD_TRANSFER_TEST";
   for (size_t k = 0; k < p.transfers.size(); ++k) {
     const TransferRecord& r = p.transfers[k];
@@ -57,7 +54,7 @@ Error check_pair(const RunState& state, size_t i, const EsSettings& es) {
 
 // ES alone and the direct path: one pair, never reproduced, never a transfer.
 Error check_single_pair(const RunState& state) {
-  const std::string mode = pb::RunConfig::Mode_Name(state.config.mode());
+  const std::string mode(mode_name(state.settings.mode));
   if (state.pairs.size() != 1)
     return "pairs: " + str(static_cast<int64_t>(state.pairs.size())) + " in mode " + mode + ", which keeps one";
   const Pair& p = state.pairs.front();
@@ -74,7 +71,7 @@ Error check_es_alone(const RunState& state) {
   if (Error error = check_single_pair(state)) return error;
   if (!state.stages.empty()) return "stages: a curriculum in mode ES_ALONE";
   if (state.finished) return "finished: true in mode ES_ALONE, which stops at its iteration limit only";
-  const EnvDef target = env_def_from_proto(state.config.es_alone().target()).value();
+  const EnvDef target = state.settings.target.value();
   if (!same_env(state.pairs.front().env, target))
     return "pairs[0].env: " + state.pairs.front().env.encoding.name + " is not es_alone.target " + target.encoding.name;
   return std::nullopt;
@@ -83,7 +80,7 @@ Error check_es_alone(const RunState& state) {
 Error check_direct_path(const RunState& state) {
   if (Error error = check_single_pair(state)) return error;
   if (state.stages.empty()) return "stages: none in mode DIRECT_PATH (the curriculum starts with the flat course)";
-  const EnvDef target = env_def_from_proto(state.config.direct_path().target()).value();
+  const EnvDef target = state.settings.target.value();
   const EnvDef first{named_course("flat").value(), target.seed};
   if (!same_env(state.stages.front().env, first) || state.stages.front().started_iteration != 0)
     return "stages[0]: must be the flat course with the target's seed, started at iteration 0";
@@ -107,8 +104,8 @@ Error check_direct_path(const RunState& state) {
 }
 
 Error check_poet(const RunState& state) {
-  const pb::PoetConfig& poet = state.config.poet();
-  const bool with_transfer = state.config.mode() == pb::RunConfig::POET;
+  const PoetSettings& poet = state.settings.poet;
+  const bool with_transfer = state.settings.mode == RunMode::kPoet;
   if (!state.stages.empty()) return "stages: a curriculum in a POET mode";
   if (state.finished) return "finished: true in a POET mode, which stops at its iteration limit only";
 
@@ -127,23 +124,23 @@ Error check_poet(const RunState& state) {
     if (!with_transfer && (p.transfer_attempts != 0 || !p.transfers.empty()))
       return field + ".transfers: transfers in mode POET_WITHOUT_TRANSFER";
     for (const TransferRecord& r : p.transfers)
-      if (r.iteration % poet.transfer_interval() != 0)
+      if (r.iteration % poet.transfer_interval != 0)
         return field + ".transfers: a transfer at iteration " + str(r.iteration) +
-               ", not a multiple of poet.transfer_interval " + str(poet.transfer_interval());
+               ", not a multiple of poet.transfer_interval " + str(poet.transfer_interval);
     // pairs retire at reproductions (iterations t > 0 with t % mutation_interval == 0)
-    if (!p.active() && (p.retired_iteration == 0 || p.retired_iteration % poet.mutation_interval() != 0))
+    if (!p.active() && (p.retired_iteration == 0 || p.retired_iteration % poet.mutation_interval != 0))
       return field + ".retired_iteration: " + str(p.retired_iteration) + " is not a reproduction iteration";
     if (i == 0) continue;
     // children are admitted at reproductions, from a parent already in the archive
-    if (p.created_iteration == 0 || p.created_iteration % poet.mutation_interval() != 0)
+    if (p.created_iteration == 0 || p.created_iteration % poet.mutation_interval != 0)
       return field + ".created_iteration: " + str(p.created_iteration) + " is not a reproduction iteration";
     const Pair* parent = p.parent_id == kNone ? nullptr : state.find(p.parent_id);
     if (!parent || parent->id >= p.id || parent->created_iteration > p.created_iteration)
       return field + ".parent_id: " + str(p.parent_id) + " is not an earlier pair";
   }
   if (active < 1) return "pairs: none active (a POET run always keeps at least one)";
-  if (active > poet.active_cap())
-    return "pairs: " + str(active) + " active, more than poet.active_cap " + str(poet.active_cap());
+  if (active > poet.active_cap)
+    return "pairs: " + str(active) + " active, more than poet.active_cap " + str(poet.active_cap);
 
   const RunCounters& c = state.counters;
   if (c.children_admitted != static_cast<int64_t>(state.pairs.size()) - 1)
@@ -162,13 +159,12 @@ Error check_poet(const RunState& state) {
 }  // namespace
 
 std::optional<std::string> check_state_consistency(const RunState& state) {
-  const EsSettings es = es_settings(state.config);
   for (size_t i = 0; i < state.pairs.size(); ++i)
-    if (Error error = check_pair(state, i, es)) return error;
-  switch (state.config.mode()) {
-    case pb::RunConfig::ES_ALONE:
+    if (Error error = check_pair(state, i, state.settings.es)) return error;
+  switch (state.settings.mode) {
+    case RunMode::kEsAlone:
       return check_es_alone(state);
-    case pb::RunConfig::DIRECT_PATH:
+    case RunMode::kDirectPath:
       return check_direct_path(state);
     default:
       return check_poet(state);

@@ -30,15 +30,15 @@ double threshold_of(const Pair& target) {
 }  // namespace
 
 void transfer(IterationContext& ctx) {
-  const int interval = ctx.config.poet().transfer_interval();
+  const int interval = ctx.settings.poet.transfer_interval;
   const std::vector<size_t> active = ctx.state.active_indices();
   if (ctx.t % interval != 0 || active.size() < 2) return;
-  const bool full = ctx.config.poet().transfer_test() == pb::FULL_TRANSFER_TEST;
+  const bool full = ctx.settings.poet.transfer_test == TransferTest::kFull;
   const auto u = [](auto v) { return static_cast<uint64_t>(v); };
   const auto step_of = [&](RolloutBatch& batch, const Pair& target, const Candidate& source) {
     const uint64_t step_key = ctx.key("transfer-noise", {u(ctx.t), u(target.id), u(source.source)});
     return batch.add_es_step({share(source.theta), target.env, target.optimizer.sigma, step_key},
-                             ctx.es.perturbations);
+                             ctx.settings.es.perturbations);
   };
 
   // direct evaluations (with the full test, the proposals' ES rollouts in the same batch)
@@ -56,7 +56,7 @@ void transfer(IterationContext& ctx) {
       if (full) es_handles[a].push_back(step_of(first, target, direct[a].back()));
     }
   }
-  first.run(ctx.evaluator, ctx.state.counters, ctx.es);
+  first.run(ctx.evaluator, ctx.state.counters, ctx.settings.es);
 
   // the threshold test: the proposals' ES rollouts, only for the sources that passed it
   std::vector<std::vector<const Candidate*>> stepped(active.size());
@@ -69,18 +69,18 @@ void transfer(IterationContext& ctx) {
       if (!full) es_handles[a].push_back(step_of(screened, target, d));
     }
   }
-  if (!full) screened.run(ctx.evaluator, ctx.state.counters, ctx.es);
+  if (!full) screened.run(ctx.evaluator, ctx.state.counters, ctx.settings.es);
   const RolloutBatch& stepped_batch = full ? first : screened;
 
   // the proposals' evaluations
   RolloutBatch second = ctx.batch();
   for (size_t a = 0; a < active.size(); ++a) {
     const Pair& target = ctx.state.pairs[active[a]];
-    const std::vector<EsOutcome> outcomes = stepped_batch.es_outcomes(es_handles[a], ctx.es);  // one target at a time
+    const std::vector<EsOutcome> outcomes = stepped_batch.es_outcomes(es_handles[a], ctx.settings.es);  // one target at a time
     for (size_t s = 0; s < stepped[a].size(); ++s) {
       const Candidate& d = *stepped[a][s];
-      std::vector<double> theta = propose(ctx.config.poet().transfer_proposal(), d.theta, outcomes[s].gradient,
-                                          target.optimizer, target.optimizer.lr, ctx.es);
+      std::vector<double> theta = propose(ctx.settings.poet.transfer_proposal, d.theta, outcomes[s].gradient,
+                                          target.optimizer, target.optimizer.lr, ctx.settings.es);
       require_finite(ctx, target, theta, "the transfer proposal from pair " + std::to_string(d.source));
       const uint64_t eval_key = ctx.key("transfer-eval", {u(ctx.t), u(target.id), u(d.source), 1});
       const size_t handle = second.add_evaluation(share(theta), target.env, eval_key);
@@ -116,22 +116,15 @@ void transfer(IterationContext& ctx) {
 
     const double previous = target.latest_score;
     target.theta = best->theta;
-    reset(target.optimizer, ctx.es);
+    reset(target.optimizer, ctx.settings.es);
     target.transfers.push_back({ctx.t, best->source, best->proposal, best_eval.score});
     ctx.state.counters.transfer_successes += 1;
-    ctx.event("transfer", {{"target", target.id},
-                           {"source", best->source},
-                           {"proposal", best->proposal},
-                           {"score", best_eval.score},
-                           {"previous_score", previous}});
+    ctx.event(TransferEvent{target.id, best->source, best->proposal, best_eval.score, previous});
     record_evaluation(ctx, target, target.theta, best_eval);
   }
   // what the round cost: with the threshold test, the proposals it paid for out of the N(N−1) of the full test
-  ctx.event("transfer_round", {{"test", full ? "full" : "threshold"},
-                               {"pairs", active.size()},
-                               {"candidates", active.size() * (active.size() - 1)},
-                               {"proposals", proposal_count},
-                               {"accepted", ctx.state.counters.transfer_successes - successes_before}});
+  ctx.event(TransferRoundEvent{full, active.size(), active.size() * (active.size() - 1), proposal_count,
+                               ctx.state.counters.transfer_successes - successes_before});
 }
 
 }  // namespace poet

@@ -26,8 +26,8 @@ Expected<std::string> render_score_plot(PictureFormat format, const RunSnapshot&
   chart.y_label = "score";
   chart.integer_x = true;
   chart.reference_line = {
-      {run.state.config.poet().solved_score(),
-       "solved (finished and ≥ " + std::to_string(static_cast<int>(run.state.config.poet().solved_score())) + ")"}};
+      {run.state.settings.poet.solved_score,
+       "solved (finished and ≥ " + std::to_string(static_cast<int>(run.state.settings.poet.solved_score)) + ")"}};
   std::map<int, size_t> series_of;
   for (const Pair& p : run.state.pairs) {
     series_of[p.id] = chart.series.size();

@@ -44,14 +44,8 @@ LevelSolveSummary summarise(const std::vector<int>& iterations) {
 }
 
 std::optional<EnvEncoding> own_target(const RunState& state) {
-  const pb::RunConfig& c = state.config;
-  const pb::EnvDef* target = nullptr;
-  if (c.mode() == pb::RunConfig::ES_ALONE) target = &c.es_alone().target();
-  if (c.mode() == pb::RunConfig::DIRECT_PATH) target = &c.direct_path().target();
-  if (!target) return std::nullopt;
-  Expected<EnvEncoding> encoding = encoding_from_proto(target->encoding());
-  if (!encoding) return std::nullopt;
-  return *encoding;
+  if (!state.settings.target) return std::nullopt;
+  return state.settings.target->encoding;
 }
 
 TargetDistance closest_to(const RunState& state, const EnvEncoding& target) {
@@ -67,7 +61,7 @@ TargetDistance closest_to(const RunState& state, const EnvEncoding& target) {
   };
   // the direct path's one pair keeps its first solve across stages while its environment moves on: there the
   // stages say which environments were solved
-  if (state.config.mode() != pb::RunConfig::DIRECT_PATH)
+  if (state.settings.mode != RunMode::kDirectPath)
     for (const Pair& p : state.pairs)
       if (p.solved()) consider(p.env.encoding);
   for (const CurriculumStage& stage : state.stages)

@@ -2,7 +2,6 @@
 
 #include <array>
 
-#include "config/run_config.h"
 #include "course_picture.h"
 #include "poet/rollout_batch.h"
 #include "report/pair_episode.h"
@@ -62,9 +61,9 @@ Expected<RolloutResult> pair_episode(const RunSnapshot& run, int pair) {
   const Pair* p = run.state.find(pair);
   if (!p) return Unexpected{"no pair " + std::to_string(pair) + " in " + run.dir.string()};
   RolloutLimits limits;
-  limits.max_steps = episode_settings(run.state.config).max_steps;
+  limits.max_steps = run.state.settings.episodes.max_steps;
   limits.record_trajectory = true;
-  return rollout(p->theta, p->env, walker_options(run.state.config), limits);
+  return rollout(p->theta, p->env, run.state.settings.episodes.walker, limits);
 }
 
 std::optional<std::string> encoding_problem(const PictureRequest& request) {

@@ -5,7 +5,7 @@
 #include <optional>
 
 #include "csv_fields.h"
-#include "poet/checkpoint.h"
+#include "run/checkpoint.h"
 #include "run/checkpoint_file.h"
 #include "run/crc32.h"
 #include "run/run_directory.h"

@@ -40,7 +40,7 @@ std::string progress_line(const RunState& state, double rollouts_per_second, dou
   }
   char buffer[256];
   std::snprintf(buffer, sizeof buffer, "iteration %d/%d | pairs %d | best %.1f | solved %d", state.next_iteration,
-                state.config.iterations(), active, active > 0 ? best : 0.0, solved);
+                state.settings.iterations, active, active > 0 ? best : 0.0, solved);
   std::string line = buffer;
   if (rollouts_per_second >= 0) {
     std::snprintf(buffer, sizeof buffer, " | %.0f rollouts/s", rollouts_per_second);
@@ -68,7 +68,7 @@ void ProgressDisplay::update(const RunState& state, const IterationReport& repor
   const double rate =
       window_seconds > 0 ? static_cast<double>(rollouts_total_ - window_.front().second) / window_seconds : -1;
   const double elapsed = std::chrono::duration<double>(now - start_).count();
-  const int remaining = state.config.iterations() - state.next_iteration;
+  const int remaining = state.settings.iterations - state.next_iteration;
   const double eta = remaining > 0 ? elapsed / iterations_ * remaining : 0;
 
   std::fprintf(stderr, "\r%s\033[K", progress_line(state, rate, eta).c_str());

@@ -13,9 +13,10 @@
 
 #include "config/run_config.h"
 #include "envgen/env_json.h"
-#include "poet/checkpoint.h"
 #include "policy/policy_file.h"
+#include "run/checkpoint.h"
 #include "run/crc32.h"
+#include "run/event_json.h"
 #include "text_file.h"
 #include "text_format.h"
 
@@ -128,8 +129,9 @@ Expected<uint32_t> checked_log_crc(const fs::path& path, int64_t size, bool reco
   return crc;
 }
 
-pb::Checkpoint checkpoint_with_logs(const RunState& state, const int64_t (&bytes)[2], const uint32_t (&crcs)[2]) {
-  pb::Checkpoint checkpoint = to_checkpoint(state);
+pb::Checkpoint checkpoint_with_logs(const pb::RunConfig& config, const RunState& state, const int64_t (&bytes)[2],
+                                    const uint32_t (&crcs)[2]) {
+  pb::Checkpoint checkpoint = to_checkpoint(config, state);
   checkpoint.set_events_bytes(bytes[0]);
   checkpoint.set_stats_bytes(bytes[1]);
   checkpoint.set_events_crc32(crcs[0]);
@@ -166,6 +168,7 @@ RunDirectory::RunDirectory(fs::path dir, RunLock lock) : dir_(std::move(dir)), l
 RunDirectory::RunDirectory(RunDirectory&& other) noexcept
     : dir_(std::move(other.dir_)),
       lock_(std::move(other.lock_)),
+      config_(std::move(other.config_)),
       events_fd_(std::exchange(other.events_fd_, -1)),
       stats_fd_(std::exchange(other.stats_fd_, -1)),
       events_crc_(other.events_crc_),
@@ -180,6 +183,7 @@ RunDirectory& RunDirectory::operator=(RunDirectory&& other) noexcept {
   close_logs();
   dir_ = std::move(other.dir_);
   lock_ = std::move(other.lock_);
+  config_ = std::move(other.config_);
   events_fd_ = std::exchange(other.events_fd_, -1);
   stats_fd_ = std::exchange(other.stats_fd_, -1);
   events_crc_ = other.events_crc_;
@@ -223,6 +227,7 @@ Expected<RunDirectory> RunDirectory::create(const fs::path& dir, const pb::RunCo
 
   // A directory without a checkpoint holds no run, so logs left by an earlier attempt are started over.
   RunDirectory run(dir, std::move(*lock));
+  run.config_ = config;
   Expected<int> events = open_log(dir / kEventsFile, O_CREAT | O_TRUNC);
   if (!events) return Unexpected{events.error()};
   run.events_fd_ = *events;
@@ -260,6 +265,7 @@ Expected<std::pair<RunDirectory, RunState>> RunDirectory::resume(const fs::path&
 
   // the logs, cut back to what the state has seen
   RunDirectory run(dir, std::move(*lock));
+  run.config_ = checkpoint->config();
   Expected<int> events = open_log(dir / kEventsFile, checkpoint->events_bytes() == 0 ? O_CREAT : 0);
   if (!events) return Unexpected{events.error()};
   run.events_fd_ = *events;
@@ -287,10 +293,10 @@ Expected<std::pair<RunDirectory, RunState>> RunDirectory::resume(const fs::path&
   if (auto error = probe_writable(dir)) return Unexpected{*error};
 
   // config.textproto is the checkpoint's config for people and tools; one missing or changed is written again
-  const std::string config_text = run_config_text(state->config);
+  const std::string config_text = run_config_text(run.config_);
   if (!same_content(dir / kConfigFile, config_text)) {
     const bool present = fs::exists(dir / kConfigFile, ec);
-    if (auto error = run.write_config(state->config)) return Unexpected{*error};
+    if (auto error = run.write_config(run.config_)) return Unexpected{*error};
     run.repairs_.push_back((dir / kConfigFile).string() +
                            (present ? " differed from the run's config (a run's config is its checkpoint's; to change "
                                       "it, start a new run)"
@@ -309,7 +315,7 @@ Expected<std::pair<RunDirectory, RunState>> RunDirectory::resume(const fs::path&
 void RunDirectory::append(const IterationReport& report) {
   if (append_error_) return;  // the logs are already inconsistent with any further checkpoint
   std::string events;
-  for (const auto& event : report.events)
+  for (const auto& event : events_json(report))
     events += event.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace) + "\n";
   std::string stats;
   for (const PairStatsRow& row : report.stats) stats += pair_stats_row(row);
@@ -369,7 +375,7 @@ std::optional<std::string> RunDirectory::save(const RunState& state) {
   }
 
   const uint32_t crcs[2] = {events_crc_, stats_crc_};
-  const std::string bytes = encode_checkpoint_file(checkpoint_with_logs(state, sizes, crcs));
+  const std::string bytes = encode_checkpoint_file(checkpoint_with_logs(config_, state, sizes, crcs));
   if (auto error = write_named(dir_ / kCheckpointFile, bytes)) return error;
 
   // then the pair files: a failure here leaves them behind the checkpoint, never ahead of it
@@ -383,6 +389,7 @@ std::optional<std::string> RunDirectory::save(const RunState& state) {
 }
 
 std::optional<std::string> RunDirectory::write_config(const pb::RunConfig& config) {
+  config_ = config;
   return write_named(dir_ / kConfigFile, run_config_text(config));
 }
 

@@ -83,7 +83,9 @@ class RunDirectory {
   // files of new pairs and the policy files. Returns an error message naming the file, or nothing.
   std::optional<std::string> save(const RunState& state);
 
-  // Rewrites config.textproto (after a resume changed the iteration limit).
+  // The run's config, which each checkpoint records; write_config replaces it and rewrites config.textproto
+  // (after a resume changed the iteration limit).
+  const pb::RunConfig& config() const { return config_; }
   std::optional<std::string> write_config(const pb::RunConfig& config);
 
   const std::filesystem::path& path() const { return dir_; }
@@ -99,6 +101,7 @@ class RunDirectory {
 
   std::filesystem::path dir_;
   RunLock lock_;
+  pb::RunConfig config_;
   int events_fd_ = -1;  // opened O_APPEND
   int stats_fd_ = -1;
   uint32_t events_crc_ = 0;  // CRC-32 of each log's bytes so far

@@ -116,10 +116,10 @@ StatusBoard::StatusBoard(std::filesystem::path run_dir, Clock clock)
 void StatusBoard::publish_run(const RunState& state, int last_checkpoint_iteration) {
   // the copy, outside the lock
   auto snapshot = std::make_shared<RunSnapshot>();
-  snapshot->mode = state.config.mode();
-  snapshot->seed = state.config.seed();
+  snapshot->mode = state.settings.mode;
+  snapshot->seed = state.settings.seed;
   snapshot->next_iteration = state.next_iteration;
-  snapshot->iterations = state.config.iterations();
+  snapshot->iterations = state.settings.iterations;
   snapshot->finished = run_complete(state);
   snapshot->counters = state.counters;
   snapshot->last_checkpoint_iteration = last_checkpoint_iteration;
@@ -208,7 +208,7 @@ status::Status StatusBoard::status() const {
   s.set_env_steps_per_s(v.env_steps_per_s);
   if (v.run) {
     const RunSnapshot& run = *v.run;
-    s.set_mode(pb::RunConfig::Mode_Name(run.mode));
+    s.set_mode(std::string(mode_name(run.mode)));
     s.set_seed(run.seed);
     s.set_iteration(run.next_iteration);
     s.set_iterations(run.iterations);

@@ -125,7 +125,7 @@ class StatusBoard {
   };
   // What publish_run copies in.
   struct RunSnapshot {
-    pb::RunConfig::Mode mode = pb::RunConfig::POET;
+    RunMode mode = RunMode::kPoet;
     uint64_t seed = 0;
     int next_iteration = 0;
     int iterations = 0;

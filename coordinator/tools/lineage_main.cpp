@@ -12,7 +12,7 @@
 
 #include "config/run_config.h"
 #include "envgen/env_proto.h"
-#include "poet/checkpoint.h"
+#include "run/checkpoint.h"
 #include "poet/lineage.h"
 #include "run/run_directory.h"
 #include "tool_flags.h"
@@ -54,7 +54,7 @@ int main(int argc, char** argv) {
 
   if (emit_config || emit_es_alone) {
     // the run's settings (ES, walker, seed) with the pair's environment as the target
-    pb::RunConfig config = state->config;
+    pb::RunConfig config = checkpoint->config();
     config.clear_es_alone();
     config.clear_direct_path();
     config.mutable_poet()->clear_keep_admission_selection();

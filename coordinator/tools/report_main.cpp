@@ -26,15 +26,16 @@ namespace poet {
 namespace {
 namespace fs = std::filesystem;
 
-const char* mode_name(pb::RunConfig::Mode mode) {
+// The mode in words, for people.
+const char* mode_label(RunMode mode) {
   switch (mode) {
-    case pb::RunConfig::POET:
+    case RunMode::kPoet:
       return "POET";
-    case pb::RunConfig::POET_WITHOUT_TRANSFER:
+    case RunMode::kPoetWithoutTransfer:
       return "POET without transfer";
-    case pb::RunConfig::ES_ALONE:
+    case RunMode::kEsAlone:
       return "ES alone";
-    case pb::RunConfig::DIRECT_PATH:
+    case RunMode::kDirectPath:
       return "direct-path curriculum";
   }
   return "?";
@@ -174,11 +175,11 @@ nlohmann::ordered_json to_json(const RunSnapshot& run, const RunMetrics& m, cons
   const RunState& state = run.state;
   nlohmann::ordered_json out;
   out["run_dir"] = run.dir.string();
-  out["mode"] = mode_name(state.config.mode());
-  out["seed"] = state.config.seed();
+  out["mode"] = mode_label(state.settings.mode);
+  out["seed"] = state.settings.seed;
   out["iterations_done"] = m.iterations_done;
-  out["iteration_limit"] = state.config.iterations();
-  out["finished"] = state.finished || m.iterations_done >= state.config.iterations();
+  out["iteration_limit"] = state.settings.iterations;
+  out["finished"] = state.finished || m.iterations_done >= state.settings.iterations;
   out["live"] = run.live;
   out["rollouts"] = state.counters.rollouts;
   out["env_steps"] = state.counters.env_steps;
@@ -266,8 +267,8 @@ nlohmann::ordered_json to_json(const RunSnapshot& run, const RunMetrics& m, cons
 void print_table(const RunSnapshot& run, const RunMetrics& m, const Coverage& coverage,
                  const std::string& samples_file) {
   const RunState& state = run.state;
-  std::printf("Run %s: %s, seed %llu, %d of %d iterations done%s\n", run.dir.c_str(), mode_name(state.config.mode()),
-              static_cast<unsigned long long>(state.config.seed()), m.iterations_done, state.config.iterations(),
+  std::printf("Run %s: %s, seed %llu, %d of %d iterations done%s\n", run.dir.c_str(), mode_label(state.settings.mode),
+              static_cast<unsigned long long>(state.settings.seed), m.iterations_done, state.settings.iterations,
               run.live ? " (live: reported as of its last checkpoint)" : "");
   std::printf("%lld rollouts, %.1f M environment steps\n\n", static_cast<long long>(state.counters.rollouts),
               static_cast<double>(state.counters.env_steps) / 1e6);

@@ -6,22 +6,24 @@
 
 #include "envgen/env_encoding.h"
 #include "rng.h"
+#include "schema_defaults.h"
 
 namespace poet {
 
-// Which genes a run may change. The defaults are the paper's multi-obstacle runs (roughness, pits, stumps).
+// Which genes a run may change. The defaults are the schema's (MutationConfig): the paper's multi-obstacle runs
+// (roughness, pits, stumps).
 struct MutationOptions {
-  bool roughness = true;
-  bool pits = true;
-  bool stumps = true;
-  bool stairs = false;
+  bool roughness = schema_defaults::mutation_config::roughness;
+  bool pits = schema_defaults::mutation_config::pits;
+  bool stumps = schema_defaults::mutation_config::stumps;
+  bool stairs = schema_defaults::mutation_config::stairs;
   // The reference sets the stair step count when stairs first appear and never changes it; the paper lists it
   // as mutable. Off = reference behaviour.
-  bool mutate_stair_steps = false;
+  bool mutate_stair_steps = schema_defaults::mutation_config::mutate_stair_steps;
   // The paper mutates "some or all" types. true (reference): every enabled type in every child. false: each
   // enabled type, in order, is mutated only if a uniform01() draw taken just before it is < 0.5; so a child
   // may come out equal to its parent (the POET loop drops duplicates).
-  bool all_types = true;
+  bool all_types = schema_defaults::mutation_config::all_types;
 };
 
 // How one interval gene moves: start value I, step s, maximum M, and the least hi − lo (0 for real genes,

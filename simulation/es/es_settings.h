@@ -1,22 +1,24 @@
 #pragma once
-// The numbers of the evolution strategy (spec §2). Defaults are the reference's run script; the coordinator
-// fills them from RunConfig.es.
+// The numbers of the evolution strategy (spec §2). The defaults are the schema's (EsConfig in proto/poet.proto,
+// the reference's run script), the one home of every default; the coordinator fills them from RunConfig.es.
+
+#include "schema_defaults.h"
 
 namespace poet {
 
 struct EsSettings {
-  int perturbations = 256;  // n mirrored pairs: 2n rollouts per ES step
-  double init_sigma = 0.1;
-  double sigma_decay = 0.999;
-  double sigma_floor = 0.01;
-  double init_lr = 0.01;
-  double lr_decay = 0.9999;
-  double lr_floor = 0.001;
-  double l2_coeff = 0.01;  // λ in Adam on −g + λθ and in the SGD proposal
-  double adam_beta1 = 0.9;
-  double adam_beta2 = 0.999;
-  double adam_epsilon = 1e-8;
-  bool normalize_grads_by_sigma = true;
+  int perturbations = schema_defaults::es_config::perturbations;  // n mirrored pairs: 2n rollouts per ES step
+  double init_sigma = schema_defaults::es_config::init_sigma;
+  double sigma_decay = schema_defaults::es_config::sigma_decay;
+  double sigma_floor = schema_defaults::es_config::sigma_floor;
+  double init_lr = schema_defaults::es_config::init_lr;
+  double lr_decay = schema_defaults::es_config::lr_decay;
+  double lr_floor = schema_defaults::es_config::lr_floor;
+  double l2_coeff = schema_defaults::es_config::l2_coeff;  // λ in Adam on −g + λθ and in the SGD proposal
+  double adam_beta1 = schema_defaults::es_config::adam_beta1;
+  double adam_beta2 = schema_defaults::es_config::adam_beta2;
+  double adam_epsilon = schema_defaults::es_config::adam_epsilon;
+  bool normalize_grads_by_sigma = schema_defaults::es_config::normalize_grads_by_sigma;
 
   bool operator==(const EsSettings&) const = default;  // outcomes computed with equal settings are reused
 };

@@ -2,6 +2,8 @@
 // Constants of the POET bipedal walker domain (spec §1). Sizes are given in pixels as in the reference and
 // divided by kScale into Box2D metres.
 
+#include "schema_defaults.h"
+
 namespace poet::walker {
 
 inline constexpr double kScale = 30.0;  // pixels per metre; also part of the reward and terrain formulas
@@ -15,7 +17,8 @@ inline constexpr double kSpeedHip = 4.0;
 inline constexpr double kSpeedKnee = 6.0;
 inline constexpr double kLidarRange = 160.0 / kScale;
 inline constexpr int kLidarRays = 10;
-inline constexpr double kDefaultPushScale = 5.0;  // initial horizontal push F ~ U[-5, 5) N
+// initial horizontal push F ~ U[-5, 5) N: the schema's default (proto/poet.proto is the home of every default)
+inline constexpr double kDefaultPushScale = schema_defaults::walker_config::push_scale;
 
 inline constexpr double kHullPoly[5][2] = {{-30, +9}, {+6, +9}, {+34, +1}, {+34, -8}, {-30, -8}};  // pixels
 inline constexpr double kHullDensity = 5.0;
@@ -52,6 +55,7 @@ inline constexpr double kFinishX = (kTerrainLength - kTerrainGrass) * kTerrainSt
 
 inline constexpr double kTorqueCost = 0.00035;  // reward cost per unit of |action| · kMotorsTorque
 inline constexpr double kFallReward = -100.0;
-inline constexpr int kDefaultTimeLimit = 2000;  // steps after the reset step; belongs to the rollout
+// steps after the reset step; belongs to the rollout; the schema's default
+inline constexpr int kDefaultTimeLimit = schema_defaults::walker_config::max_steps;
 
 }  // namespace poet::walker

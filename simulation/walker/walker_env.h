@@ -21,13 +21,14 @@ using Action = std::array<double, 4>;  // hip 1, knee 1, hip 2, knee 2; each cli
 
 // Which fixture a lidar ray reports when it crosses several.
 enum class LidarRule {
-  kNearest,  // the nearest ground hit: the intended reading (and Gym v3's)
-  kFirst,    // the first ground fixture Box2D's tree reports, as the reference did (not always the nearest)
+  kNearest = 0,  // the nearest ground hit: the intended reading (and Gym v3's)
+  kFirst = 1,    // the first ground fixture Box2D's tree reports, as the reference did (not always the nearest)
+  // the numbers are the schema's (WalkerConfig.LidarRule), so its default converts
 };
 
 struct WalkerOptions {
   double push_scale = walker::kDefaultPushScale;  // initial horizontal push F ~ U[-push_scale, push_scale) N; 0: none
-  LidarRule lidar = LidarRule::kNearest;
+  LidarRule lidar = static_cast<LidarRule>(schema_defaults::walker_config::lidar);
 };
 
 struct StepOutcome {

@@ -58,8 +58,8 @@ constexpr auto kMargin = 3s;           // what a loaded machine may add to a bou
 RunState demo_state() {
   // by hand: poet/engine.h brings Eigen, whose parameter names <resolv.h> (in httplib.h) defines as a macro
   RunState state;
-  state.config.set_seed(7);
-  state.config.set_iterations(100);
+  state.settings.seed = 7;
+  state.settings.iterations = 100;
   state.pairs.emplace_back();
   state.next_iteration = 5;
   state.counters.rollouts = 1234;

@@ -244,45 +244,54 @@ TEST(RunConfig, DefaultsAreTheReferenceValues) {
   EXPECT_EQ(c.direct_path().advance_threshold(), 200);
 }
 
-TEST(RunConfig, DefaultsMatchTheLibraryStructs) {
+// The simulation's types take their defaults from the schema (a header generated from it at build time), so a
+// config that names nothing and a default-constructed type agree, value for value.
+TEST(RunConfig, TheTypesDefaultsAreTheSchemas) {
   const pb::RunConfig c;
   EXPECT_FALSE(validate(c).has_value()) << *validate(c);
-  const EsSettings es = es_settings(c), want_es;
-  EXPECT_EQ(es.perturbations, want_es.perturbations);
-  EXPECT_EQ(es.init_sigma, want_es.init_sigma);
-  EXPECT_EQ(es.sigma_decay, want_es.sigma_decay);
-  EXPECT_EQ(es.sigma_floor, want_es.sigma_floor);
-  EXPECT_EQ(es.init_lr, want_es.init_lr);
-  EXPECT_EQ(es.lr_decay, want_es.lr_decay);
-  EXPECT_EQ(es.lr_floor, want_es.lr_floor);
-  EXPECT_EQ(es.l2_coeff, want_es.l2_coeff);
-  EXPECT_EQ(es.adam_beta1, want_es.adam_beta1);
-  EXPECT_EQ(es.adam_beta2, want_es.adam_beta2);
-  EXPECT_EQ(es.adam_epsilon, want_es.adam_epsilon);
-  EXPECT_EQ(es.normalize_grads_by_sigma, want_es.normalize_grads_by_sigma);
-  const MutationOptions m = mutation_options(c), want_m;
+  const RunSettings s = run_settings(c);
+  EXPECT_TRUE(s.es == EsSettings{});
+  const MutationOptions m = s.poet.mutation, want_m;
   EXPECT_EQ(m.roughness, want_m.roughness);
   EXPECT_EQ(m.pits, want_m.pits);
   EXPECT_EQ(m.stumps, want_m.stumps);
   EXPECT_EQ(m.stairs, want_m.stairs);
   EXPECT_EQ(m.mutate_stair_steps, want_m.mutate_stair_steps);
   EXPECT_EQ(m.all_types, want_m.all_types);
-  const WalkerOptions w = walker_options(c), want_w;
+  const WalkerOptions w = s.episodes.walker, want_w;
   EXPECT_EQ(w.push_scale, want_w.push_scale);
   EXPECT_EQ(w.lidar, want_w.lidar);
+  EXPECT_EQ(s.episodes.max_steps, walker::kDefaultTimeLimit);
+  // and the generated constants are the schema's declared defaults, exactly
+  EXPECT_EQ(EsSettings{}.adam_epsilon, c.es().adam_epsilon());
+  EXPECT_EQ(EsSettings{}.lr_decay, c.es().lr_decay());
+  EXPECT_EQ(walker::kDefaultPushScale, c.walker().push_scale());
 }
 
-TEST(RunConfig, ConversionsCarryEveryField) {
+TEST(RunConfig, RunSettingsCarryEveryField) {
   const Expected<pb::RunConfig> c = parse_run_config(R"(
+    mode: POET_WITHOUT_TRANSFER seed: 99 iterations: 321 checkpoint_interval: 4 init_zero: true init_stddev: 0.5
     es { perturbations: 3 init_sigma: 0.2 sigma_decay: 0.5 sigma_floor: 0.05 init_lr: 0.3 lr_decay: 0.25
          lr_floor: 0.125 l2_coeff: 0 adam_beta1: 0.5 adam_beta2: 0.75 adam_epsilon: 1e-4
          normalize_grads_by_sigma: false }
-    poet { mutation { roughness: false pits: false stumps: false stairs: true mutate_stair_steps: true
+    poet { mutation_interval: 7 transfer_interval: 3 repro_threshold: 150 max_children: 4 max_admitted: 2
+           mc_low: 10 mc_high: 300 active_cap: 6 novelty_k: 3 novelty_normalized: true
+           child_ranking: LOWEST_SCORE_FIRST admission_proposal: ADAM_PROPOSAL transfer_proposal: SGD_PROPOSAL
+           solved_score: 250 keep_admission_selection: true transfer_test: THRESHOLD_TRANSFER_TEST
+           mutation { roughness: false pits: false stumps: false stairs: true mutate_stair_steps: true
                       all_types: false } }
-    walker { push_scale: 0 lidar: FIRST }
+    walker { push_scale: 0 lidar: FIRST max_steps: 500 stochastic_envs: true eval_episodes: 3 }
   )");
   ASSERT_TRUE(c) << c.error();
-  const EsSettings es = es_settings(*c);
+  const RunSettings s = run_settings(*c);
+  EXPECT_EQ(s.mode, RunMode::kPoetWithoutTransfer);
+  EXPECT_EQ(mode_name(s.mode), "POET_WITHOUT_TRANSFER");
+  EXPECT_EQ(s.seed, 99u);
+  EXPECT_EQ(s.iterations, 321);
+  EXPECT_EQ(s.checkpoint_interval, 4);
+  EXPECT_TRUE(s.init_zero);
+  EXPECT_EQ(s.init_stddev, 0.5);
+  const EsSettings& es = s.es;
   EXPECT_EQ(es.perturbations, 3);
   EXPECT_EQ(es.init_sigma, 0.2);
   EXPECT_EQ(es.sigma_decay, 0.5);
@@ -295,16 +304,58 @@ TEST(RunConfig, ConversionsCarryEveryField) {
   EXPECT_EQ(es.adam_beta2, 0.75);
   EXPECT_EQ(es.adam_epsilon, 1e-4);
   EXPECT_FALSE(es.normalize_grads_by_sigma);
-  const MutationOptions m = mutation_options(*c);
+  const PoetSettings& p = s.poet;
+  EXPECT_EQ(p.mutation_interval, 7);
+  EXPECT_EQ(p.transfer_interval, 3);
+  EXPECT_EQ(p.repro_threshold, 150);
+  EXPECT_EQ(p.max_children, 4);
+  EXPECT_EQ(p.max_admitted, 2);
+  EXPECT_EQ(p.mc_low, 10);
+  EXPECT_EQ(p.mc_high, 300);
+  EXPECT_TRUE(p.passes_mc(10) && p.passes_mc(300) && !p.passes_mc(300.5));
+  EXPECT_EQ(p.active_cap, 6);
+  EXPECT_EQ(p.novelty_k, 3);
+  EXPECT_TRUE(p.novelty_normalized);
+  EXPECT_EQ(p.child_ranking, ChildRanking::kLowestScoreFirst);
+  EXPECT_EQ(p.admission_proposal, ProposalKind::kAdam);
+  EXPECT_EQ(p.transfer_proposal, ProposalKind::kSgd);
+  EXPECT_EQ(p.solved_score, 250);
+  EXPECT_TRUE(p.keep_admission_selection);
+  EXPECT_EQ(p.transfer_test, TransferTest::kThreshold);
+  const MutationOptions& m = p.mutation;
   EXPECT_FALSE(m.roughness);
   EXPECT_FALSE(m.pits);
   EXPECT_FALSE(m.stumps);
   EXPECT_TRUE(m.stairs);
   EXPECT_TRUE(m.mutate_stair_steps);
   EXPECT_FALSE(m.all_types);
-  const WalkerOptions w = walker_options(*c);
-  EXPECT_EQ(w.push_scale, 0);
-  EXPECT_EQ(w.lidar, LidarRule::kFirst);
+  EXPECT_EQ(s.episodes.walker.push_scale, 0);
+  EXPECT_EQ(s.episodes.walker.lidar, LidarRule::kFirst);
+  EXPECT_EQ(s.episodes.max_steps, 500);
+  EXPECT_TRUE(s.episodes.stochastic);
+  EXPECT_EQ(s.episodes.eval_episodes, 3);
+  EXPECT_FALSE(s.target);
+
+  const Expected<pb::RunConfig> direct = parse_run_config(R"(
+    mode: DIRECT_PATH
+    direct_path { target { encoding { name: "r2" roughness: 2 } seed: 17 } advance_threshold: 180 budget_es_steps: 90 }
+  )");
+  ASSERT_TRUE(direct) << direct.error();
+  const RunSettings d = run_settings(*direct);
+  EXPECT_EQ(d.mode, RunMode::kDirectPath);
+  EXPECT_EQ(mode_name(d.mode), "DIRECT_PATH");
+  ASSERT_TRUE(d.target);
+  EXPECT_EQ(d.target->seed, 17u);
+  EXPECT_EQ(d.target->encoding.roughness, 2);
+  EXPECT_EQ(d.advance_threshold, 180);
+  EXPECT_EQ(d.budget_es_steps, 90);
+  for (const auto mode : {pb::RunConfig::POET, pb::RunConfig::POET_WITHOUT_TRANSFER, pb::RunConfig::ES_ALONE,
+                          pb::RunConfig::DIRECT_PATH}) {
+    pb::RunConfig m = *direct;
+    m.set_mode(mode);
+    if (mode == pb::RunConfig::ES_ALONE) *m.mutable_es_alone()->mutable_target() = direct->direct_path().target();
+    EXPECT_EQ(mode_name(run_settings(m).mode), pb::RunConfig::Mode_Name(mode));
+  }
 }
 
 // ------------------------------------------------------------------------------------------------ parse errors

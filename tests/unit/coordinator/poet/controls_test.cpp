@@ -20,8 +20,8 @@ TEST(InitialState, AStartThetaReplacesTheInitStreamInEveryMode) {
     pb::RunConfig c = tiny_config();
     c.set_mode(mode);
     if (mode == pb::RunConfig::ES_ALONE) *c.mutable_es_alone()->mutable_target() = to_proto(rough(1.0, 3));
-    const RunState from_file = initial_state(c, theta);
-    const RunState random = initial_state(c);
+    const RunState from_file = initial_state(run_settings(c), theta);
+    const RunState random = initial_state(run_settings(c));
     ASSERT_EQ(from_file.pairs.size(), 1u);
     EXPECT_EQ(from_file.pairs[0].theta, theta);
     EXPECT_EQ(from_file.pairs[0].best_theta, theta);
@@ -38,7 +38,7 @@ TEST(EsAlone, OptimisesOnePairOnTheTargetAndNeverReproducesOrTransfers) {
   c.mutable_poet()->set_mutation_interval(1);
   c.mutable_poet()->set_transfer_interval(1);
   *c.mutable_es_alone()->mutable_target() = to_proto(rough(2.5, 77));
-  RunState s = initial_state(c);
+  RunState s = initial_state(run_settings(c));
   ASSERT_EQ(s.pairs.size(), 1u);
   EXPECT_EQ(s.pairs[0].env.encoding.roughness, 2.5);
   EXPECT_EQ(s.pairs[0].env.seed, 77u);
@@ -128,7 +128,7 @@ pb::RunConfig direct_path_config(int64_t budget) {
 }
 
 TEST(DirectPath, AdvancesAtTheThresholdAndStopsWhenTheTargetIsSolved) {
-  RunState s = initial_state(direct_path_config(1000));
+  RunState s = initial_state(run_settings(direct_path_config(1000)));
   EXPECT_EQ(s.pairs[0].env.seed, 4242u);  // every stage uses the target's seed
   ASSERT_EQ(s.stages.size(), 1u);
   // every evaluation scores 240 and finishes: each stage is solved and passed at once
@@ -145,7 +145,7 @@ TEST(DirectPath, AdvancesAtTheThresholdAndStopsWhenTheTargetIsSolved) {
 }
 
 TEST(DirectPath, StaysBelowTheThresholdAndStopsWhenTheBudgetIsSpent) {
-  RunState s = initial_state(direct_path_config(7));
+  RunState s = initial_state(run_settings(direct_path_config(7)));
   ScriptedEvaluator ev([](int, size_t, const RolloutTask& t) { return scored(t.perturbation ? 0 : 199); });
   IterationReport last;
   while (!run_complete(s)) last = run_iteration(s, ev);
@@ -169,7 +169,7 @@ TEST(EsThroughTheEngine, ImprovesASyntheticObjective) {
   *c.mutable_es_alone()->mutable_target() = to_proto(rough(0.0));
   c.mutable_es()->set_perturbations(32);
   c.mutable_es()->set_l2_coeff(0);
-  RunState s = initial_state(c);
+  RunState s = initial_state(run_settings(c));
   ScriptedEvaluator ev([](int, size_t, const RolloutTask& t) { return quadratic(t); });
   run_iteration(s, ev);
   const double start = s.pairs[0].latest_score;

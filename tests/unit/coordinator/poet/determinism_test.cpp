@@ -5,7 +5,7 @@
 
 #include "engine_test_support.h"
 #include "evaluator/local_evaluator.h"
-#include "poet/checkpoint.h"
+#include "run/checkpoint.h"
 #include "poet/engine.h"
 
 namespace poet {
@@ -13,10 +13,10 @@ namespace {
 
 pb::RunConfig small_run() { return testing::small_real_run(); }
 
-std::string checkpoint_bytes(const RunState& s) { return to_checkpoint(s).SerializeAsString(); }
+std::string checkpoint_bytes(const RunState& s) { return to_checkpoint(small_run(), s).SerializeAsString(); }
 
 RunState run(const pb::RunConfig& config, int threads) {
-  RunState s = initial_state(config);
+  RunState s = initial_state(run_settings(config));
   LocalEvaluator evaluator(threads);
   while (!run_complete(s)) run_iteration(s, evaluator);
   return s;

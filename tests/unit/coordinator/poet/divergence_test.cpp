@@ -15,7 +15,7 @@ TEST(Divergence, AnOverflowingMomentStopsTheRunAtItsStep) {
   pb::RunConfig c = tiny_config();
   c.mutable_es()->set_sigma_decay(1e-300);  // σ = 1e-301 after the first step, so g/σ overflows Adam's v next
   c.mutable_es()->set_sigma_floor(0);
-  RunState s = initial_state(c);
+  RunState s = initial_state(run_settings(c));
   ScriptedEvaluator ev([](int, size_t i, const RolloutTask&) { return scored(static_cast<double>(i)); });
   run_iteration(s, ev);  // iteration 0 uses σ = 0.1
   try {
@@ -31,7 +31,7 @@ TEST(Divergence, AnOverflowingMomentStopsTheRunAtItsStep) {
 
 TEST(Divergence, FiniteRunsAreNotFlagged) {
   pb::RunConfig c = tiny_config();
-  RunState s = initial_state(c);
+  RunState s = initial_state(run_settings(c));
   ScriptedEvaluator ev([](int, size_t i, const RolloutTask&) { return scored(static_cast<double>(i % 7)); });
   for (int i = 0; i < 5; ++i) EXPECT_NO_THROW(run_iteration(s, ev));
 }

@@ -7,6 +7,7 @@
 #include "envgen/named_courses.h"
 #include "poet/engine.h"
 #include "policy/mlp.h"
+#include "run/event_json.h"
 
 namespace poet::testing {
 
@@ -63,7 +64,7 @@ inline Pair& add_pair(RunState& state, const EnvDef& env, double latest_score) {
   p.env = env;
   p.theta.assign(kParamCount, 0.01 * (p.id + 1));
   p.best_theta = p.theta;
-  p.optimizer = fresh_optimizer(es_settings(state.config), kParamCount);
+  p.optimizer = fresh_optimizer(state.settings.es, kParamCount);
   p.latest_score = latest_score;
   p.best_score = latest_score;
   p.best_iteration = 0;
@@ -73,7 +74,7 @@ inline Pair& add_pair(RunState& state, const EnvDef& env, double latest_score) {
 
 // A state whose first pair has the given latest score, about to run iteration t.
 inline RunState state_at(const pb::RunConfig& config, int t, double first_score) {
-  RunState s = initial_state(config);
+  RunState s = initial_state(run_settings(config));
   s.pairs[0].latest_score = first_score;
   s.next_iteration = t;
   return s;
@@ -81,7 +82,7 @@ inline RunState state_at(const pb::RunConfig& config, int t, double first_score)
 
 inline std::vector<nlohmann::ordered_json> events_named(const IterationReport& r, const std::string& name) {
   std::vector<nlohmann::ordered_json> out;
-  for (const auto& e : r.events)
+  for (const auto& e : events_json(r))
     if (e["event"] == name) out.push_back(e);
   return out;
 }

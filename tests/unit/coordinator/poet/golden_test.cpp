@@ -13,7 +13,7 @@
 #include "engine_test_support.h"
 #include "envgen/named_courses.h"
 #include "evaluator/local_evaluator.h"
-#include "poet/checkpoint.h"
+#include "run/checkpoint.h"
 #include "poet/engine.h"
 #include "policy/mlp.h"
 #include "rng.h"
@@ -72,12 +72,12 @@ TEST(Golden, SingleRolloutReturns) {
 TEST(Golden, SmallRunCheckpoint) {
   pb::RunConfig c = testing::small_real_run();
   c.set_iterations(5);
-  RunState s = initial_state(c);
+  RunState s = initial_state(run_settings(c));
   LocalEvaluator evaluator(2);
   while (!run_complete(s)) run_iteration(s, evaluator);
   ASSERT_GE(s.pairs.size(), 3u);  // reproduction and transfer ran
   ASSERT_GT(s.counters.transfer_attempts, 0);
-  const uint64_t digest = fnv1a(encode_checkpoint_file(to_checkpoint(s)));
+  const uint64_t digest = fnv1a(encode_checkpoint_file(to_checkpoint(c, s)));
   EXPECT_EQ(digest, kCheckpointDigest) << changed("the ES or the POET loop (or the simulation under it)", digest,
                                                   kCheckpointDigest)
                                        << "pairs " << s.pairs.size() << ", rollouts " << s.counters.rollouts

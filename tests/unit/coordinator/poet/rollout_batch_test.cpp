@@ -68,7 +68,7 @@ EpisodeSettings settings(bool stochastic) {
   c.mutable_walker()->set_stochastic_envs(stochastic);
   c.mutable_walker()->set_eval_episodes(3);
   c.mutable_walker()->set_max_steps(123);
-  return episode_settings(c);
+  return run_settings(c).episodes;
 }
 
 TEST(RolloutBatch, AnEsStepIsMirroredPairsOnTheEnvironmentsCourse) {

@@ -11,7 +11,7 @@
 
 #include "engine_test_support.h"
 #include "envgen/env_proto.h"
-#include "poet/checkpoint.h"
+#include "run/checkpoint.h"
 #include "rng.h"
 #include "run/checkpoint_file.h"
 #include "scripted_evaluator.h"
@@ -82,13 +82,13 @@ RolloutResult hashed_result(const RolloutTask& task) {
 }
 
 // to_checkpoint → the file's bytes → decode → from_checkpoint → to_checkpoint, which must give the same bytes.
-void expect_round_trip(const RunState& state, const std::string& where) {
-  const std::string bytes = encode_checkpoint_file(to_checkpoint(state));
+void expect_round_trip(const pb::RunConfig& config, const RunState& state, const std::string& where) {
+  const std::string bytes = encode_checkpoint_file(to_checkpoint(config, state));
   const Expected<pb::Checkpoint> decoded = decode_checkpoint_file(bytes);
   ASSERT_TRUE(decoded) << where << ": " << decoded.error();
   const Expected<RunState> restored = from_checkpoint(*decoded);
   ASSERT_TRUE(restored) << where << ": the engine wrote a state the reader refuses: " << restored.error();
-  EXPECT_EQ(encode_checkpoint_file(to_checkpoint(*restored)), bytes) << where;
+  EXPECT_EQ(encode_checkpoint_file(to_checkpoint(decoded->config(), *restored)), bytes) << where;
 }
 
 TEST(StateConsistency, EveryStateTheEngineWritesReadsBack) {
@@ -97,13 +97,13 @@ TEST(StateConsistency, EveryStateTheEngineWritesReadsBack) {
   for (int run = 0; run < 160; ++run) {
     const pb::RunConfig config = random_config(r);
     ASSERT_FALSE(validate(config)) << *validate(config);
-    RunState state = initial_state(config);
+    RunState state = initial_state(run_settings(config));
     ScriptedEvaluator evaluator([](int, size_t, const RolloutTask& task) { return hashed_result(task); });
     const std::string name = "run " + std::to_string(run) + " (" + pb::RunConfig::Mode_Name(config.mode()) + ")";
-    expect_round_trip(state, name + " before iteration 0");
+    expect_round_trip(config, state, name + " before iteration 0");
     while (!run_complete(state)) {
       run_iteration(state, evaluator);
-      expect_round_trip(state, name + " after iteration " + std::to_string(state.next_iteration - 1));
+      expect_round_trip(config, state, name + " after iteration " + std::to_string(state.next_iteration - 1));
       if (::testing::Test::HasFatalFailure()) return;
     }
     seen[pb::RunConfig::Mode_Name(config.mode())] += 1;
@@ -118,8 +118,14 @@ TEST(StateConsistency, EveryStateTheEngineWritesReadsBack) {
     EXPECT_GE(seen[what], 3) << "too few runs with " << what;
 }
 
-// A state of each kind, from a short real run of the engine.
-RunState engine_state(pb::RunConfig::Mode mode, int iterations) {
+// A config and the state a short real run of the engine leaves.
+struct EngineRun {
+  pb::RunConfig config;
+  RunState state;
+};
+
+// A run of each kind.
+EngineRun engine_run(pb::RunConfig::Mode mode, int iterations) {
   RandomStream r(stream_key(7, "engine-state"));
   pb::RunConfig config = tiny_config();
   config.set_mode(mode);
@@ -137,28 +143,28 @@ RunState engine_state(pb::RunConfig::Mode mode, int iterations) {
     *config.mutable_direct_path()->mutable_target() = random_target(r);
     config.mutable_direct_path()->set_budget_es_steps(100);
   }
-  RunState state = initial_state(config);
+  RunState state = initial_state(run_settings(config));
   ScriptedEvaluator evaluator([](int, size_t, const RolloutTask& task) { return hashed_result(task); });
   while (!run_complete(state)) run_iteration(state, evaluator);
-  return state;
+  return {config, std::move(state)};
 }
 
-// The error from_checkpoint gives for the state's message after `edit`.
+// The error from_checkpoint gives for the run's message after `edit`.
 template <class Edit>
-std::string refusal(const RunState& state, Edit edit) {
-  pb::Checkpoint message = to_checkpoint(state);
+std::string refusal(const EngineRun& run, Edit edit) {
+  pb::Checkpoint message = to_checkpoint(run.config, run.state);
   edit(message);
   const Expected<RunState> restored = from_checkpoint(message);
   return restored ? std::string("accepted") : restored.error();
 }
 
 TEST(StateConsistency, RefusesStatesTheEngineCouldNotHaveProduced) {
-  const RunState poet = engine_state(pb::RunConfig::POET, 4);
-  ASSERT_GE(poet.pairs.size(), 3u);
-  ASSERT_LT(poet.active_indices().size(), poet.pairs.size());
-  const RunState direct = engine_state(pb::RunConfig::DIRECT_PATH, 3);
-  const RunState alone = engine_state(pb::RunConfig::ES_ALONE, 2);
-  for (const RunState* s : {&poet, &direct, &alone}) ASSERT_EQ(refusal(*s, [](pb::Checkpoint&) {}), "accepted");
+  const EngineRun poet = engine_run(pb::RunConfig::POET, 4);
+  ASSERT_GE(poet.state.pairs.size(), 3u);
+  ASSERT_LT(poet.state.active_indices().size(), poet.state.pairs.size());
+  const EngineRun direct = engine_run(pb::RunConfig::DIRECT_PATH, 3);
+  const EngineRun alone = engine_run(pb::RunConfig::ES_ALONE, 2);
+  for (const EngineRun* s : {&poet, &direct, &alone}) ASSERT_EQ(refusal(*s, [](pb::Checkpoint&) {}), "accepted");
 
   // the reported crash: a DIRECT_PATH state without its curriculum
   EXPECT_TRUE(
@@ -184,7 +190,7 @@ TEST(StateConsistency, RefusesStatesTheEngineCouldNotHaveProduced) {
   EXPECT_TRUE(contains(refusal(poet, [](pb::Checkpoint& m) { m.mutable_config()->mutable_poet()->set_active_cap(1); }),
                        "more than poet.active_cap"));
   EXPECT_TRUE(contains(refusal(poet, [](pb::Checkpoint& m) { m.set_finished(true); }), "finished: true"));
-  EXPECT_TRUE(contains(refusal(poet, [&](pb::Checkpoint& m) { *m.add_stages() = to_checkpoint(direct).stages(0); }),
+  EXPECT_TRUE(contains(refusal(poet, [&](pb::Checkpoint& m) { *m.add_stages() = to_checkpoint(direct.config, direct.state).stages(0); }),
                        "stages: a curriculum"));
   EXPECT_TRUE(contains(refusal(poet,
                                [](pb::Checkpoint& m) {

@@ -63,8 +63,8 @@ TEST(Transfer, DirectAndProposalTransfersReplaceWhenStrictlyBetter) {
   // both optimizers are back to fresh
   for (const Pair& p : s.pairs) {
     EXPECT_EQ(p.optimizer.t, 0);
-    EXPECT_EQ(p.optimizer.lr, s.config.es().init_lr());
-    EXPECT_EQ(p.optimizer.sigma, s.config.es().init_sigma());
+    EXPECT_EQ(p.optimizer.lr, s.settings.es.init_lr);
+    EXPECT_EQ(p.optimizer.sigma, s.settings.es.init_sigma);
     EXPECT_EQ(p.optimizer.m, std::vector<double>(kParamCount, 0.0));
     EXPECT_EQ(p.transfer_attempts, 1);
     EXPECT_EQ(p.best_score, p.latest_score);
@@ -127,7 +127,7 @@ TEST(Transfer, ProposalsUseTheTargetsSigma) {
   for (const RolloutTask& t : ev.batches[2]) {
     if (!t.perturbation) continue;
     // σ after the iteration's own step decayed it once
-    EXPECT_DOUBLE_EQ(t.perturbation->sigma, (on_flat(t) ? 0.05 : 0.07) * s.config.es().sigma_decay());
+    EXPECT_DOUBLE_EQ(t.perturbation->sigma, (on_flat(t) ? 0.05 : 0.07) * s.settings.es.sigma_decay);
   }
 }
 
@@ -135,7 +135,7 @@ TEST(Transfer, ProposalsUseTheTargetsSigma) {
 
 RunState two_pairs_threshold() {
   RunState s = two_pairs();
-  s.config.mutable_poet()->set_transfer_test(pb::THRESHOLD_TRANSFER_TEST);
+  s.settings.poet.transfer_test = TransferTest::kThreshold;
   return s;
 }
 
@@ -167,7 +167,7 @@ TEST(TransferThreshold, OnlySourcesAboveTheThresholdGetAProposalStep) {
   const IterationReport r = run_iteration(s, ev);
   ASSERT_EQ(ev.batches.size(), 5u);
   EXPECT_EQ(perturbations_in(ev.batches[2]), 0u);  // direct evaluations only
-  EXPECT_EQ(perturbations_in(ev.batches[3]), 2u * static_cast<size_t>(s.config.es().perturbations()));
+  EXPECT_EQ(perturbations_in(ev.batches[3]), 2u * static_cast<size_t>(s.settings.es.perturbations));
   for (const RolloutTask& t : ev.batches[3]) EXPECT_FALSE(on_flat(t));  // only pair 1's candidate
   ASSERT_EQ(ev.batches[4].size(), 1u);
 

@@ -42,7 +42,7 @@ nlohmann::json child(int iteration, std::array<double, 5> e, bool passed, bool d
 // admitted at 8, unsolved; one accepted transfer.
 RunSnapshot sample_run() {
   RunSnapshot run;
-  run.state.config.set_iterations(20);
+  run.state.settings.iterations = 20;
   run.state.next_iteration = 10;
   run.state.pairs = {pair(0, course("flat", 0, 0, 0), 0, kNone, 3), pair(1, course("easy", 0.4, 0.8, 0.4), 4, 0, 6, 8),
                      pair(2, course("rough", 5.0, 0, 0), 5, 1, 9), pair(3, course("very", 0, 6.4, 2.6), 8, 2)};
@@ -165,9 +165,8 @@ TEST(RunMetrics, ClosestToTargetAmongSolvedEnvironments) {
   // POET without a target: none; ES alone: its own target, unsolved
   EXPECT_FALSE(compute_run_metrics(sample_run()).closest_to_target);
   RunSnapshot es_alone;
-  es_alone.state.config.set_mode(pb::RunConfig::ES_ALONE);
-  es_alone.state.config.mutable_es_alone()->mutable_target()->mutable_encoding()->set_name("hard");
-  es_alone.state.config.mutable_es_alone()->mutable_target()->mutable_encoding()->set_roughness(3);
+  es_alone.state.settings.mode = RunMode::kEsAlone;
+  es_alone.state.settings.target = EnvDef{course("hard", 3, 0, 0), 0};
   es_alone.state.next_iteration = 2;
   es_alone.state.pairs = {pair(0, course("hard", 3, 0, 0), 0, kNone)};
   const RunMetrics alone = compute_run_metrics(es_alone);
@@ -177,8 +176,8 @@ TEST(RunMetrics, ClosestToTargetAmongSolvedEnvironments) {
 
   // the direct path: its pair, solved on an early stage, has moved on to the unsolved target; the stages decide
   RunSnapshot direct;
-  direct.state.config.set_mode(pb::RunConfig::DIRECT_PATH);
-  *direct.state.config.mutable_direct_path()->mutable_target()->mutable_encoding() = to_proto(course("hard", 3, 0, 0));
+  direct.state.settings.mode = RunMode::kDirectPath;
+  direct.state.settings.target = EnvDef{course("hard", 3, 0, 0), 0};
   direct.state.next_iteration = 30;
   direct.state.pairs = {pair(0, course("hard", 3, 0, 0), 0, kNone, 4)};
   direct.state.stages = {{EnvDef{course("flat", 0, 0, 0), 0}, 0, 4}, {EnvDef{course("r1.5", 1.5, 0, 0), 0}, 5, 9},

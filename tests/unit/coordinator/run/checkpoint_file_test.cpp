@@ -8,7 +8,7 @@
 #include <string>
 
 #include "config/run_config.h"
-#include "poet/checkpoint.h"
+#include "run/checkpoint.h"
 #include "poet/engine.h"
 
 namespace poet {
@@ -20,7 +20,7 @@ pb::Checkpoint sample() {
   pb::RunConfig config;
   config.set_seed(11);
   config.set_iterations(3);
-  return to_checkpoint(initial_state(config));
+  return to_checkpoint(config, initial_state(run_settings(config)));
 }
 
 TEST(CheckpointFile, RoundTripsTheMessage) {

@@ -13,7 +13,7 @@ namespace {
 RunState two_pairs_one_retired() {
   pb::RunConfig config;
   config.set_iterations(200);
-  RunState s = initial_state(config);
+  RunState s = initial_state(run_settings(config));
   s.next_iteration = 42;
   s.pairs[0].latest_score = 12.34;
   s.pairs[0].first_solved_iteration = 30;

@@ -19,11 +19,12 @@
 
 #include "config/run_config.h"
 #include "envgen/env_json.h"
-#include "poet/checkpoint.h"
 #include "policy/mlp.h"
 #include "policy/policy_file.h"
 #include "rng.h"
+#include "run/checkpoint.h"
 #include "run/crc32.h"
+#include "run/event_json.h"
 #include "scratch_dir.h"
 
 namespace poet {
@@ -69,7 +70,7 @@ Pair make_pair(int id) {
 // The first pair and a child admitted at iteration 1: a state the engine could have written.
 RunState two_pair_state() {
   RunState state;
-  state.config = small_config();
+  state.settings = run_settings(small_config());
   state.pairs = {make_pair(0), make_pair(1)};
   state.pairs[1].parent_id = 0;
   state.pairs[1].created_iteration = 1;
@@ -90,7 +91,7 @@ pb::Checkpoint read_checkpoint(const fs::path& path) {
 IterationReport report_for(const RunState& state, int t) {
   IterationReport report;
   report.iteration = t;
-  report.events.push_back({{"iteration", t}, {"event", "test"}, {"value", 0.1 * t}});
+  report.events.push_back(SolvedEvent{0, "flat", 0.1 * t, t});
   for (const Pair& pair : state.pairs) {
     PairStatsRow row;
     row.iteration = t;
@@ -105,7 +106,7 @@ IterationReport report_for(const RunState& state, int t) {
 
 std::string events_text(const IterationReport& report) {
   std::string text;
-  for (const auto& e : report.events) text += e.dump() + "\n";
+  for (const auto& e : events_json(report)) text += e.dump() + "\n";
   return text;
 }
 
@@ -121,7 +122,7 @@ class RunDirectoryTest : public ::testing::Test {
 
   // Creates the run and saves state; fails the test on any error.
   RunDirectory create_and_save(const RunState& state) {
-    Expected<RunDirectory> dir = RunDirectory::create(dir_, state.config);
+    Expected<RunDirectory> dir = RunDirectory::create(dir_, small_config());
     EXPECT_TRUE(dir) << dir.error();
     if (!dir) throw std::runtime_error(dir.error());
     const auto error = dir->save(state);
@@ -136,7 +137,7 @@ class RunDirectoryTest : public ::testing::Test {
 
 TEST_F(RunDirectoryTest, CreateAndSaveWriteTheFiles) {
   const RunState state = two_pair_state();
-  Expected<RunDirectory> dir = RunDirectory::create(dir_, state.config);
+  Expected<RunDirectory> dir = RunDirectory::create(dir_, small_config());
   ASSERT_TRUE(dir) << dir.error();
   EXPECT_EQ(dir->path(), dir_);
   EXPECT_FALSE(fs::exists(dir_ / kCheckpointFile));
@@ -144,7 +145,7 @@ TEST_F(RunDirectoryTest, CreateAndSaveWriteTheFiles) {
   EXPECT_EQ(read(dir_ / kEventsFile), "");
   const Expected<pb::RunConfig> config = parse_run_config(read(dir_ / kConfigFile));
   ASSERT_TRUE(config) << config.error();
-  EXPECT_EQ(config->SerializeAsString(), state.config.SerializeAsString());
+  EXPECT_EQ(config->SerializeAsString(), small_config().SerializeAsString());
 
   ASSERT_FALSE(dir->save(state));
   pb::Checkpoint checkpoint = read_checkpoint(dir_ / kCheckpointFile);
@@ -156,7 +157,7 @@ TEST_F(RunDirectoryTest, CreateAndSaveWriteTheFiles) {
   checkpoint.clear_stats_bytes();
   checkpoint.clear_events_crc32();
   checkpoint.clear_stats_crc32();
-  EXPECT_EQ(checkpoint.SerializeAsString(), to_checkpoint(state).SerializeAsString());
+  EXPECT_EQ(checkpoint.SerializeAsString(), to_checkpoint(small_config(), state).SerializeAsString());
   for (const Pair& pair : state.pairs) {
     const std::string stem = "pair-" + std::to_string(pair.id);
     EXPECT_EQ(read(dir_ / kEnvsDir / (stem + ".env.json")), env_def_json_text(pair.env));
@@ -171,7 +172,7 @@ TEST_F(RunDirectoryTest, RefusesToCreateOverAnExistingRun) {
   const RunState state = two_pair_state();
   { RunDirectory dir = create_and_save(state); }
   const std::string checkpoint = read(dir_ / kCheckpointFile);
-  const Expected<RunDirectory> again = RunDirectory::create(dir_, state.config);
+  const Expected<RunDirectory> again = RunDirectory::create(dir_, small_config());
   ASSERT_FALSE(again);
   EXPECT_TRUE(contains(again.error(), "already holds a run; resume it or choose another directory")) << again.error();
   EXPECT_EQ(read(dir_ / kCheckpointFile), checkpoint);
@@ -195,7 +196,7 @@ TEST_F(RunDirectoryTest, CreateRefusesAnEarlierRunsFilesWithoutTheirCheckpoint) 
   fs::remove(dir_ / kCheckpointFile);
   const std::string events = read(dir_ / kEventsFile);
   const std::string stats = read(dir_ / kStatsFile);
-  const Expected<RunDirectory> again = RunDirectory::create(dir_, state.config);
+  const Expected<RunDirectory> again = RunDirectory::create(dir_, small_config());
   ASSERT_FALSE(again);
   for (const char* what : {"holds files of an earlier run but no checkpoint.pb", "events.jsonl (", "pair_stats.csv (",
                            "envs/ (2 files)", "move them away"})
@@ -394,7 +395,7 @@ TEST_F(RunDirectoryTest, OneOwnerAtATime) {
   RunDirectory owner = create_and_save(state);
   const std::string in_use = "is in use by another process (pid " + std::to_string(::getpid()) + ")";
 
-  const Expected<RunDirectory> second = RunDirectory::create(dir_, state.config);
+  const Expected<RunDirectory> second = RunDirectory::create(dir_, small_config());
   ASSERT_FALSE(second);
   EXPECT_TRUE(contains(second.error(), in_use)) << second.error();
   const auto resumed = RunDirectory::resume(dir_);

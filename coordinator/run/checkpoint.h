@@ -9,7 +9,7 @@
 
 namespace poet {
 
-pb::Checkpoint to_checkpoint(const RunState& state);
+pb::Checkpoint to_checkpoint(const pb::RunConfig& config, const RunState& state);
 
 // A checkpoint comes from disk, so it is checked as hostile input: the config validates, every environment is
 // valid, θ, best θ and Adam's moments hold kParamCount finite values, pair ids are unique and increasing and

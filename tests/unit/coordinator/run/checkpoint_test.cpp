@@ -1,8 +1,8 @@
-// Tests coordinator/poet/checkpoint.cpp: a hand-built state (retired and active pairs, transfers, curriculum
+// Tests coordinator/run/checkpoint.cpp: a hand-built state (retired and active pairs, transfers, curriculum
 // stages, optimizer state, awkward doubles) survives the round trip bit for bit, and hostile checkpoints are
 // refused with an error naming the field.
 
-#include "poet/checkpoint.h"
+#include "run/checkpoint.h"
 
 #include <gtest/gtest.h>
 
@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "config/run_config.h"
 #include "envgen/env_proto.h"
 #include "policy/mlp.h"
 #include "rng.h"
@@ -65,14 +66,20 @@ Pair make_pair(int id, int created, EnvDef env) {
 
 // A POET state: three pairs with gaps in their ids, the first retired and solved, the second started by transfer
 // of a proposal, the third with accepted transfers; every counter non-zero and agreeing with the pairs.
+pb::RunConfig sample_config() {
+  pb::RunConfig c;
+  c.set_seed(7);
+  c.set_iterations(100);
+  c.mutable_es()->set_perturbations(4);
+  c.mutable_poet()->set_mc_low(-1000);
+  c.mutable_poet()->set_mutation_interval(10);
+  c.mutable_poet()->set_transfer_interval(5);
+  return c;
+}
+
 RunState sample_state() {
   RunState s;
-  s.config.set_seed(7);
-  s.config.set_iterations(100);
-  s.config.mutable_es()->set_perturbations(4);
-  s.config.mutable_poet()->set_mc_low(-1000);
-  s.config.mutable_poet()->set_mutation_interval(10);
-  s.config.mutable_poet()->set_transfer_interval(5);
+  s.settings = run_settings(sample_config());
   s.next_iteration = 42;
 
   Pair first = make_pair(0, 0, EnvDef{EnvEncoding{}, 7});
@@ -97,13 +104,19 @@ RunState sample_state() {
 }
 
 // A direct-path state: one pair at the second of two curriculum stages, finished.
+pb::RunConfig direct_path_config() {
+  pb::RunConfig c;
+  c.set_mode(pb::RunConfig::DIRECT_PATH);
+  c.set_seed(7);
+  c.set_iterations(100);
+  *c.mutable_direct_path()->mutable_target() = to_proto(stumps_env(7));
+  c.mutable_direct_path()->set_budget_es_steps(50);
+  return c;
+}
+
 RunState direct_path_state() {
   RunState s;
-  s.config.set_mode(pb::RunConfig::DIRECT_PATH);
-  s.config.set_seed(7);
-  s.config.set_iterations(100);
-  *s.config.mutable_direct_path()->mutable_target() = to_proto(stumps_env(7));
-  s.config.mutable_direct_path()->set_budget_es_steps(50);
+  s.settings = run_settings(direct_path_config());
   s.next_iteration = 42;
   Pair only = make_pair(0, 0, stumps_env(7));
   only.transfer_attempts = 0;
@@ -117,10 +130,10 @@ RunState direct_path_state() {
 
 TEST(CheckpointTest, RoundTripIsExact) {
   const RunState state = sample_state();
-  const pb::Checkpoint checkpoint = to_checkpoint(state);
+  const pb::Checkpoint checkpoint = to_checkpoint(sample_config(), state);
   const Expected<RunState> restored = from_checkpoint(checkpoint);
   ASSERT_TRUE(restored) << restored.error();
-  EXPECT_EQ(to_checkpoint(*restored).SerializeAsString(), checkpoint.SerializeAsString());
+  EXPECT_EQ(to_checkpoint(sample_config(), *restored).SerializeAsString(), checkpoint.SerializeAsString());
 
   // and field by field, for a readable failure
   ASSERT_EQ(restored->pairs.size(), 3u);
@@ -148,10 +161,12 @@ TEST(CheckpointTest, RoundTripIsExact) {
 
 // The threshold transfer test's recent scores travel with the pair.
 TEST(CheckpointTest, RecentScoresRoundTrip) {
+  pb::RunConfig config = sample_config();
+  config.mutable_poet()->set_transfer_test(pb::THRESHOLD_TRANSFER_TEST);
   RunState state = sample_state();
-  state.config.mutable_poet()->set_transfer_test(pb::THRESHOLD_TRANSFER_TEST);
+  state.settings = run_settings(config);
   state.pairs[1].recent_scores = {12.5, -3, 240};
-  const pb::Checkpoint checkpoint = to_checkpoint(state);
+  const pb::Checkpoint checkpoint = to_checkpoint(config, state);
   const Expected<RunState> restored = from_checkpoint(checkpoint);
   ASSERT_TRUE(restored) << restored.error();
   EXPECT_EQ(restored->pairs[1].recent_scores, state.pairs[1].recent_scores);
@@ -159,10 +174,10 @@ TEST(CheckpointTest, RecentScoresRoundTrip) {
 }
 
 TEST(CheckpointTest, CurriculumRoundTripIsExact) {
-  const pb::Checkpoint checkpoint = to_checkpoint(direct_path_state());
+  const pb::Checkpoint checkpoint = to_checkpoint(direct_path_config(), direct_path_state());
   const Expected<RunState> restored = from_checkpoint(checkpoint);
   ASSERT_TRUE(restored) << restored.error();
-  EXPECT_EQ(to_checkpoint(*restored).SerializeAsString(), checkpoint.SerializeAsString());
+  EXPECT_EQ(to_checkpoint(direct_path_config(), *restored).SerializeAsString(), checkpoint.SerializeAsString());
   ASSERT_EQ(restored->stages.size(), 2u);
   EXPECT_EQ(restored->stages[0].solved_iteration, 15);
   EXPECT_EQ(restored->stages[1].solved_iteration, kNone);
@@ -177,7 +192,7 @@ TEST(CheckpointTest, CurriculumRoundTripIsExact) {
 
 TEST(CheckpointTest, EveryFieldIsWrittenEvenAtItsDefault) {
   // A default in the schema (parent_id = -1) must not hide a value: set fields make equal states equal bytes.
-  const pb::Checkpoint checkpoint = to_checkpoint(direct_path_state());
+  const pb::Checkpoint checkpoint = to_checkpoint(direct_path_config(), direct_path_state());
   EXPECT_TRUE(checkpoint.pairs(0).has_parent_id());
   EXPECT_TRUE(checkpoint.pairs(0).has_initial_by_proposal());
   EXPECT_TRUE(checkpoint.has_finished());
@@ -255,7 +270,7 @@ TEST(CheckpointTest, HostileCheckpointsNameTheField) {
        [](pb::Checkpoint& c) { c.mutable_pairs(2)->add_recent_scores(std::numeric_limits<double>::quiet_NaN()); },
        "pairs[2].recent_scores[0]"},
   };
-  const pb::Checkpoint good = to_checkpoint(sample_state());
+  const pb::Checkpoint good = to_checkpoint(sample_config(), sample_state());
   ASSERT_TRUE(from_checkpoint(good));
   for (const HostileCase& c : cases) {
     pb::Checkpoint bad = good;

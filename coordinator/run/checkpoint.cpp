@@ -1,4 +1,4 @@
-#include "poet/checkpoint.h"
+#include "run/checkpoint.h"
 
 #include <cmath>
 #include <cstdint>
@@ -258,9 +258,9 @@ Expected<RunCounters> read_counters(const pb::RunCounters& message) {
 
 }  // namespace
 
-pb::Checkpoint to_checkpoint(const RunState& state) {
+pb::Checkpoint to_checkpoint(const pb::RunConfig& config, const RunState& state) {
   pb::Checkpoint out;
-  *out.mutable_config() = state.config;
+  *out.mutable_config() = config;
   out.set_next_iteration(state.next_iteration);
   out.set_next_pair_id(state.next_pair_id);
   for (const Pair& pair : state.pairs) *out.add_pairs() = to_proto(pair);
@@ -281,7 +281,7 @@ Expected<RunState> from_checkpoint(const pb::Checkpoint& checkpoint) {
   // the config and the counters of the loop; an empty message (an empty file) fails here
   if (!checkpoint.has_config()) return Unexpected{"config: missing"};
   if (Error error = validate(checkpoint.config())) return Unexpected{"config." + *error};
-  state.config = checkpoint.config();
+  state.settings = run_settings(checkpoint.config());
   if (!checkpoint.has_next_iteration()) return Unexpected{"next_iteration: missing"};
   if (Error error = check_at_least("next_iteration", checkpoint.next_iteration(), 0)) return Unexpected{*error};
   state.next_iteration = checkpoint.next_iteration();

@@ -1,0 +1,70 @@
+#pragma once
+// A run's settings as the engine reads them: typed, and made once from the run config by run_settings()
+// (config/run_config.h), the one route from the config into the engine. They hold no defaults of their own:
+// every value comes from the config, where a field left out holds the schema's default.
+
+#include <cstdint>
+#include <optional>
+#include <string_view>
+
+#include "envgen/env_encoding.h"
+#include "envgen/mutation.h"
+#include "es/es_settings.h"
+#include "walker/walker_env.h"
+
+namespace poet {
+
+enum class RunMode { kPoet, kPoetWithoutTransfer, kEsAlone, kDirectPath };
+// The mode as a config names it ("POET", "POET_WITHOUT_TRANSFER", "ES_ALONE", "DIRECT_PATH"), for messages.
+std::string_view mode_name(RunMode mode);
+enum class ProposalKind { kAdam, kSgd };                    // the update Adam's next step would make, or SGD's
+enum class TransferTest { kFull, kThreshold };              // N(N−1) proposal steps a round, or Enhanced POET's
+enum class ChildRanking { kNovelty, kLowestScoreFirst };   // the order admission walks the passing children in
+
+// The episode settings every task of a run shares.
+struct EpisodeSettings {
+  WalkerOptions walker;
+  int max_steps = 0;
+  bool stochastic = false;
+  int eval_episodes = 1;  // 1 unless stochastic
+};
+
+// The POET loop (spec §3); the fields of the schema's PoetConfig.
+struct PoetSettings {
+  int mutation_interval = 0;
+  int transfer_interval = 0;
+  double repro_threshold = 0;
+  int max_children = 0;
+  int max_admitted = 0;
+  double mc_low = 0;
+  double mc_high = 0;
+  int active_cap = 0;
+  int novelty_k = 0;
+  bool novelty_normalized = false;
+  ChildRanking child_ranking = ChildRanking::kNovelty;
+  ProposalKind admission_proposal = ProposalKind::kSgd;
+  ProposalKind transfer_proposal = ProposalKind::kAdam;
+  double solved_score = 0;
+  bool keep_admission_selection = false;
+  TransferTest transfer_test = TransferTest::kFull;
+  MutationOptions mutation;
+
+  bool passes_mc(double score) const { return mc_low <= score && score <= mc_high; }
+};
+
+struct RunSettings {
+  RunMode mode = RunMode::kPoet;
+  uint64_t seed = 0;
+  int iterations = 0;
+  int checkpoint_interval = 0;
+  bool init_zero = false;
+  double init_stddev = 0;
+  EsSettings es;
+  EpisodeSettings episodes;
+  PoetSettings poet;
+  std::optional<EnvDef> target;  // the control's target: ES alone's environment, the direct path's end
+  double advance_threshold = 0;  // direct path: move to the next stage at this score
+  int64_t budget_es_steps = 0;   // direct path: stop after this many ES steps
+};
+
+}  // namespace poet

@@ -1,0 +1,19 @@
+#pragma once
+// The engine's events as the run's log writes them: one JSON object per event, {"iteration": t, "event": name,
+// fields...} in a fixed field order, so equal runs write equal bytes (events.jsonl; spec §3's record).
+
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "poet/iteration_report.h"
+#include "poet/run_event.h"
+
+namespace poet {
+
+nlohmann::ordered_json event_json(int iteration, const RunEvent& event);
+
+// Every event of the report, in order.
+std::vector<nlohmann::ordered_json> events_json(const IterationReport& report);
+
+}  // namespace poet

@@ -1,0 +1,96 @@
+// Writes schema_defaults.h (the path is the one argument): the declared default of every scalar field of the
+// settings messages of poet.proto, as C++ constants. The schema is the one home of every default; the
+// simulation's types (EsSettings, MutationOptions, WalkerOptions) take theirs from this header, so they agree
+// with a config that leaves a field out without the simulation linking protobuf. Run by the build.
+
+#include <charconv>
+#include <cstdio>
+#include <fstream>
+#include <iostream>
+#include <string>
+
+#include <google/protobuf/descriptor.h>
+
+#include "poet.pb.h"
+
+namespace {
+
+namespace protobuf = google::protobuf;
+
+// EsConfig -> es_config
+std::string snake_case(const std::string& name) {
+  std::string out;
+  for (char c : name) {
+    if (c >= 'A' && c <= 'Z') {
+      if (!out.empty()) out += '_';
+      out += static_cast<char>(c - 'A' + 'a');
+    } else {
+      out += c;
+    }
+  }
+  return out;
+}
+
+// The shortest text that reads back to the same double, which C++ reads as a literal too.
+std::string double_literal(double value) {
+  char buffer[64];
+  const auto [end, ec] = std::to_chars(buffer, buffer + sizeof buffer, value);
+  return std::string(buffer, end);
+}
+
+std::string constant(const protobuf::FieldDescriptor& f) {
+  const std::string name = f.name();
+  switch (f.cpp_type()) {
+    case protobuf::FieldDescriptor::CPPTYPE_INT32:
+      return "inline constexpr int32_t " + name + " = " + std::to_string(f.default_value_int32()) + ";";
+    case protobuf::FieldDescriptor::CPPTYPE_INT64:
+      return "inline constexpr int64_t " + name + " = " + std::to_string(f.default_value_int64()) + ";";
+    case protobuf::FieldDescriptor::CPPTYPE_UINT64:
+      return "inline constexpr uint64_t " + name + " = " + std::to_string(f.default_value_uint64()) + "u;";
+    case protobuf::FieldDescriptor::CPPTYPE_DOUBLE:
+      return "inline constexpr double " + name + " = " + double_literal(f.default_value_double()) + ";";
+    case protobuf::FieldDescriptor::CPPTYPE_BOOL:
+      return "inline constexpr bool " + name + " = " + (f.default_value_bool() ? "true" : "false") + ";";
+    case protobuf::FieldDescriptor::CPPTYPE_ENUM:
+      return "inline constexpr int " + name + " = " + std::to_string(f.default_value_enum()->number()) +
+             ";  // " + f.default_value_enum()->name();
+    default:
+      return {};  // messages and strings carry no default the simulation uses
+  }
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  if (argc != 2) {
+    std::cerr << "usage: " << argv[0] << " OUT.h\n";
+    return 2;
+  }
+  std::string text =
+      "#pragma once\n"
+      "// Generated from proto/poet.proto by proto/schema_defaults_main.cpp: the schema's default of every scalar\n"
+      "// setting. Edit the schema, not this file.\n\n"
+      "#include <cstdint>\n\nnamespace poet::schema_defaults {\n";
+  for (const protobuf::Descriptor* message :
+       {poet::pb::RunConfig::descriptor(), poet::pb::EsConfig::descriptor(), poet::pb::PoetConfig::descriptor(),
+        poet::pb::MutationConfig::descriptor(), poet::pb::WalkerConfig::descriptor(),
+        poet::pb::DirectPathConfig::descriptor()}) {
+    text += "\nnamespace " + snake_case(message->name()) + " {\n";
+    for (int i = 0; i < message->field_count(); ++i) {
+      const protobuf::FieldDescriptor& field = *message->field(i);
+      if (field.is_repeated()) continue;
+      const std::string line = constant(field);
+      if (!line.empty()) text += line + "\n";
+    }
+    text += "}  // namespace " + snake_case(message->name()) + "\n";
+  }
+  text += "\n}  // namespace poet::schema_defaults\n";
+  std::ofstream out(argv[1], std::ios::binary | std::ios::trunc);
+  out << text;
+  out.close();
+  if (!out) {
+    std::cerr << argv[0] << ": cannot write " << argv[1] << "\n";
+    return 1;
+  }
+  return 0;
+}
