@@ -1,5 +1,5 @@
 #pragma once
-// Learning curves: the per-step CSVs bench/learning_curve.sh writes (es_step, score, finished, env_steps,
+// Learning curves: the per-step CSVs experiments/learning_curve.sh writes (es_step, score, finished, env_steps,
 // rollouts, wall_s; columns found by name), read with every bad field named, and drawn as one picture of three
 // charts — evaluation score against ES steps, against environment steps and against wall time — with the
 // solved score (spec §1.4) as a reference line.

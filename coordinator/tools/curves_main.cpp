@@ -1,5 +1,5 @@
-// poet-curves: learning curves (bench/learning_curve.sh's curve.csv files) side by side — when each was solved, and
-// one picture of their evaluation scores against ES steps, environment steps and wall time.
+// poet-curves: learning curves (experiments/learning_curve.sh's curve.csv files) side by side — when each was solved,
+// and one picture of their evaluation scores against ES steps, environment steps and wall time.
 //   poet-curves [--plot FILE.png|svg] [--solved-score S] LABEL=CURVE.csv...
 
 #include <CLI/CLI.hpp>
@@ -30,7 +30,8 @@ int run(int argc, char** argv) {
   std::vector<std::string> specs;
   std::string plot_path;
   double solved_score = 230;
-  app.add_option("curves", specs, "LABEL=CURVE.csv: a curve written by bench/learning_curve.sh and its legend label")
+  app.add_option("curves", specs,
+                 "LABEL=CURVE.csv: a curve written by experiments/learning_curve.sh and its legend label")
       ->required();
   app.add_option("--plot", plot_path, "Draw the scores against ES steps, environment steps and wall time here");
   app.add_option("--solved-score", solved_score, "A course is solved when finished with at least this score")

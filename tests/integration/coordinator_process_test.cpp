@@ -4,23 +4,21 @@
 // diverging run stops saying that a resume would repeat it. Tests that interrupt a run assert that the signal
 // arrived before the run's end.
 
-#include <fcntl.h>
 #include <gtest/gtest.h>
-#include <spawn.h>
 #include <sys/stat.h>
-#include <sys/wait.h>
 #include <unistd.h>
 
 #include <chrono>
 #include <csignal>
 #include <filesystem>
 #include <fstream>
-#include <iterator>
+#include <optional>
 #include <string>
 #include <thread>
 #include <vector>
 
 #include "child_process.h"
+#include "scratch_dir.h"
 #include "policy/mlp.h"
 #include "policy/policy_file.h"
 #include "rng.h"
@@ -52,8 +50,6 @@ poet {
 // The files a resumed run must reproduce exactly.
 const char* const kRunFiles[] = {"checkpoint.pb", "events.jsonl", "pair_stats.csv"};
 
-using poet::testing::exit_code;
-using poet::testing::spawn_child;
 std::string read(const fs::path& path) { return poet::testing::read_file(path); }
 
 using poet::testing::contains;
@@ -79,23 +75,7 @@ constexpr char kEndless[] = "100000";
 // A fresh directory per test; every child still running is killed and the directory removed, even on failure.
 class CoordinatorProcessTest : public ::testing::Test {
  protected:
-  void SetUp() override {
-    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    root_ = fs::temp_directory_path() /
-            ("poet_coordinator_process_test_" + std::to_string(::getpid()) + "_" + info->name());
-    fs::remove_all(root_);
-    fs::create_directories(root_);
-    config_ = root_ / "tiny.textproto";
-    std::ofstream(config_) << kTinyConfig;
-  }
-
-  void TearDown() override {
-    for (pid_t pid : children_) {
-      ::kill(pid, SIGKILL);
-      ::waitpid(pid, nullptr, 0);
-    }
-    fs::remove_all(root_);
-  }
+  void SetUp() override { std::ofstream(config_) << kTinyConfig; }
 
   // Starts poet-coordinator with args; its stdout and stderr go to files named after `name`. With blocked_signal,
   // the child starts with that signal blocked (as a parent's mask is inherited), so one sent at once is pending
@@ -103,32 +83,19 @@ class CoordinatorProcessTest : public ::testing::Test {
   pid_t spawn(const std::vector<std::string>& args, const std::string& name, int blocked_signal = 0) {
     std::vector<std::string> all = {POET_COORDINATOR_BIN};
     all.insert(all.end(), args.begin(), args.end());
-    const pid_t pid = spawn_child(all, root_ / (name + ".out"), root_ / (name + ".err"), {.blocked_signal = blocked_signal});
-    EXPECT_GT(pid, 0) << "posix_spawn " << POET_COORDINATOR_BIN;
-    if (pid > 0) children_.push_back(pid);
-    return pid;
+    return children_.start(std::move(all), root_ / name, {.blocked_signal = blocked_signal});
   }
 
   // Waits for a child (at most a few minutes: a hung child fails the test rather than hanging it).
   Outcome wait(pid_t pid, const std::string& name) {
-    Outcome outcome;
     const auto started = std::chrono::steady_clock::now();
-    const auto deadline = started + 300s;
-    int status = 0;
-    while (true) {
-      const pid_t done = ::waitpid(pid, &status, WNOHANG);
-      if (done == pid) break;
-      if (done < 0 || std::chrono::steady_clock::now() > deadline) {
-        ADD_FAILURE() << name << ": did not finish";
-        return outcome;
-      }
-      std::this_thread::sleep_for(5ms);
+    const std::optional<int> code = children_.wait(pid, 300s);
+    if (!code) {
+      ADD_FAILURE() << name << ": did not finish";
+      return {};
     }
-    std::erase(children_, pid);
-    outcome.code = exit_code(status);
-    outcome.err = read(root_ / (name + ".err"));
-    outcome.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
-    return outcome;
+    return {*code, read(root_ / (name + ".err")),
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count()};
   }
 
   Outcome run(const std::vector<std::string>& args, const std::string& name) {
@@ -165,11 +132,8 @@ class CoordinatorProcessTest : public ::testing::Test {
     const auto deadline = std::chrono::steady_clock::now() + 300s;
     while (std::chrono::steady_clock::now() < deadline) {
       if (checkpoint_iteration(dir) >= after) return pid;
-      int status = 0;
-      if (::waitpid(pid, &status, WNOHANG) == pid) {
-        std::erase(children_, pid);
-        ADD_FAILURE() << name << " ended (" << exit_code(status) << ") before the signal:\n"
-                      << read(root_ / (name + ".err"));
+      if (const std::optional<int> code = children_.ended(pid)) {
+        ADD_FAILURE() << name << " ended (" << *code << ") before the signal:\n" << read(root_ / (name + ".err"));
         return -1;
       }
       std::this_thread::sleep_for(1ms);
@@ -186,9 +150,11 @@ class CoordinatorProcessTest : public ::testing::Test {
     return wait(pid, name);
   }
 
-  fs::path root_;
-  fs::path config_;
-  std::vector<pid_t> children_;
+  // the children go first, the directory after them
+  poet::testing::ScratchDir scratch_{"poet_coordinator_process_test"};
+  fs::path root_ = scratch_.path();
+  fs::path config_ = root_ / "tiny.textproto";
+  poet::testing::Children children_;
 };
 
 TEST_F(CoordinatorProcessTest, ExtendedLimitContinuesExactly) {

@@ -2,16 +2,16 @@
 // The fixture of the tests that run poet-coordinator with workers as real processes: a small POET config, a
 // temporary root (removed afterwards), children started with their output in files and killed (with their own
 // children, the local workers) at the end whatever happened, waits bounded in time, and the comparison of two
-// run directories byte for byte.
+// run directories byte for byte. Directories and processes come from tests/support.
 
 #include <gtest/gtest.h>
-#include <sys/wait.h>
 #include <unistd.h>
 
 #include <chrono>
 #include <csignal>
 #include <filesystem>
 #include <fstream>
+#include <optional>
 #include <regex>
 #include <string>
 #include <thread>
@@ -38,35 +38,13 @@ const char* const kRunFiles[] = {"checkpoint.pb", "events.jsonl", "pair_stats.cs
 
 inline std::string read(const fs::path& path) { return read_file(path); }
 
-// The children of a process (its local workers), from /proc.
-inline std::vector<pid_t> children_of(pid_t pid) {
-  std::vector<pid_t> out;
-  std::error_code ec;
-  for (const auto& task : fs::directory_iterator("/proc/" + std::to_string(pid) + "/task", ec)) {
-    std::ifstream in(task.path() / "children");
-    for (pid_t child; in >> child;) out.push_back(child);
-  }
-  return out;
-}
-
 class CoordinatorRunTest : public ::testing::Test {
  protected:
   void SetUp() override { std::ofstream(config_) << kConfig; }
-  // the children first: the directory goes with the fixture, after them
-  void TearDown() override {
-    for (pid_t pid : children_) {
-      for (pid_t worker : children_of(pid)) ::kill(worker, SIGKILL);
-      ::kill(pid, SIGKILL);
-      ::waitpid(pid, nullptr, 0);
-    }
-  }
 
   pid_t spawn(const char* binary, std::vector<std::string> args, const std::string& name) {
     args.insert(args.begin(), binary);
-    const pid_t pid = spawn_child(args, root_ / (name + ".out"), root_ / (name + ".err"));
-    EXPECT_GT(pid, 0) << "posix_spawn " << binary;
-    if (pid > 0) children_.push_back(pid);
-    return pid;
+    return children_.start(std::move(args), root_ / name);
   }
 
   pid_t coordinator(const fs::path& dir, std::vector<std::string> extra, const std::string& name) {
@@ -78,17 +56,9 @@ class CoordinatorRunTest : public ::testing::Test {
 
   // Waits (at most two minutes) for the process to end; its exit code, or -1 when it did not.
   int wait(pid_t pid) {
-    const auto deadline = std::chrono::steady_clock::now() + 120s;
-    int status = 0;
-    while (std::chrono::steady_clock::now() < deadline) {
-      if (::waitpid(pid, &status, WNOHANG) == pid) {
-        std::erase(children_, pid);
-        return exit_code(status);
-      }
-      std::this_thread::sleep_for(10ms);
-    }
-    ADD_FAILURE() << "process " << pid << " did not end";
-    return -1;
+    const std::optional<int> code = children_.wait(pid, 120s);
+    if (!code) ADD_FAILURE() << "process " << pid << " did not end";
+    return code.value_or(-1);
   }
 
   // The first match of `pattern` (group 1) in the process's stderr, once it appears (at most 30 s).
@@ -120,10 +90,11 @@ class CoordinatorRunTest : public ::testing::Test {
     }
   }
 
+  // the children go first (killed with their local workers), the directory after them
   ScratchDir scratch_{"poet_run_test"};
   fs::path root_ = scratch_.path();
   fs::path config_ = root_ / "tiny.textproto";
-  std::vector<pid_t> children_;
+  Children children_;
 };
 
 // The config with one line replaced.

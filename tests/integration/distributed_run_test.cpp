@@ -5,22 +5,16 @@
 // coordinator killed with SIGKILL and started again finds its workers back and ends in the same files; a job that
 // kills every worker stops the run naming the task; the status socket answers during a run.
 
-#include <arpa/inet.h>
-#include <fcntl.h>
 #include <gtest/gtest.h>
 #include <httplib.h>
-#include <netinet/in.h>
-#include <spawn.h>
-#include <sys/socket.h>
-#include <sys/wait.h>
 #include <unistd.h>
 
 #include <chrono>
 #include <csignal>
 #include <filesystem>
 #include <fstream>
-#include <iterator>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <regex>
 #include <string>
 #include <thread>
@@ -59,7 +53,7 @@ TEST_F(DistributedRunTest, AWorkerKilledMidRunChangesNothing) {
   }
   ASSERT_EQ(workers.size(), 2u);
   await_log("K", "(iteration [0-9]+):");  // the run is under way: its first event
-  ASSERT_EQ(::waitpid(pid, nullptr, WNOHANG), 0) << "the run ended before the kill";
+  ASSERT_EQ(children_.ended(pid), std::nullopt) << "the run ended before the kill";
   ASSERT_EQ(::kill(workers[0], SIGKILL), 0);
   EXPECT_EQ(wait(pid), 0) << read(root_ / "K.err");
   expect_same_run(reference, root_ / "K");
@@ -85,7 +79,7 @@ TEST_F(DistributedRunTest, ARunWhoseWorkersAllLeaveWaitsForTheNext) {
   ASSERT_FALSE(endpoint.empty());
   const pid_t first = spawn(POET_WORKER_BIN, {"--connect", endpoint, "--threads", "1"}, "first");
   await_log("L", "(iteration [0-9]+):");
-  ASSERT_EQ(::waitpid(pid, nullptr, WNOHANG), 0) << "the run ended before the worker left";
+  ASSERT_EQ(children_.ended(pid), std::nullopt) << "the run ended before the worker left";
   ASSERT_EQ(::kill(first, SIGTERM), 0);
   EXPECT_EQ(wait(first), 0);
   await_log("L", "worker 0x[0-9a-f]+ (left): 0 connected");

@@ -25,7 +25,26 @@ namespace {
 using namespace poet::testing;
 namespace fs = std::filesystem;
 using namespace std::chrono_literals;
-using HostilePeersTest = CoordinatorRunTest;
+
+// CoordinatorRunTest, and CURVE keys made by poetctl keygen.
+class HostilePeersTest : public CoordinatorRunTest {
+ protected:
+  // Runs `poetctl keygen ARGS...` and expects it to succeed.
+  void keygen(std::vector<std::string> args) {
+    args.insert(args.begin(), "keygen");
+    const int code = wait(spawn(POETCTL_BIN, std::move(args), "keygen"));
+    ASSERT_EQ(code, 0) << read(root_ / "keygen.err");
+  }
+
+  // keys/: the coordinator's pair and an authorised worker's; intruder/: a valid worker pair, not authorised, with
+  // the coordinator's public key.
+  void make_keys() {
+    keygen({(root_ / "keys").string(), "coordinator"});
+    keygen({(root_ / "keys").string(), "worker", "--authorize"});
+    keygen({(root_ / "intruder").string(), "worker"});
+    fs::copy_file(root_ / "keys" / "coordinator.key", root_ / "intruder" / "coordinator.key");
+  }
+};
 
 TEST_F(HostilePeersTest, RoguePeersAreCountedAndARealWorkerIsStillServed) {
   const fs::path reference = threads_run();
@@ -99,30 +118,11 @@ TEST_F(HostilePeersTest, RoguePeersAreCountedAndARealWorkerIsStillServed) {
   EXPECT_LT(std::count(log.begin(), log.end(), '\n'), 200) << "the log is flooded:\n" << log;
 }
 
-// Runs `poetctl keygen ARGS...` and expects it to succeed.
-void keygen(const fs::path& root, std::vector<std::string> args) {
-  args.insert(args.begin(), {POETCTL_BIN, "keygen"});
-  const pid_t pid = spawn_child(args, root / "keygen.out", root / "keygen.err");
-  ASSERT_GT(pid, 0);
-  int status = 0;
-  ASSERT_EQ(::waitpid(pid, &status, 0), pid);
-  ASSERT_EQ(exit_code(status), 0) << read(root / "keygen.err");
-}
-
-// keys/: the coordinator's pair and an authorised worker's; intruder/: a valid worker pair, not authorised, with
-// the coordinator's public key.
-void make_keys(const fs::path& root) {
-  keygen(root, {(root / "keys").string(), "coordinator"});
-  keygen(root, {(root / "keys").string(), "worker", "--authorize"});
-  keygen(root, {(root / "intruder").string(), "worker"});
-  fs::copy_file(root / "keys" / "coordinator.key", root / "intruder" / "coordinator.key");
-}
-
 TEST_F(HostilePeersTest, WithCurveOnlyAWorkerWithAnAuthorisedKeyGetsWork) {
   const fs::path reference = threads_run();
   const fs::path keys = root_ / "keys";
   const fs::path intruder_keys = root_ / "intruder";
-  make_keys(root_);
+  make_keys();
   EXPECT_EQ(fs::status(keys / "coordinator.key_secret").permissions() & fs::perms::all,
             fs::perms::owner_read | fs::perms::owner_write);
 
@@ -146,7 +146,7 @@ TEST_F(HostilePeersTest, WithCurveOnlyAWorkerWithAnAuthorisedKeyGetsWork) {
   expect_same_run(reference, root_ / "C");
   EXPECT_EQ(wait(worker), 0);
   for (pid_t refused : {intruder, keyless}) {
-    ASSERT_EQ(::waitpid(refused, nullptr, WNOHANG), 0) << "a refused worker keeps trying until stopped";
+    ASSERT_EQ(children_.ended(refused), std::nullopt) << "a refused worker keeps trying until stopped";
     ASSERT_EQ(::kill(refused, SIGTERM), 0);
     EXPECT_EQ(wait(refused), 0);
   }
@@ -157,8 +157,8 @@ TEST_F(HostilePeersTest, WithCurveOnlyAWorkerWithAnAuthorisedKeyGetsWork) {
 TEST_F(HostilePeersTest, AKeyAuthorisedLaterLetsTheRefusedWorkerIn) {
   const fs::path reference = threads_run();
   const fs::path keys = root_ / "keys";
-  keygen(root_, {keys.string(), "coordinator"});
-  keygen(root_, {keys.string(), "worker"});  // not authorised yet
+  keygen({keys.string(), "coordinator"});
+  keygen({keys.string(), "worker"});  // not authorised yet
   fs::create_directories(keys / "authorized");
   const pid_t pid = coordinator(root_ / "C", {"--listen", "tcp://127.0.0.1:*", "--curve-keys", keys.string()}, "C");
   const std::string endpoint = await_log("C", "workers connect to (tcp://[0-9.]+:[0-9]+)");
@@ -179,7 +179,7 @@ TEST_F(HostilePeersTest, AMalformedKeyFileIsSkippedLoggedOnceAndCounted) {
   const fs::path reference = threads_run();
   const fs::path keys = root_ / "keys";
   const fs::path intruder_keys = root_ / "intruder";
-  make_keys(root_);
+  make_keys();
   const pid_t pid = coordinator(root_ / "C", {"--listen", "tcp://127.0.0.1:*", "--curve-keys", keys.string()}, "C");
   const std::string endpoint = await_log("C", "workers connect to (tcp://[0-9.]+:[0-9]+)");
   const std::string port = await_log("C", "status: http://127.0.0.1:([0-9]+)/status");
@@ -214,8 +214,8 @@ TEST_F(HostilePeersTest, CurveKeyProblemsAreRefusedAtStart) {
   const pid_t no_keys = coordinator(root_ / "X", {"--local-workers", "1", "--curve-keys", keys.string()}, "nokeys");
   EXPECT_EQ(wait(no_keys), 2);
   EXPECT_TRUE(contains(read(root_ / "nokeys.err"), "coordinator.key")) << read(root_ / "nokeys.err");
-  keygen(root_, {keys.string(), "coordinator"});
-  keygen(root_, {keys.string(), "worker"});  // not authorised, yet local workers would use it
+  keygen({keys.string(), "coordinator"});
+  keygen({keys.string(), "worker"});  // not authorised, yet local workers would use it
   fs::create_directories(keys / "authorized");
   const pid_t unauthorised =
       coordinator(root_ / "Y", {"--local-workers", "1", "--curve-keys", keys.string()}, "unauth");

@@ -137,7 +137,7 @@ TEST_F(ReportProcessTest, ReportsTheMetricsTableJsonAndPlotsOfAFinishedRunWithou
   EXPECT_EQ(nlohmann::json::parse(json_out), j);
 }
 
-// The controls of a POET-solved environment (bench/controls.sh): poet-lineage writes the ES-alone and direct-path
+// The controls of a POET-solved environment (experiments/controls.sh): poet-lineage writes the ES-alone and direct-path
 // configs with the lineage's budget, and both run to their end as written.
 TEST_F(ReportProcessTest, LineageWritesRunnableControlConfigsWithTheLineagesBudget) {
   const fs::path run = walker_run();

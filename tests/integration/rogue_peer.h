@@ -1,12 +1,8 @@
 #pragma once
 // What the tests of the job socket share: a rogue ZeroMQ peer (its sockets, a Hello, the coordinator's answer),
-// /metrics read as numbers, and a free loopback port.
+// /metrics read as numbers, and a free loopback port (from tests/support).
 
-#include <arpa/inet.h>
 #include <httplib.h>
-#include <netinet/in.h>
-#include <sys/socket.h>
-#include <unistd.h>
 
 #include <chrono>
 #include <map>
@@ -16,6 +12,7 @@
 #include <string>
 #include <zmq.hpp>
 
+#include "loopback_port.h"
 #include "wire.pb.h"
 
 namespace poet::testing {
@@ -69,20 +66,5 @@ inline std::map<std::string, double> metrics(int port) {
 }
 
 inline std::string dropped(const std::string& reason) { return "poet_dropped_frames_total{reason=\"" + reason + "\"}"; }
-
-// A loopback port free at the time of asking (the kernel's choice), for a coordinator that must come back on the
-// same port.
-inline int free_port() {
-  const int fd = ::socket(AF_INET, SOCK_STREAM, 0);
-  sockaddr_in address{};
-  address.sin_family = AF_INET;
-  address.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-  socklen_t length = sizeof address;
-  const bool ok = fd >= 0 && ::bind(fd, reinterpret_cast<sockaddr*>(&address), sizeof address) == 0 &&
-                  ::getsockname(fd, reinterpret_cast<sockaddr*>(&address), &length) == 0;
-  if (fd >= 0) ::close(fd);
-  return ok ? ntohs(address.sin_port) : -1;
-}
-
 
 }  // namespace poet::testing

@@ -5,20 +5,19 @@
 // checkpoint are found before any work, naming what is wrong.
 
 #include <gtest/gtest.h>
-#include <netinet/in.h>
-#include <sys/socket.h>
-#include <sys/wait.h>
 #include <unistd.h>
 
 #include <chrono>
 #include <csignal>
 #include <filesystem>
 #include <fstream>
+#include <optional>
 #include <string>
 #include <thread>
 #include <vector>
 
 #include "coordinator_run_fixture.h"
+#include "loopback_port.h"
 #include "run/checkpoint_file.h"
 
 namespace {
@@ -45,6 +44,13 @@ class RunDirectoryTrustTest : public CoordinatorRunTest {
     std::vector<std::string> args = {"--run-dir", dir.string(), "--resume", "--quiet", "--status-address", ""};
     args.insert(args.end(), extra.begin(), extra.end());
     return spawn(POET_COORDINATOR_BIN, args, name);
+  }
+
+  // Runs a command (argv[0] a program in /usr/bin or /bin) for at most a minute; its exit code, its output in
+  // command.out and command.err.
+  int run_command(std::vector<std::string> args) {
+    args[0] = fs::exists("/usr/bin/" + args[0]) ? "/usr/bin/" + args[0] : "/bin/" + args[0];
+    return children_.run(std::move(args), root_ / "command", 60s).code;
   }
 };
 
@@ -139,31 +145,15 @@ TEST_F(RunDirectoryTrustTest, AMissingOrDamagedConfigIsWrittenAgainOnResume) {
 }
 
 TEST_F(RunDirectoryTrustTest, APortInUseIsFoundBeforeAnyFileIsWritten) {
-  const int fd = ::socket(AF_INET, SOCK_STREAM, 0);
-  ASSERT_GE(fd, 0);
-  sockaddr_in address{};
-  address.sin_family = AF_INET;
-  address.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-  socklen_t length = sizeof address;
-  ASSERT_EQ(::bind(fd, reinterpret_cast<sockaddr*>(&address), sizeof address), 0);
-  ASSERT_EQ(::listen(fd, 1), 0);
-  ASSERT_EQ(::getsockname(fd, reinterpret_cast<sockaddr*>(&address), &length), 0);
-  const std::string endpoint = "tcp://127.0.0.1:" + std::to_string(ntohs(address.sin_port));
+  std::optional<LoopbackPort> taken(std::in_place, true);
+  ASSERT_GT(taken->port(), 0);
+  const std::string endpoint = taken->endpoint();
   const pid_t pid = coordinator(root_ / "P", {"--listen", endpoint}, "P");
   EXPECT_EQ(wait(pid), 2);
-  ::close(fd);
+  taken.reset();
   EXPECT_TRUE(contains(read(root_ / "P.err"), "cannot listen on " + endpoint)) << read(root_ / "P.err");
   EXPECT_FALSE(fs::exists(root_ / "P" / "checkpoint.pb"));
   EXPECT_FALSE(fs::exists(root_ / "P" / "config.textproto"));
-}
-
-// Runs a command (argv[0] a program on PATH) and returns its exit code.
-int run_command(std::vector<std::string> args, const fs::path& root) {
-  args[0] = fs::exists("/usr/bin/" + args[0]) ? "/usr/bin/" + args[0] : "/bin/" + args[0];
-  const pid_t pid = spawn_child(args, root / "command.out", root / "command.err");
-  int status = 0;
-  if (pid <= 0 || ::waitpid(pid, &status, 0) != pid) return -1;
-  return exit_code(status);
 }
 
 TEST_F(RunDirectoryTrustTest, ADirectoryThatCannotBeWrittenIsFoundBeforeAnIteration) {
@@ -171,11 +161,11 @@ TEST_F(RunDirectoryTrustTest, ADirectoryThatCannotBeWrittenIsFoundBeforeAnIterat
   const pid_t first = coordinator(root_ / "W", {"--threads", "2"}, "first");
   ASSERT_EQ(wait(first), 0) << read(root_ / "first.err");
   // the tests run as root, whom permissions do not stop: the immutable attribute does
-  if (run_command({"chattr", "+i", (root_ / "W" / "policies").string()}, root_) != 0)
+  if (run_command({"chattr", "+i", (root_ / "W" / "policies").string()}) != 0)
     GTEST_SKIP() << "chattr +i is not available here: " << read(root_ / "command.err");
   const pid_t second = resume(root_ / "W", {"--iterations", "4"}, "second");
   const int code = wait(second);
-  run_command({"chattr", "-i", (root_ / "W" / "policies").string()}, root_);
+  run_command({"chattr", "-i", (root_ / "W" / "policies").string()});
   EXPECT_EQ(code, 2);
   const std::string err = read(root_ / "second.err");
   EXPECT_TRUE(contains(err, "policies: cannot write files in it")) << err;

@@ -8,14 +8,11 @@
 #include "status/status_server.h"
 
 #include <arpa/inet.h>
-#include <fcntl.h>
 #include <gtest/gtest.h>
 #include <httplib.h>
 #include <netinet/in.h>
 #include <poll.h>
-#include <spawn.h>
 #include <sys/socket.h>
-#include <sys/wait.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -34,11 +31,11 @@
 
 #include "build_fingerprint.h"
 #include "child_process.h"
+#include "loopback_port.h"
 #include "poet/run_state.h"
 #include "run/run_directory.h"
+#include "scratch_dir.h"
 #include "status/status_board.h"
-
-extern char** environ;
 
 namespace poet {
 namespace {
@@ -47,7 +44,6 @@ namespace fs = std::filesystem;
 using namespace std::chrono_literals;
 using nlohmann::json;
 using poet::testing::contains;
-using poet::testing::exit_code;
 using poet::testing::read_file;
 using Clock = std::chrono::steady_clock;
 
@@ -143,10 +139,7 @@ Received receive(int fd, std::chrono::milliseconds timeout, bool until_response 
   return r;
 }
 
-struct Outcome {
-  int code = -1;  // the exit status, or 128 + signal; -1 when it could not be started or did not finish
-  std::string out, err;
-};
+using Outcome = poet::testing::ChildOutcome;
 
 class StatusServerTest : public ::testing::Test {
  protected:
@@ -157,9 +150,6 @@ class StatusServerTest : public ::testing::Test {
     sigemptyset(&ignore.sa_mask);
     ::sigaction(SIGPIPE, &ignore, &old_sigpipe_);
 
-    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    root_ = fs::temp_directory_path() / ("poet_status_server_test_" + std::to_string(::getpid()) + "_" + info->name());
-    fs::remove_all(root_);
     fs::create_directories(root_ / "run");
     std::ofstream(root_ / "run" / kEventsFile) << "{\"iteration\":0,\"event\":\"pair_created\",\"pair\":0}\n"
                                                << "{\"iteration\":3,\"event\":\"solved\",\"pair\":1}\n"
@@ -191,15 +181,11 @@ class StatusServerTest : public ::testing::Test {
   }
 
   void TearDown() override {
-    for (pid_t pid : children_) {
-      ::kill(pid, SIGKILL);
-      ::waitpid(pid, nullptr, 0);
-    }
+    children_.kill_all();
     for (int fd : sockets_) ::close(fd);
     if (server_) server_->stop();
     server_.reset();
     board_.reset();
-    fs::remove_all(root_);
     ::sigaction(SIGPIPE, &old_sigpipe_, nullptr);
   }
 
@@ -248,37 +234,20 @@ class StatusServerTest : public ::testing::Test {
     all.insert(all.end(), args.begin(), args.end());
     std::vector<std::string> environment = poet::testing::environment_without({"POET_STATUS"});
     environment.insert(environment.begin(), extra_env.begin(), extra_env.end());
-    const fs::path out = root_ / (name + ".out"), err = root_ / (name + ".err");
     // the child starts with default signal handling, whatever this process ignores or blocks
-    std::string error;
-    const pid_t pid =
-        poet::testing::spawn_child(all, out, err, {.default_signals = true, .environment = environment}, &error);
-    if (pid < 0) {
-      ADD_FAILURE() << "posix_spawn " << POETCTL_BIN << ": " << error;
-      return {};
-    }
-    children_.push_back(pid);
-    const auto deadline = Clock::now() + 30s;
-    int status = 0;
-    while (::waitpid(pid, &status, WNOHANG) != pid) {
-      if (Clock::now() > deadline) {
-        ADD_FAILURE() << "poetctl " << name << ": did not finish within 30 s";
-        return {};
-      }
-      std::this_thread::sleep_for(5ms);
-    }
-    std::erase(children_, pid);
-    return {exit_code(status), read_file(out), read_file(err)};
+    return children_.run(std::move(all), root_ / name, 30s, {.default_signals = true, .environment = environment});
   }
 
   std::string address() const { return "127.0.0.1:" + std::to_string(port_); }
 
-  fs::path root_;
+  // the children go first, the directory after them
+  poet::testing::ScratchDir scratch_{"poet_status_server_test"};
+  fs::path root_ = scratch_.path();
   std::unique_ptr<StatusBoard> board_;
   std::unique_ptr<StatusServer> server_;
   int port_ = 0;
   std::vector<int> sockets_;
-  std::vector<pid_t> children_;
+  poet::testing::Children children_;
   struct sigaction old_sigpipe_ {};
 };
 
@@ -550,16 +519,9 @@ TEST_F(StatusServerTest, PoetctlPrintsTheRun) {
 
 TEST_F(StatusServerTest, PoetctlFailuresHaveTheirExitCodes) {
   // a port where nothing listens: bound (so nobody else takes it) but not listening
-  const int holder = ::socket(AF_INET, SOCK_STREAM | SOCK_CLOEXEC, 0);
-  ASSERT_GE(holder, 0);
-  sockets_.push_back(holder);
-  sockaddr_in bound{};
-  bound.sin_family = AF_INET;
-  bound.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-  ASSERT_EQ(::bind(holder, reinterpret_cast<sockaddr*>(&bound), sizeof bound), 0);
-  socklen_t length = sizeof bound;
-  ASSERT_EQ(::getsockname(holder, reinterpret_cast<sockaddr*>(&bound), &length), 0);
-  const std::string closed = "127.0.0.1:" + std::to_string(ntohs(bound.sin_port));
+  const poet::testing::LoopbackPort holder(false);
+  ASSERT_GT(holder.port(), 0);
+  const std::string closed = holder.address();
 
   const Outcome unreachable = poetctl({"--address", closed, "status"}, "closed");
   EXPECT_EQ(unreachable.code, 1) << unreachable.out << unreachable.err;

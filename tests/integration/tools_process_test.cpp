@@ -2,33 +2,25 @@
 // text in every tool (and in this test binary, built with the same flags), poet-rollout names the policy it runs,
 // poet-curves summarises and draws learning curves and names a bad field.
 
-#include <fcntl.h>
 #include <gtest/gtest.h>
-#include <spawn.h>
-#include <sys/wait.h>
 #include <unistd.h>
 
 #include <chrono>
-#include <csignal>
-#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
 #include <string>
-#include <thread>
 #include <vector>
 
 #include "build_fingerprint.h"
 #include "child_process.h"
-
-extern char** environ;
+#include "scratch_dir.h"
 
 namespace {
 
 namespace fs = std::filesystem;
 using namespace std::chrono_literals;
 using poet::testing::contains;
-using poet::testing::exit_code;
 using poet::testing::read_file;
 
 struct Tool {
@@ -42,59 +34,23 @@ const Tool kTools[] = {
     {"poet-fidelity", POET_FIDELITY_BIN},       {"poet-lineage", POET_LINEAGE_BIN}, {"poet-report", POET_REPORT_BIN},
     {"poet-curves", POET_CURVES_BIN},           {"poet-worker", POET_WORKER_BIN},   {"poetctl", POETCTL_BIN}};
 
-struct Outcome {
-  int code = -1;  // the exit status, or 128 + signal; -1 when it could not be started or did not finish
-  std::string out, err;
-};
+using Outcome = poet::testing::ChildOutcome;
 
-// A fresh working directory per test, where the tools run and their output goes; TearDown kills any child still
-// running and removes the directory, even when the test failed.
+// A fresh working directory per test, where the tools run and their output goes; any child still running is
+// killed and the directory removed, even when the test failed.
 class ToolsProcessTest : public ::testing::Test {
  protected:
-  void SetUp() override {
-    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    root_ = fs::temp_directory_path() / ("poet_tools_process_test_" + std::to_string(::getpid()) + "_" + info->name());
-    fs::remove_all(root_);
-    fs::create_directories(root_);
-  }
-
-  void TearDown() override {
-    for (pid_t pid : children_) {
-      ::kill(pid, SIGKILL);
-      ::waitpid(pid, nullptr, 0);
-    }
-    fs::remove_all(root_);
-  }
-
   // Runs `path args...` in root_, stdout and stderr to root_/name.out and .err, for at most a minute.
   Outcome run(const char* path, const std::vector<std::string>& args, const std::string& name) {
     std::vector<std::string> all = {path};
     all.insert(all.end(), args.begin(), args.end());
-    const fs::path out = root_ / (name + ".out"), err = root_ / (name + ".err");
-    std::string error;
-    const pid_t pid = poet::testing::spawn_child(all, out, err, {.directory = root_}, &error);
-    if (pid < 0) {
-      ADD_FAILURE() << "posix_spawn " << path << ": " << error;
-      return {};
-    }
-    children_.push_back(pid);
-
-    // a hung tool fails the test rather than hanging it
-    const auto deadline = std::chrono::steady_clock::now() + 60s;
-    int status = 0;
-    while (::waitpid(pid, &status, WNOHANG) != pid) {
-      if (std::chrono::steady_clock::now() > deadline) {
-        ADD_FAILURE() << name << ": did not finish within 60 s";
-        return {};
-      }
-      std::this_thread::sleep_for(5ms);
-    }
-    std::erase(children_, pid);
-    return {exit_code(status), read_file(out), read_file(err)};
+    return children_.run(std::move(all), root_ / name, 60s, {.directory = root_});
   }
 
-  fs::path root_;
-  std::vector<pid_t> children_;
+  // the children go first, the directory after them
+  poet::testing::ScratchDir scratch_{"poet_tools_process_test"};
+  fs::path root_ = scratch_.path();
+  poet::testing::Children children_;
 };
 
 TEST_F(ToolsProcessTest, UnknownFlagExitsTwo) {

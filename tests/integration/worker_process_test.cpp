@@ -6,15 +6,10 @@
 // what the coordinator's tests need; an unreachable coordinator and a peer that speaks another protocol are
 // reported for what they are. The fixture kills its children and removes its files even on failure.
 
-#include <arpa/inet.h>
-#include <fcntl.h>
 #include <gtest/gtest.h>
-#include <netinet/in.h>
 #include <poll.h>
-#include <spawn.h>
 #include <sys/resource.h>
 #include <sys/socket.h>
-#include <sys/wait.h>
 #include <unistd.h>
 
 #include <bit>
@@ -33,13 +28,13 @@
 
 #include "build_fingerprint.h"
 #include "child_process.h"
+#include "loopback_port.h"
 #include "envgen/named_courses.h"
 #include "policy/mlp.h"
 #include "rng.h"
 #include "rollout_task_proto.h"
+#include "scratch_dir.h"
 #include "wire.pb.h"
-
-extern char** environ;
 
 namespace poet {
 namespace {
@@ -47,7 +42,6 @@ namespace {
 namespace fs = std::filesystem;
 using namespace std::chrono_literals;
 using poet::testing::contains;
-using poet::testing::exit_code;
 using poet::testing::read_file;
 using Clock = std::chrono::steady_clock;
 using Millis = std::chrono::milliseconds;
@@ -137,21 +131,11 @@ struct Received {
 // on failure.
 class WorkerProcessTest : public ::testing::Test {
  protected:
-  void SetUp() override {
-    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    root_ = fs::temp_directory_path() / ("poet_worker_process_test_" + std::to_string(::getpid()) + "_" + info->name());
-    fs::remove_all(root_);
-    fs::create_directories(root_);
-    bind("tcp://127.0.0.1:*");
-  }
+  void SetUp() override { bind("tcp://127.0.0.1:*"); }
 
   void TearDown() override {
-    for (pid_t pid : children_) {
-      ::kill(pid, SIGKILL);
-      ::waitpid(pid, nullptr, 0);
-    }
+    children_.kill_all();
     router_.reset();
-    fs::remove_all(root_);
   }
 
   // (Re)binds the ROUTER; a port just released may take a moment to be free again.
@@ -189,11 +173,7 @@ class WorkerProcessTest : public ::testing::Test {
   }
 
   pid_t spawn_raw(std::vector<std::string> all, const std::string& name) {
-    std::string error;
-    const pid_t pid = poet::testing::spawn_child(all, root_ / (name + ".out"), root_ / (name + ".err"), {}, &error);
-    EXPECT_GT(pid, 0) << "posix_spawn " << all[0] << ": " << error;
-    if (pid > 0) children_.push_back(pid);
-    return pid;
+    return children_.start(std::move(all), root_ / name);
   }
 
   std::string err(const std::string& name = "worker") { return read_file(root_ / (name + ".err")); }
@@ -284,21 +264,12 @@ class WorkerProcessTest : public ::testing::Test {
   }
 
   // Waits for a worker to end (bounded), answering heartbeats meanwhile; its exit code (128 + signal), or -1.
-  int wait_exit(pid_t pid, Millis timeout) {
-    const auto deadline = Clock::now() + timeout;
-    while (Clock::now() < deadline) {
-      int status = 0;
-      if (::waitpid(pid, &status, WNOHANG) == pid) {
-        std::erase(children_, pid);
-        return exit_code(status);
-      }
-      receive(5ms);
-    }
-    return -1;
-  }
+  int wait_exit(pid_t pid, Millis timeout) { return children_.wait(pid, timeout, [&] { receive(5ms); }).value_or(-1); }
 
-  fs::path root_;
-  std::vector<pid_t> children_;
+  // the children go first, the directory after them
+  poet::testing::ScratchDir scratch_{"poet_worker_process_test"};
+  fs::path root_ = scratch_.path();
+  poet::testing::Children children_;
   zmq::context_t context_{1};
   std::optional<zmq::socket_t> router_;
   std::string endpoint_;
@@ -465,7 +436,7 @@ TEST_F(WorkerProcessTest, GarbageFramesAreSurvived) {
   const auto result = result_of(9);
   ASSERT_TRUE(result);
   expect_results_equal_run_task(*result, tasks);
-  EXPECT_EQ(::waitpid(pid, nullptr, WNOHANG), 0) << "the worker ended";
+  EXPECT_EQ(children_.ended(pid), std::nullopt) << "the worker ended";
   EXPECT_TRUE(contains(err(), "dropped")) << err();
 }
 
@@ -484,7 +455,7 @@ TEST_F(WorkerProcessTest, OversizedFrameCostsTheConnectionNotTheWorker) {
   const auto result = result_of(1);
   ASSERT_TRUE(result);
   expect_results_equal_run_task(*result, tasks);
-  EXPECT_EQ(::waitpid(pid, nullptr, WNOHANG), 0);
+  EXPECT_EQ(children_.ended(pid), std::nullopt);
   EXPECT_LE(rss_kb(pid), 50 * 1024);
 }
 
@@ -595,27 +566,8 @@ TEST_F(WorkerProcessTest, IgnoreJobsFaultHeartbeatsButNeverAnswers) {
     ASSERT_FALSE(r && r->message.has_result());
   }
   EXPECT_GE(heartbeats_[peer], 7);
-  EXPECT_EQ(::waitpid(pid, nullptr, WNOHANG), 0);
+  EXPECT_EQ(children_.ended(pid), std::nullopt);
 }
-
-// A loopback TCP socket bound to an ephemeral port, listening or not; closed with the object.
-struct TcpPort {
-  explicit TcpPort(bool listening) : fd(::socket(AF_INET, SOCK_STREAM | SOCK_CLOEXEC, 0)) {
-    sockaddr_in address{};
-    address.sin_family = AF_INET;
-    address.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-    socklen_t length = sizeof address;
-    if (fd < 0 || ::bind(fd, reinterpret_cast<sockaddr*>(&address), length) != 0 ||
-        (listening && ::listen(fd, 16) != 0) || ::getsockname(fd, reinterpret_cast<sockaddr*>(&address), &length) != 0)
-      return;
-    endpoint = "tcp://127.0.0.1:" + std::to_string(ntohs(address.sin_port));
-  }
-  ~TcpPort() {
-    if (fd >= 0) ::close(fd);
-  }
-  int fd;
-  std::string endpoint;  // empty when it could not be bound
-};
 
 size_t count(const std::string& text, const std::string& part) {
   size_t n = 0;
@@ -624,24 +576,24 @@ size_t count(const std::string& text, const std::string& part) {
 }
 
 TEST_F(WorkerProcessTest, UnreachableCoordinatorIsReportedAgainWithBackoff) {
-  const TcpPort nobody(false);  // bound, so that nothing else takes the port, but not listening
-  ASSERT_FALSE(nobody.endpoint.empty());
-  const pid_t pid = spawn({}, "worker", nobody.endpoint);
+  const poet::testing::LoopbackPort nobody(false);  // bound, so that nothing else takes the port, but not listening
+  ASSERT_GT(nobody.port(), 0);
+  const pid_t pid = spawn({}, "worker", nobody.endpoint());
   // no Welcome: a line after 2 s, then after gaps that double (6 s, 14 s, ... from the start)
   const auto deadline = Clock::now() + 12s;
   while (Clock::now() < deadline && count(err(), "still trying") < 2) std::this_thread::sleep_for(50ms);
   std::this_thread::sleep_until(deadline);  // and no third line before 14 s: the gaps grow
   const std::string log = err();
   EXPECT_EQ(count(log, "still trying"), 2u) << log;
-  EXPECT_EQ(count(log, "still trying to reach the coordinator at " + nobody.endpoint), 2u) << log;
-  EXPECT_EQ(::waitpid(pid, nullptr, WNOHANG), 0) << "the worker keeps trying";
+  EXPECT_EQ(count(log, "still trying to reach the coordinator at " + nobody.endpoint()), 2u) << log;
+  EXPECT_EQ(children_.ended(pid), std::nullopt) << "the worker keeps trying";
 }
 
 TEST_F(WorkerProcessTest, APeerSendingGarbageIsReportedAsSuch) {
   // a plain TCP server that answers every connection with bytes of another protocol, then hangs up
-  const TcpPort server(true);
-  ASSERT_FALSE(server.endpoint.empty());
-  std::jthread garbage([fd = server.fd](std::stop_token stop) {
+  const poet::testing::LoopbackPort server(true);
+  ASSERT_GT(server.port(), 0);
+  std::jthread garbage([fd = server.fd()](std::stop_token stop) {
     while (!stop.stop_requested()) {
       pollfd p{fd, POLLIN, 0};
       if (::poll(&p, 1, 50) <= 0) continue;
@@ -653,13 +605,13 @@ TEST_F(WorkerProcessTest, APeerSendingGarbageIsReportedAsSuch) {
       ::close(client);
     }
   });
-  const pid_t pid = spawn({}, "worker", server.endpoint);
+  const pid_t pid = spawn({}, "worker", server.endpoint());
   const auto deadline = Clock::now() + 10s;
   while (Clock::now() < deadline && !contains(err(), "ZeroMQ/poet protocol")) std::this_thread::sleep_for(50ms);
   const std::string log = err();
-  EXPECT_TRUE(contains(log, "the peer at " + server.endpoint + " does not speak the ZeroMQ/poet protocol")) << log;
+  EXPECT_TRUE(contains(log, "the peer at " + server.endpoint() + " does not speak the ZeroMQ/poet protocol")) << log;
   EXPECT_FALSE(contains(log, "CURVE")) << log;
-  EXPECT_EQ(::waitpid(pid, nullptr, WNOHANG), 0) << "the worker keeps trying";
+  EXPECT_EQ(children_.ended(pid), std::nullopt) << "the worker keeps trying";
 }
 
 TEST_F(WorkerProcessTest, BadCommandLinesExit2AndFingerprintMatchesThisBuild) {

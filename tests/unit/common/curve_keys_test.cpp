@@ -4,10 +4,11 @@
 #include "curve_keys.h"
 
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <filesystem>
 #include <fstream>
+
+#include "scratch_dir.h"
 
 namespace poet {
 namespace {
@@ -21,12 +22,8 @@ bool contains(const std::string& text, std::string_view part) { return text.find
 
 class CurveKeysTest : public ::testing::Test {
  protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() / ("poet_curve_keys_test_" + std::to_string(::getpid()));
-    fs::remove_all(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-  fs::path dir_;
+  poet::testing::ScratchDir scratch_{"poet_curve_keys_test"};
+  fs::path dir_ = scratch_.path() / "keys";  // not there yet: writing a pair makes it
 };
 
 TEST_F(CurveKeysTest, Z85KeysAreFortyCharactersOfTheAlphabet) {

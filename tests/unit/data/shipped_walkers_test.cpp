@@ -1,5 +1,5 @@
-// The walkers POET found and this project ships (data/walkers/shipped.json, written by bench/ship_walker.sh): each
-// still finishes its course on every terrain seed the manifest names, with the score of a solve (≥ 230), so a
+// The walkers POET found and this project ships (data/walkers/shipped.json, written by experiments/ship_walker.sh):
+// each still finishes its course on every terrain seed the manifest names, with the score of a solve (≥ 230), so a
 // change to the simulation that breaks them is seen here.
 
 #include <gtest/gtest.h>

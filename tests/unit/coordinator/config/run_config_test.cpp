@@ -81,7 +81,7 @@ TEST(RunConfig, BenchWorkloadParsesAndValidates) {
 // The σ comparison of docs/RESULTS.md: ES alone on one course from one seed, differing only in ES settings.
 TEST(RunConfig, SigmaConfigsDifferOnlyInTheirEs) {
   std::vector<pb::RunConfig> configs;
-  for (const auto& entry : fs::directory_iterator(source_dir() / "bench" / "sigma")) {
+  for (const auto& entry : fs::directory_iterator(source_dir() / "experiments" / "sigma")) {
     const Expected<pb::RunConfig> config = load_run_config(entry.path().string());
     ASSERT_TRUE(config) << config.error();
     EXPECT_EQ(config->mode(), pb::RunConfig::ES_ALONE) << entry.path();
@@ -92,16 +92,16 @@ TEST(RunConfig, SigmaConfigsDifferOnlyInTheirEs) {
   for (const pb::RunConfig& c : configs) EXPECT_EQ(c.SerializeAsString(), configs[0].SerializeAsString());
 }
 
-// The learning curves of docs/RESULTS.md (bench/learning_curve.sh): ES alone on flat from the same θ₀ (seed 11),
+// The learning curves of docs/RESULTS.md (experiments/learning_curve.sh): ES alone on flat from the same θ₀ (seed 11),
 // each with the population and learning rate RESULTS gives it.
 TEST(RunConfig, LearningCurveConfigsParseAndValidate) {
   const std::map<std::string, std::pair<int, double>> mirrored_pairs_and_lr = {
-      {"bench/curves/flat-64.textproto", {32, 0.02}},
+      {"experiments/curves/flat-64.textproto", {32, 0.02}},
       {"data/walkers/flat-walker.textproto", {64, 0.02}},
-      {"bench/curves/flat-512.textproto", {256, 0.01}},
-      {"bench/curves/flat-512-lr02.textproto", {256, 0.02}}};
-  for (const auto& entry : fs::directory_iterator(source_dir() / "bench" / "curves"))
-    EXPECT_TRUE(mirrored_pairs_and_lr.count("bench/curves/" + entry.path().filename().string()))
+      {"experiments/curves/flat-512.textproto", {256, 0.01}},
+      {"experiments/curves/flat-512-lr02.textproto", {256, 0.02}}};
+  for (const auto& entry : fs::directory_iterator(source_dir() / "experiments" / "curves"))
+    EXPECT_TRUE(mirrored_pairs_and_lr.count("experiments/curves/" + entry.path().filename().string()))
         << entry.path() << " is not listed here";
   for (const auto& [path, numbers] : mirrored_pairs_and_lr) {
     SCOPED_TRACE(path);

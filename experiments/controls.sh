@@ -6,14 +6,14 @@
 #   es-alone-walker   ES alone from data/walkers/flat-walker.json (where the POET run started; the paper did not
 #                     run it)
 #   direct-path       the direct-path curriculum from flat to the environment, from the same walker
-# Usage: bash bench/controls.sh BUILD_DIR RUN_DIR PAIR OUT_DIR [coordinator flags...]
-#   e.g. bash bench/controls.sh build runs/challenging 23 runs/controls-23 --threads 2
+# Usage: bash experiments/controls.sh BUILD_DIR RUN_DIR PAIR OUT_DIR [coordinator flags...]
+#   e.g. bash experiments/controls.sh build runs/challenging 23 runs/controls-23 --threads 2
 # Each control runs in OUT_DIR/<control>; running the script again resumes the ones not finished (runs are
 # deterministic, so an interrupted control gives the same numbers). Prints a Markdown table: the ES steps,
 # rollouts and environment steps each control used, its best score on the target (and whether that evaluation
 # finished), and whether it solved it (finished and ≥ the solved score); for the direct path, the stage reached.
 set -euo pipefail
-usage="usage: bash bench/controls.sh BUILD_DIR RUN_DIR PAIR OUT_DIR [coordinator flags...]"
+usage="usage: bash experiments/controls.sh BUILD_DIR RUN_DIR PAIR OUT_DIR [coordinator flags...]"
 build=${1:?$usage}
 run=${2:?$usage}
 pair=${3:?$usage}

@@ -2,8 +2,8 @@
 # A learning curve: runs a config (ES alone, typically) and writes, per ES step, the evaluation score against ES
 # steps, environment steps and wall time on this machine, then says when the course was solved (finished with a
 # score of at least 230: spec §1.4's "solved").
-# Usage: bash bench/learning_curve.sh BUILD_DIR CONFIG ITERATIONS OUT_DIR [coordinator flags...]
-#   e.g. bash bench/learning_curve.sh build data/walkers/flat-walker.textproto 400 runs/curve-128 --threads 2
+# Usage: bash experiments/learning_curve.sh BUILD_DIR CONFIG ITERATIONS OUT_DIR [coordinator flags...]
+#   e.g. bash experiments/learning_curve.sh build data/walkers/flat-walker.textproto 400 runs/curve-128 --threads 2
 # OUT_DIR/run is the run directory, OUT_DIR/curve.csv the curve:
 #   es_step,score,finished,env_steps,rollouts,wall_s
 # Run it again with the same OUT_DIR (and a larger ITERATIONS, if the limit was reached) and it resumes the run
@@ -11,7 +11,7 @@
 # recorded step. Wall time is sampled twice a second from the moment a step's row appears in pair_stats.csv, so
 # it is good to half a second; the time between an interruption and its last checkpoint is not counted.
 set -euo pipefail
-usage="usage: bash bench/learning_curve.sh BUILD_DIR CONFIG ITERATIONS OUT_DIR [coordinator flags...]"
+usage="usage: bash experiments/learning_curve.sh BUILD_DIR CONFIG ITERATIONS OUT_DIR [coordinator flags...]"
 build=${1:?$usage}
 config=${2:?$usage}
 iterations=${3:?$usage}

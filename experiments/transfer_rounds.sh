@@ -2,9 +2,9 @@
 # What a run's transfer rounds cost, from its transfer_round events: per round the candidates (N(N−1) source →
 # target pairs), the proposal ES steps paid for, the accepted transfers, and the rollouts against those of the full
 # test (each candidate: a direct evaluation, a proposal ES step of 2n rollouts and the proposal's evaluation).
-# Usage: bash bench/transfer_rounds.sh RUN_DIR
+# Usage: bash experiments/transfer_rounds.sh RUN_DIR
 set -euo pipefail
-run=${1:?usage: bash bench/transfer_rounds.sh RUN_DIR}
+run=${1:?usage: bash experiments/transfer_rounds.sh RUN_DIR}
 [[ -f $run/events.jsonl && -f $run/config.textproto ]] || { echo "$run is not a run directory" >&2; exit 2; }
 n=$(sed -n 's/^ *perturbations: *\([0-9]*\).*/\1/p' "$run/config.textproto" | head -1)
 n=${n:-256}  # the schema's default

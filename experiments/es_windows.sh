@@ -3,9 +3,9 @@
 # mean evaluation score, the mean and the best of the perturbations' returns (pair_stats.csv's perturbation_mean
 # and perturbation_max), how many steps had a perturbation above THRESHOLD, and σ and ‖θ‖ at the window's end.
 # It tells a run that stands still (no perturbation scores much above 0) from one whose perturbations already move.
-# Usage: bash bench/es_windows.sh RUN_DIR [PAIR=0] [WINDOW=50] [THRESHOLD=10]   (a Markdown table on stdout)
+# Usage: bash experiments/es_windows.sh RUN_DIR [PAIR=0] [WINDOW=50] [THRESHOLD=10]   (a Markdown table on stdout)
 set -euo pipefail
-usage="usage: bash bench/es_windows.sh RUN_DIR [PAIR=0] [WINDOW=50] [THRESHOLD=10]"
+usage="usage: bash experiments/es_windows.sh RUN_DIR [PAIR=0] [WINDOW=50] [THRESHOLD=10]"
 run=${1:?$usage}
 pair=${2:-0}
 window=${3:-50}

@@ -1,15 +1,15 @@
 #!/usr/bin/env bash
 # Ships what a POET run solved: a pair's environment and the agent that solved it, as data files, with the agent's
 # scores over terrain seeds 0–49 and a GIF of it crossing its own course.
-# Usage: bash bench/ship_walker.sh BUILD_DIR RUN_DIR PAIR NAME
-#   e.g. bash bench/ship_walker.sh build runs/challenging 23 stumps-2.4
+# Usage: bash experiments/ship_walker.sh BUILD_DIR RUN_DIR PAIR NAME
+#   e.g. bash experiments/ship_walker.sh build runs/challenging 23 stumps-2.4
 # Writes data/environments/NAME.env.json (the pair's course and terrain seed), data/walkers/NAME.json (the pair's
 # best θ with its best score: the evaluation that solved it or a better one), docs/results/challenging/NAME.gif,
 # adds NAME to data/walkers/shipped.json (walker, environment, the seeds it finishes on, which
 # tests/unit/data/shipped_walkers_test.cpp checks) and prints its scores for data/walkers/README.md. Refuses an
 # agent that does not finish its own course.
 set -euo pipefail
-usage="usage: bash bench/ship_walker.sh BUILD_DIR RUN_DIR PAIR NAME"
+usage="usage: bash experiments/ship_walker.sh BUILD_DIR RUN_DIR PAIR NAME"
 build=${1:?$usage}
 run=${2:?$usage}
 pair=${3:?$usage}
