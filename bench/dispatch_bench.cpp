@@ -6,11 +6,8 @@
 #include <benchmark/benchmark.h>
 #include <pthread.h>
 #include <sched.h>
-#include <signal.h>
-#include <spawn.h>
 #include <spdlog/spdlog.h>
 #include <sys/epoll.h>
-#include <sys/wait.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -24,6 +21,7 @@
 #include <zmq.hpp>
 
 #include "build_fingerprint.h"
+#include "dispatch/local_workers.h"
 #include "envgen/named_courses.h"
 #include "es/optimizer.h"
 #include "es_step_fixture.h"
@@ -33,8 +31,7 @@
 #include "policy/mlp.h"
 #include "rng.h"
 #include "wire.pb.h"
-
-extern char** environ;
+#include "worker_session.h"
 
 namespace poet {
 namespace {
@@ -110,11 +107,11 @@ int64_t cpu_ns(const std::set<pid_t>& threads) {
 
 // ---- workers that answer at once
 
-// `count` workers in this process that answer every Job at once with one plausible TaskResult per task, so that
-// only the coordinator's side of the protocol costs anything. One DEALER socket each, all served by one thread
-// (pinned to `cpu` when ≥ 0) with a ZeroMQ context of its own. They speak as poet-worker does: Hello, a Heartbeat
-// right after Welcome (ready for jobs), a Result per Job, and a Heartbeat whenever a socket has sent nothing for
-// the Welcome's heartbeat_ms.
+// `count` workers in this process that answer every Job at once with one plausible result per task, so that only
+// the coordinator's side of the protocol costs anything. Each speaks through a WorkerSession, poet-worker's own
+// side of the protocol (Hello, a Heartbeat after Welcome, a Result per Job, Heartbeats when idle); in place of its
+// job runner the results are made up on the spot. One DEALER socket each, all served by one thread (pinned to
+// `cpu` when ≥ 0) with a ZeroMQ context of its own.
 class InstantWorkers {
  public:
   InstantWorkers(std::string endpoint, int count, int cpu)
@@ -126,10 +123,11 @@ class InstantWorkers {
   InstantWorkers(const InstantWorkers&) = delete;
   InstantWorkers& operator=(const InstantWorkers&) = delete;
 
-  // Waits until every worker has its Welcome; false after `limit` or on a Refused.
+  // Waits until every worker has its Welcome; false after `limit`, or when a session ended or lost the
+  // coordinator (a Refused, a Shutdown, silence past the liveness window).
   bool wait_welcomed(std::chrono::milliseconds limit) const {
     const auto until = Clock::now() + limit;
-    while (welcomed_ < count_ && !refused_ && Clock::now() < until) std::this_thread::sleep_for(5ms);
+    while (welcomed_ < count_ && !failed_ && Clock::now() < until) std::this_thread::sleep_for(5ms);
     return welcomed_ == count_;
   }
   int64_t jobs() const { return jobs_; }
@@ -146,44 +144,33 @@ class InstantWorkers {
  private:
   struct Peer {
     zmq::socket_t socket;
-    Clock::time_point last_sent;
-    std::chrono::milliseconds heartbeat{1000};
+    worker::WorkerSession session;
+    bool welcomed = false;
   };
 
-  void send(Peer& peer, const wire::WorkerMessage& message) {
-    message.SerializeToString(&buffer_);
-    peer.socket.send(zmq::buffer(buffer_), zmq::send_flags::none);
-    peer.last_sent = Clock::now();
-  }
-
-  void answer(Peer& peer, const wire::CoordinatorMessage& in) {
-    switch (in.kind_case()) {
-      case wire::CoordinatorMessage::kWelcome:
-        if (in.welcome().heartbeat_ms() > 0) peer.heartbeat = std::chrono::milliseconds(in.welcome().heartbeat_ms());
-        send(peer, beat_);  // "ready": the coordinator sends jobs only after a message past Welcome
-        ++welcomed_;
-        return;
-      case wire::CoordinatorMessage::kJob: {
-        wire::Result* result = reply_.mutable_result();
-        result->Clear();
-        result->set_job_id(in.job().job_id());
-        for (int t = 0; t < in.job().tasks_size(); ++t) {
-          wire::TaskResult* r = result->add_results();
-          r->set_total_reward(-100.0 + t);
-          r->set_steps(60);
-          r->set_fell(true);
-        }
-        send(peer, reply_);
-        ++jobs_;
-        if (first_job_ns_ == 0) first_job_ns_ = Clock::now().time_since_epoch().count();
-        return;
+  // What the session asks for: its messages sent, its jobs answered at once (through the session, as the
+  // runner's outcomes are).
+  void perform(Peer& peer, const worker::Actions& actions) {
+    for (const wire::WorkerMessage& message : actions.send) {
+      message.SerializeToString(&buffer_);
+      peer.socket.send(zmq::buffer(buffer_), zmq::send_flags::none);
+    }
+    if (!peer.welcomed && peer.session.state() == worker::SessionState::kWelcomed) {
+      peer.welcomed = true;
+      ++welcomed_;
+    }
+    if (actions.exit_code || actions.close_socket) failed_ = true;
+    for (const worker::WorkerJob& job : actions.run) {
+      worker::JobOutcome outcome{job.job_id, {}, std::nullopt};
+      outcome.results.resize(job.tasks.size());
+      for (size_t t = 0; t < job.tasks.size(); ++t) {
+        outcome.results[t].total_reward = -100.0 + double(t);
+        outcome.results[t].steps = 60;
+        outcome.results[t].fell = true;
       }
-      case wire::CoordinatorMessage::kRefused:
-      case wire::CoordinatorMessage::kShutdown:
-        refused_ = true;  // ends wait_welcomed() early
-        return;
-      default:
-        return;
+      perform(peer, peer.session.on_job_finished(outcome, worker::Clock::now()));
+      ++jobs_;
+      if (first_job_ns_ == 0) first_job_ns_ = Clock::now().time_since_epoch().count();
     }
   }
 
@@ -193,45 +180,44 @@ class InstantWorkers {
     while (peer.socket.get(zmq::sockopt::events) & ZMQ_POLLIN) {
       zmq::message_t frame;
       while (peer.socket.recv(frame, zmq::recv_flags::dontwait))
-        if (in_.ParseFromArray(frame.data(), static_cast<int>(frame.size()))) answer(peer, in_);
+        perform(peer, peer.session.on_frame(frame.to_string_view(), worker::Clock::now()));
     }
   }
 
   void run() {
     if (cpu_ >= 0) pin_this_thread(cpu_);
     zmq::context_t context(1);  // started here, so its I/O thread shares this thread's CPU
-    beat_.mutable_heartbeat();
     // epoll over the sockets' notification descriptors: zmq_poll would ask every socket on every call, a system
     // call each, which at 256 sockets costs the workers more than the coordinator it is meant to measure
     const int epoll = epoll_create1(EPOLL_CLOEXEC);
     std::vector<Peer> peers;
     peers.reserve(static_cast<size_t>(count_));
-    wire::WorkerMessage hello;
-    hello.mutable_hello()->set_protocol_version(wire::PROTOCOL_VERSION);
-    hello.mutable_hello()->set_threads(1);
     for (int i = 0; i < count_; ++i) {
-      Peer& peer = peers.emplace_back(Peer{zmq::socket_t(context, zmq::socket_type::dealer), {}, 1000ms});
+      worker::SessionSettings settings;
+      settings.threads = 1;
+      settings.name = "instant-" + std::to_string(i);
+      Peer& peer =
+          peers.emplace_back(Peer{zmq::socket_t(context, zmq::socket_type::dealer), worker::WorkerSession(settings)});
       peer.socket.set(zmq::sockopt::linger, 0);
       peer.socket.connect(endpoint_);
       epoll_event event{};
       event.events = EPOLLIN;
       event.data.u32 = static_cast<uint32_t>(i);
       epoll_ctl(epoll, EPOLL_CTL_ADD, peer.socket.get(zmq::sockopt::fd), &event);
-      hello.mutable_hello()->set_name("instant-" + std::to_string(i));
-      send(peer, hello);  // queued until the connection is up
+      perform(peer, peer.session.start(worker::Clock::now()));  // the Hello, queued until the connection is up
     }
     std::vector<epoll_event> ready(static_cast<size_t>(count_));
-    Clock::time_point last_beat_check = Clock::now();
+    Clock::time_point last_tick = Clock::now();
     while (!stop_) {
       const int n = epoll_wait(epoll, ready.data(), count_, 5);
       for (int k = 0; k < n; ++k) drain(peers[ready[static_cast<size_t>(k)].data.u32]);
-      // heartbeats while idle (between batches); checked every few ms rather than on every wake-up
+      // heartbeats while idle (between batches); the sessions are asked every few ms rather than on every wake-up
       const auto now = Clock::now();
-      if (now - last_beat_check < 5ms) continue;
-      last_beat_check = now;
+      if (now - last_tick < 5ms) continue;
+      last_tick = now;
       for (Peer& peer : peers) {
-        if (now - peer.last_sent < peer.heartbeat) continue;
-        send(peer, beat_);
+        if (now < peer.session.next_deadline()) continue;
+        perform(peer, peer.session.on_tick(now));
         drain(peer);
       }
     }
@@ -243,15 +229,11 @@ class InstantWorkers {
   const int cpu_;
   std::atomic<bool> stop_{false};
   std::atomic<int> welcomed_{0};
-  std::atomic<bool> refused_{false};
+  std::atomic<bool> failed_{false};
   std::atomic<int64_t> jobs_{0};
   std::atomic<int64_t> first_job_ns_{0};  // steady clock, of the first Job since arm()
   std::atomic<Clock::time_point> armed_at_{};
-  // the serving thread's own
-  std::string buffer_;
-  wire::CoordinatorMessage in_;
-  wire::WorkerMessage reply_;
-  wire::WorkerMessage beat_;
+  std::string buffer_;  // the serving thread's own
   std::thread thread_;  // last: starts once the members above exist
 };
 
@@ -481,43 +463,6 @@ BENCHMARK(BM_DispatcherAlone)
 
 // ---- (b) an ES step on worker processes against threads
 
-// poet-worker processes of this build, started with posix_spawn; on scope exit each gets SIGTERM, then SIGKILL
-// if it has not gone within two seconds, and is reaped, whatever happened in between.
-class WorkerProcesses {
- public:
-  WorkerProcesses(const std::string& endpoint, int count) {
-    for (int i = 0; i < count; ++i) {
-      std::vector<std::string> args = {POET_WORKER_BINARY, "--connect", endpoint, "--threads", "1",
-                                       "--log-level",      "warn"};
-      std::vector<char*> argv;
-      for (std::string& a : args) argv.push_back(a.data());
-      argv.push_back(nullptr);
-      pid_t pid = -1;
-      if (posix_spawn(&pid, argv[0], nullptr, nullptr, argv.data(), environ) == 0) pids_.push_back(pid);
-    }
-  }
-  ~WorkerProcesses() {
-    for (pid_t pid : pids_) kill(pid, SIGTERM);
-    const auto until = Clock::now() + 2s;
-    for (pid_t pid : pids_) {
-      while (waitpid(pid, nullptr, WNOHANG) == 0) {
-        if (Clock::now() > until) {
-          kill(pid, SIGKILL);
-          waitpid(pid, nullptr, 0);
-          break;
-        }
-        std::this_thread::sleep_for(10ms);
-      }
-    }
-  }
-  WorkerProcesses(const WorkerProcesses&) = delete;
-  WorkerProcesses& operator=(const WorkerProcesses&) = delete;
-  size_t started() const { return pids_.size(); }
-
- private:
-  std::vector<pid_t> pids_;
-};
-
 struct EsStepOutcome {
   double seconds = 0;
   std::vector<double> theta;  // after the step: equal through either evaluator, or a result differed
@@ -554,10 +499,12 @@ void BM_EsStepRemoteVsLocal(benchmark::State& state) {
   }
   const std::unique_ptr<RemoteEvaluator> remote = std::move(*bound);
   remote->on_snapshot([&connected](const Dispatcher& d) { connected = d.worker_count(); });
-  const WorkerProcesses processes(remote->endpoint(), 2);
+  // as --local-workers starts them, without the local token: the workers earn their trust as remote ones do
+  const Expected<std::unique_ptr<LocalWorkers>> processes =
+      LocalWorkers::start(POET_WORKER_BINARY, remote->endpoint(), 2, 1, "");
   const auto until = Clock::now() + 20s;
-  while (connected < 2 && Clock::now() < until) std::this_thread::sleep_for(20ms);
-  if (processes.started() != 2 || connected < 2) {
+  while (processes && connected < 2 && Clock::now() < until) std::this_thread::sleep_for(20ms);
+  if (!processes || connected < 2) {
     state.SkipWithError("the two poet-worker processes did not connect (" POET_WORKER_BINARY ")");
     return;
   }

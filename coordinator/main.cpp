@@ -32,6 +32,7 @@
 #include "build_fingerprint.h"
 #include "config/run_config.h"
 #include "curve_keys.h"
+#include "event_text.h"
 #include "dispatch/local_workers.h"
 #include "evaluator/local_evaluator.h"
 #include "evaluator/remote_evaluator.h"
@@ -77,20 +78,6 @@ struct Options {
 // Workers that connect to --listen without CURVE may be anyone's: this fraction of their jobs is checked by a
 // second worker unless --verify-fraction says otherwise (the cost is about this fraction of the rollouts).
 constexpr double kListenVerifyFraction = 0.05;
-
-// "iteration 12: pair_created pair=3 env=r0.4 ..." from {"iteration": 12, "event": "pair_created", ...}.
-std::string describe_event(const nlohmann::ordered_json& event) {
-  constexpr auto kReplace = nlohmann::ordered_json::error_handler_t::replace;
-  if (!event.is_object()) return event.dump(-1, ' ', false, kReplace);
-  std::string text = "iteration " + event.value("iteration", nlohmann::ordered_json()).dump() + ": ";
-  const auto name = event.find("event");
-  text += name != event.end() && name->is_string() ? name->get<std::string>() : "event";
-  for (const auto& [key, value] : event.items()) {
-    if (key == "iteration" || key == "event") continue;
-    text += " " + key + "=" + (value.is_string() ? value.get<std::string>() : value.dump(-1, ' ', false, kReplace));
-  }
-  return text;
-}
 
 // The level an event is logged at: the events that change the population, and one line per reproduction and
 // transfer round, at info; each mutation attempt ("child": dozens a reproduction) at debug (--verbose).

@@ -1,10 +1,9 @@
 #include "report/run_snapshot.h"
 
 #include <fstream>
-#include <map>
 #include <optional>
 
-#include "csv_fields.h"
+#include "report/events_log.h"
 #include "run/checkpoint.h"
 #include "run/checkpoint_file.h"
 #include "run/crc32.h"
@@ -30,69 +29,6 @@ Expected<std::string> read_log_prefix(const fs::path& path, int64_t size, std::o
   if (!in.read(bytes.data(), size)) return Unexpected{path.string() + ": cannot read"};
   if (crc && crc32_extend(0, bytes) != *crc) return Unexpected{log_changed_error(path, size)};
   return bytes;
-}
-
-// Splits whole lines; a last line without its newline is damage (the writer appends whole lines).
-Expected<std::vector<std::string_view>> lines_of(const fs::path& path, std::string_view bytes) {
-  std::vector<std::string_view> lines;
-  size_t start = 0;
-  for (size_t newline; (newline = bytes.find('\n', start)) != std::string_view::npos; start = newline + 1)
-    lines.push_back(bytes.substr(start, newline - start));
-  if (start != bytes.size()) return Unexpected{path.string() + ": the last line recorded by the checkpoint is cut"};
-  return lines;
-}
-
-Expected<std::vector<nlohmann::json>> parse_events(const fs::path& path, std::string_view bytes) {
-  Expected<std::vector<std::string_view>> lines = lines_of(path, bytes);
-  if (!lines) return Unexpected{lines.error()};
-  std::vector<nlohmann::json> events;
-  for (size_t i = 0; i < lines->size(); ++i) {
-    nlohmann::json event = nlohmann::json::parse((*lines)[i], nullptr, false);
-    if (event.is_discarded() || !event.is_object() || !event.contains("iteration") || !event.contains("event") ||
-        !event["iteration"].is_number_integer() || !event["event"].is_string())
-      return Unexpected{path.string() + ":" + std::to_string(i + 1) +
-                        ": not an event (a JSON object with \"iteration\" and \"event\")"};
-    events.push_back(std::move(event));
-  }
-  return events;
-}
-
-Expected<std::vector<StatsRow>> parse_stats(const fs::path& path, std::string_view bytes) {
-  Expected<std::vector<std::string_view>> lines = lines_of(path, bytes);
-  if (!lines) return Unexpected{lines.error()};
-  if (lines->empty()) return Unexpected{path.string() + ": no header line"};
-  std::map<std::string, size_t> column;
-  const std::vector<std::string> header = csv_fields((*lines)[0]);
-  for (size_t i = 0; i < header.size(); ++i) column[header[i]] = i;
-  for (const char* required : {"iteration", "pair", "score", "finished", "best_score", "solved", "es_steps"})
-    if (!column.count(required)) return Unexpected{path.string() + ": the header has no column \"" + required + "\""};
-  const auto optional_column = [&](const char* name) { return column.count(name) ? column[name] : header.size(); };
-  const size_t rollouts_column = optional_column("run_rollouts");
-  const size_t env_steps_column = optional_column("run_env_steps");
-
-  std::vector<StatsRow> rows;
-  for (size_t n = 1; n < lines->size(); ++n) {
-    const std::vector<std::string> f = csv_fields((*lines)[n]);
-    const auto bad = [&](const char* name) {
-      return Unexpected{path.string() + ":" + std::to_string(n + 1) + ": " + name + ": not a valid value"};
-    };
-    if (f.size() != header.size())
-      return Unexpected{path.string() + ":" + std::to_string(n + 1) + ": " + std::to_string(f.size()) +
-                        " fields, the header has " + std::to_string(header.size())};
-    StatsRow row;
-    if (!parse_field(f[column["iteration"]], row.iteration)) return bad("iteration");
-    if (!parse_field(f[column["pair"]], row.pair)) return bad("pair");
-    if (!parse_field(f[column["score"]], row.score)) return bad("score");
-    if (!parse_field(f[column["best_score"]], row.best_score)) return bad("best_score");
-    if (!parse_field(f[column["es_steps"]], row.es_steps)) return bad("es_steps");
-    row.finished = f[column["finished"]] == "true";
-    row.solved = f[column["solved"]] == "true";
-    if (rollouts_column < f.size() && !parse_field(f[rollouts_column], row.run_rollouts)) return bad("run_rollouts");
-    if (env_steps_column < f.size() && !parse_field(f[env_steps_column], row.run_env_steps))
-      return bad("run_env_steps");
-    rows.push_back(row);
-  }
-  return rows;
 }
 
 // wall_times.csv's lines of the iterations the checkpoint has seen.

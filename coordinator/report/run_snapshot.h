@@ -12,23 +12,10 @@
 
 #include "expected.h"
 #include "poet/run_state.h"
+#include "report/pair_stats_log.h"
 #include "run/wall_times.h"
 
 namespace poet {
-
-// One row of pair_stats.csv, the columns the analysis reads. run_rollouts and run_env_steps are -1 in runs
-// written before those columns existed.
-struct StatsRow {
-  int iteration = 0;
-  int pair = 0;
-  double score = 0;
-  bool finished = false;
-  double best_score = 0;
-  bool solved = false;
-  int64_t es_steps = 0;
-  int64_t run_rollouts = -1;
-  int64_t run_env_steps = -1;
-};
 
 struct RunSnapshot {
   std::filesystem::path dir;

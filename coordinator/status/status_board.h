@@ -2,9 +2,10 @@
 // The coordinator's status board: what the status socket shows, published by the run loop (after each iteration
 // and at start) and by the dispatcher (from any thread), read by the HTTP server's threads. Publishers build a
 // small snapshot outside the lock (the pairs' scores and lineage, never θ or the optimizer) and swap it in;
-// readers take a reference to the current snapshot under the lock and build their messages outside it, so the
-// lock is held for a pointer swap or copy and the run never waits on a reader, whatever the reader does.
-// The files of the run directory (events.jsonl, pair_stats.csv) are read by readers alone, outside that lock.
+// readers take a view (board_view.h: references to the current snapshots) under the lock and build their
+// messages outside it (status_messages, prometheus_text), so the lock is held for a pointer swap or copy and the
+// run never waits on a reader, whatever the reader does. The files of the run directory (events.jsonl,
+// pair_stats.csv) are read by readers alone, outside that lock, with report/'s readers of those files.
 // Thread-safe: every member may be called from any thread.
 
 #include <chrono>
@@ -12,67 +13,27 @@
 #include <deque>
 #include <filesystem>
 #include <functional>
-#include <map>
 #include <memory>
 #include <mutex>
 #include <optional>
 #include <string>
 #include <string_view>
-#include <vector>
 
-#include "dispatch/drop_reason.h"
 #include "expected.h"
 #include "poet/run_state.h"
+#include "report/pair_stats_log.h"
 #include "status.pb.h"
+#include "status/board_view.h"
 #include "status/run_picture_cache.h"
+#include "status_client/status_defaults.h"
 
 namespace poet {
-
-// One worker as the dispatcher sees it.
-struct WorkerSnapshot {
-  std::string id;       // any bytes: shown as is when printable ASCII, else as hex
-  std::string address;  // where it connects from, or the name it gave
-  int threads = 0;
-  int64_t jobs_done = 0;
-  int64_t results_done = 0;
-  double seconds_since_heartbeat = 0;  // when published; readers add the time since
-  uint64_t fingerprint_digest = 0;
-};
-
-// The dispatcher's state, as a copy.
-struct DispatchSnapshot {
-  std::vector<WorkerSnapshot> workers;
-  int64_t queue_depth = 0;
-  int64_t in_flight_jobs = 0;
-  std::map<std::string, int64_t> dropped_frames;  // by reason (drop_reason.h)
-  int64_t workers_joined = 0;                     // Welcomes given since the coordinator started
-  int64_t workers_lost = 0;                       // workers removed for silence or a failed send
-  int64_t backup_jobs = 0;                        // jobs also sent to a second worker (dispatcher.h)
-  int64_t leases_expired = 0;                     // jobs taken back from workers not yet proven
-  int64_t workers_demoted = 0;                    // workers not proven given no more jobs
-  int64_t verified_jobs = 0;                      // jobs two workers answered alike
-  int64_t unverified_jobs = 0;                    // jobs chosen for a check no other worker was there to make
-  int64_t wrong_workers = 0;                      // workers refused for wrong results
-};
-
-// What the coordinator is doing, for /status's "state".
-enum class RunPhase { kStarting, kRunning, kWaitingForWorkers, kStopping, kFinished };
 
 // "starting", "running", "waiting_for_workers", "stopping", "finished".
 std::string_view to_string(RunPhase phase);
 
-// At most this many events in one /events page; a client asks again from `next`.
-inline constexpr int64_t kMaxEventsPerPage = 1000;
-
 // The publishes the rates are measured over (the current one and the ones before it).
 inline constexpr size_t kRateWindow = 5;
-
-// The text with every byte that is not part of valid UTF-8 replaced by '?' (protobuf's JSON printer refuses
-// invalid UTF-8; names come from config files, paths from clients).
-std::string valid_utf8(std::string_view text);
-
-// A message as one line of JSON (and '\n'): protobuf's JSON mapping with the .proto's field names, zeros printed.
-std::string status_json(const google::protobuf::Message& message);
 
 class StatusBoard {
  public:
@@ -93,6 +54,9 @@ class StatusBoard {
   void set_state(RunPhase phase, std::string note = "");
   // A file of the CURVE authorized/ folder was found to hold no key, and skipped (counted once per file).
   void count_skipped_key_file();
+
+  // What the board holds now.
+  BoardView view() const;
 
   // GET /status.
   status::Status status() const;
@@ -118,56 +82,11 @@ class StatusBoard {
   const RunPictureCache& pictures() const { return pictures_; }
 
  private:
-  // A pair without its θ and optimizer, and the environment's difficulty, computed once.
-  struct PairInfo {
-    Pair pair;  // theta, best_theta and optimizer left empty
-    int difficulty_level = 0;
-  };
-  // What publish_run copies in.
-  struct RunSnapshot {
-    RunMode mode = RunMode::kPoet;
-    uint64_t seed = 0;
-    int next_iteration = 0;
-    int iterations = 0;
-    bool finished = false;
-    RunCounters counters;
-    int last_checkpoint_iteration = 0;
-    std::vector<PairInfo> pairs;
-  };
   struct RateSample {
     std::chrono::steady_clock::time_point at;
     int64_t rollouts = 0;
     int64_t env_steps = 0;
   };
-  // What a reader takes out under the lock.
-  struct View {
-    std::shared_ptr<const RunSnapshot> run;
-    std::shared_ptr<const DispatchSnapshot> dispatch;
-    std::chrono::steady_clock::time_point dispatch_at;
-    RunPhase phase = RunPhase::kStarting;
-    std::string note;
-    double rollouts_per_s = 0;
-    double env_steps_per_s = 0;
-    int64_t skipped_key_files = 0;
-  };
-  // The rows of pair_stats.csv read so far, by pair; read on from `offset` when a reader asks (a second lock,
-  // which only readers take).
-  struct ScoreRow {
-    int iteration = 0;
-    double score = 0;
-    double best_score = 0;
-  };
-  struct StatsCache {
-    uint64_t offset = 0;  // bytes consumed: whole lines only
-    int iteration_column = -1, pair_column = -1, score_column = -1, best_column = -1;  // from the header
-    std::map<int, std::vector<ScoreRow>> rows;
-  };
-
-  View view() const;
-  status::PairSummary summary(const PairInfo& info) const;
-  std::vector<ScoreRow> scores_of(int id) const;
-  void read_stats() const;  // under stats_mutex_
-  void read_stats_line(std::string_view line) const;
 
   const std::filesystem::path run_dir_;
   const RunPictureCache pictures_{run_dir_};
@@ -175,7 +94,7 @@ class StatusBoard {
   const std::chrono::steady_clock::time_point created_;
 
   mutable std::mutex mutex_;  // guards the members below; held only to copy or swap
-  std::shared_ptr<const RunSnapshot> run_;
+  std::shared_ptr<const PublishedRun> run_;
   std::shared_ptr<const DispatchSnapshot> dispatch_;
   std::chrono::steady_clock::time_point dispatch_at_;
   RunPhase phase_ = RunPhase::kStarting;
@@ -183,8 +102,9 @@ class StatusBoard {
   std::deque<RateSample> rate_samples_;  // the last kRateWindow publishes
   int64_t skipped_key_files_ = 0;
 
+  // pair_stats.csv, read on when a reader asks (a second lock, which only readers take)
   mutable std::mutex stats_mutex_;
-  mutable StatsCache stats_;
+  mutable PairStatsTail stats_;
 };
 
 }  // namespace poet

@@ -8,6 +8,8 @@
 #include <string_view>
 
 #include "status/dashboard.h"
+#include "status/status_json.h"
+#include "utf8.h"
 
 namespace poet {
 namespace {

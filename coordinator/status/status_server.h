@@ -20,13 +20,13 @@
 #include <string>
 
 #include "expected.h"
+#include "status_client/host_port.h"
+#include "status_client/status_defaults.h"
 #include "status/status_board.h"
 
 namespace poet {
 
 inline constexpr char kDefaultStatusAddress[] = "127.0.0.1:0";  // loopback, an ephemeral port
-// Where poet-coordinator serves its status socket unless told otherwise, and where poetctl asks.
-inline constexpr char kCoordinatorStatusAddress[] = "127.0.0.1:8580";
 
 struct StatusServerOptions {
   int threads = 3;                                // the pool answering requests, in [1, 16]
@@ -43,14 +43,6 @@ struct StatusServerOptions {
 // like) and an orchestrator that cannot reach /healthz restarts the coordinator. Short timeouts: a probe sends
 // its request at once.
 StatusServerOptions health_listener_options();
-
-struct HostPort {
-  std::string host;
-  int port = 0;  // 0: an ephemeral port
-};
-
-// "HOST:PORT" or "[IPv6]:PORT", PORT in [0, 65535]; the error names the address and what is wrong with it.
-Expected<HostPort> parse_host_port(const std::string& address);
 
 class StatusServer {
  public:

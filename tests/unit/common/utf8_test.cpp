@@ -1,4 +1,5 @@
-// Tests common/utf8: well-formed UTF-8 accepted; stray, overlong, surrogate, out-of-range and cut sequences refused.
+// Tests common/utf8: well-formed UTF-8 accepted; stray, overlong, surrogate, out-of-range and cut sequences refused,
+// and replaced by '?' byte by byte in valid_utf8.
 
 #include "utf8.h"
 
@@ -23,6 +24,15 @@ TEST(Utf8, MalformedBytesAreRefused) {
                                  std::string("\xe2\x82"),          // cut short
                                  std::string("\xe2\x28\xa1")})     // a continuation byte missing
     EXPECT_FALSE(is_valid_utf8(text)) << testing::PrintToString(text);
+}
+
+TEST(Utf8, ValidUtf8KeepsWellFormedTextAndMarksEachBadByte) {
+  EXPECT_EQ(valid_utf8("σ = 0.05 \xf0\x9f\x9a\xb6"), "σ = 0.05 \xf0\x9f\x9a\xb6");
+  EXPECT_EQ(valid_utf8("bad \xff\xfe name"), "bad ?? name");
+  EXPECT_EQ(valid_utf8("\xc0\xaf"), "??");         // overlong
+  EXPECT_EQ(valid_utf8("\xed\xa0\x80"), "???");    // a surrogate
+  EXPECT_EQ(valid_utf8("x\xe2\x82"), "x??");        // cut short
+  EXPECT_TRUE(is_valid_utf8(valid_utf8("\xe2\x28\xa1\xf4\x90\x80\x80")));
 }
 
 }  // namespace

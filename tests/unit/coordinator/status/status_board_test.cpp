@@ -1,4 +1,5 @@
-// Tests coordinator/status/status_board.cpp: what publish_run and publish_dispatch put on the board comes out in
+// Tests coordinator/status/status_board.cpp and the renderers it serves through (status_messages.cpp,
+// prometheus_text.cpp, status_json.cpp): what publish_run and publish_dispatch put on the board comes out in
 // every message as well-formed JSON; rates and ages follow a fake clock; events and scores are read from the run
 // directory's files (whole lines only); /metrics is Prometheus text format.
 
@@ -19,6 +20,8 @@
 #include "../poet/engine_test_support.h"
 #include "run/run_directory.h"
 #include "scratch_dir.h"
+#include "status/status_json.h"
+#include "utf8.h"
 
 namespace poet {
 namespace {

@@ -1,0 +1,114 @@
+#include "status/prometheus_text.h"
+
+#include <cstdio>
+#include <map>
+
+#include "dispatch/drop_reason.h"
+
+namespace poet {
+namespace {
+
+// A Prometheus label value: backslash, double quote and newline escaped.
+std::string label_value(std::string_view text) {
+  std::string out;
+  for (char c : text) {
+    if (c == '\\' || c == '"') out += '\\';
+    if (c == '\n') {
+      out += "\\n";
+      continue;
+    }
+    out += c;
+  }
+  return out;
+}
+
+}  // namespace
+
+std::string prometheus_text(const BoardView& v) {
+  std::string text;
+  auto family = [&](const char* name, const char* type, const char* help) {
+    text += std::string("# HELP ") + name + " " + help + "\n# TYPE " + name + " " + type + "\n";
+  };
+  auto sample = [&](const std::string& name, auto value) { text += name + " " + std::to_string(value) + "\n"; };
+
+  const PublishedRun empty;
+  const PublishedRun& run = v.run ? *v.run : empty;
+  int active = 0, solved = 0;
+  for (const PairInfo& info : run.pairs) {
+    active += info.pair.active() ? 1 : 0;
+    solved += info.pair.solved() ? 1 : 0;
+  }
+  family("poet_iteration", "gauge", "The iteration the run does next.");
+  sample("poet_iteration", run.next_iteration);
+  family("poet_iterations_limit", "gauge", "The run stops before this iteration.");
+  sample("poet_iterations_limit", run.iterations);
+  family("poet_last_checkpoint_iteration", "gauge", "The next iteration of the last checkpoint written.");
+  sample("poet_last_checkpoint_iteration", run.last_checkpoint_iteration);
+  family("poet_run_finished", "gauge", "1 when the run reached its stopping rule.");
+  sample("poet_run_finished", run.finished ? 1 : 0);
+  family("poet_pairs_created", "gauge", "Pairs ever created (the archive).");
+  sample("poet_pairs_created", run.pairs.size());
+  family("poet_pairs_active", "gauge", "Active environment-agent pairs.");
+  sample("poet_pairs_active", active);
+  family("poet_pairs_solved", "gauge", "Pairs whose environment was ever solved.");
+  sample("poet_pairs_solved", solved);
+  family("poet_rollouts_total", "counter", "Rollouts since the run began.");
+  sample("poet_rollouts_total", run.counters.rollouts);
+  family("poet_env_steps_total", "counter", "Environment steps since the run began.");
+  sample("poet_env_steps_total", run.counters.env_steps);
+
+  const DispatchSnapshot no_dispatch;
+  const DispatchSnapshot& dispatch = v.dispatch ? *v.dispatch : no_dispatch;
+  struct Series {
+    const char* name;
+    const char* type;
+    const char* help;
+    int64_t value;
+  };
+  const Series series[] = {
+      {"poet_workers", "gauge", "Connected workers.", static_cast<int64_t>(dispatch.workers.size())},
+      {"poet_queue_depth", "gauge", "Jobs waiting for a worker.", dispatch.queue_depth},
+      {"poet_in_flight_jobs", "gauge", "Jobs held by workers.", dispatch.in_flight_jobs},
+      {"poet_workers_joined_total", "counter", "Workers welcomed since the coordinator started.",
+       dispatch.workers_joined},
+      {"poet_workers_lost_total", "counter",
+       "Workers removed for being silent longer than the liveness window, or because a send to them failed.",
+       dispatch.workers_lost},
+      {"poet_backup_jobs_total", "counter",
+       "Jobs also sent to a second worker because their first held them far longer than the batch's jobs take.",
+       dispatch.backup_jobs},
+      {"poet_leases_expired_total", "counter",
+       "Jobs taken back from a worker that had never returned a result, once their lease ran out.",
+       dispatch.leases_expired},
+      {"poet_workers_demoted_total", "counter",
+       "Workers that never returned a result and let a lease expire or returned an error: given no more jobs.",
+       dispatch.workers_demoted},
+      {"poet_verified_jobs_total", "counter", "Jobs run on two workers whose results matched bit for bit.",
+       dispatch.verified_jobs},
+      {"poet_unverified_jobs_total", "counter",
+       "Jobs chosen for verification that no other worker was connected to check.", dispatch.unverified_jobs},
+      {"poet_wrong_workers_total", "counter",
+       "Workers refused because their results differed from two other workers'.", dispatch.wrong_workers},
+  };
+  for (const Series& one : series) {
+    family(one.name, one.type, one.help);
+    sample(one.name, one.value);
+  }
+  family("poet_dropped_frames_total", "counter", "Frames and Hellos the dispatcher dropped or refused, by reason.");
+  std::map<std::string, int64_t> dropped;
+  for (const char* reason : kDropReasonNames) dropped[reason] = 0;
+  for (const auto& [reason, count] : dispatch.dropped_frames) dropped[reason] = count;
+  for (const auto& [reason, count] : dropped)
+    sample("poet_dropped_frames_total{reason=\"" + label_value(reason) + "\"}", count);
+  family("poet_skipped_key_files_total", "counter",
+         "Files in the CURVE authorized/ folder skipped because they hold no key, each counted once when found.");
+  sample("poet_skipped_key_files_total", v.skipped_key_files);
+
+  family("poet_uptime_seconds", "gauge", "Seconds since the coordinator started.");
+  char uptime[32];
+  std::snprintf(uptime, sizeof uptime, "%.3f", v.uptime_s);
+  text += std::string("poet_uptime_seconds ") + uptime + "\n";
+  return text;
+}
+
+}  // namespace poet

@@ -1,0 +1,46 @@
+#include "poetctl_keygen.h"
+
+#include <zmq.h>
+
+#include <array>
+#include <cstdio>
+
+#include "curve_keys.h"
+#include "poetctl_exit.h"
+#include "tool_flags.h"
+
+namespace poet {
+
+// poetctl keygen: a fresh pair from libzmq's generator, written without replacing any key.
+int make_keys(const std::filesystem::path& dir, const std::string& name, bool authorize) {
+  std::array<char, 41> public_key{};
+  std::array<char, 41> secret_key{};
+  if (zmq_curve_keypair(public_key.data(), secret_key.data()) != 0) {
+    std::fprintf(stderr, "poetctl keygen: this libzmq cannot make CURVE keys: %s\n", zmq_strerror(zmq_errno()));
+    return kExitUnreachable;
+  }
+  const CurveKeyPair keys{public_key.data(), secret_key.data()};
+  if (auto error = write_key_pair(dir, name, keys)) {
+    std::fprintf(stderr, "poetctl keygen: %s\n", error->c_str());
+    return kExitUnreachable;
+  }
+  std::printf("%s/%s.key: %s\n", dir.c_str(), name.c_str(), keys.public_key.c_str());
+  if (authorize && name != "worker") {
+    std::fprintf(stderr, "poetctl keygen: --authorize is for worker keys\n");
+    return kExitUsage;
+  }
+  if (authorize) {
+    const std::filesystem::path authorized = dir / "authorized";
+    std::error_code ec;
+    std::filesystem::create_directories(authorized, ec);
+    std::filesystem::copy_file(dir / (name + ".key"), authorized / (name + ".key"), ec);
+    if (ec) {
+      std::fprintf(stderr, "poetctl keygen: %s: %s\n", (authorized / (name + ".key")).c_str(), ec.message().c_str());
+      return kExitUnreachable;
+    }
+    std::printf("authorised: %s\n", (authorized / (name + ".key")).c_str());
+  }
+  return 0;
+}
+
+}  // namespace poet

@@ -1,0 +1,24 @@
+#pragma once
+// poetctl picture: the run's pictures, from the live coordinator's /pictures endpoints or drawn here from a run
+// directory's files. The one part of poetctl that links the drawing code (report/, pictures/).
+
+#include <string>
+
+#include "expected.h"
+#include "report/picture_request.h"
+
+namespace poet {
+
+// The request an output path asks for (its kind, the encoding its extension names, the pair), or why not.
+Expected<PictureRequest> picture_request(const std::string& kind_name, const std::string& out, int pair);
+
+// The picture from a run directory's files (read only), written to out; returns the exit code.
+int picture_from_files(const std::string& run_dir, const PictureRequest& request, const std::string& out);
+
+// The status socket's path for a request: /pictures/KIND.EXT or /pictures/pairs/ID/KIND.EXT.
+std::string picture_path(const std::string& kind_name, const std::string& out, const PictureRequest& request);
+
+// The bytes the socket answered at path, written to out; returns the exit code.
+int save_picture(const std::string& out, const std::string& bytes, const std::string& path);
+
+}  // namespace poet
