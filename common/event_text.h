@@ -12,8 +12,8 @@
 namespace poet {
 
 struct EventView {
-  std::optional<std::string> iteration;  // absent: the line has no "iteration N: " prefix
-  std::optional<std::string> name;       // the "event" field; absent: "event"
+  std::optional<std::string> iteration;                     // absent: the line has no "iteration N: " prefix
+  std::optional<std::string> name;                          // the "event" field; absent: "event"
   std::vector<std::pair<std::string, std::string>> fields;  // the others, in the order to show them
 };
 

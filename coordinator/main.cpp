@@ -32,10 +32,10 @@
 #include "build_fingerprint.h"
 #include "config/run_config.h"
 #include "curve_keys.h"
-#include "event_text.h"
 #include "dispatch/local_workers.h"
 #include "evaluator/local_evaluator.h"
 #include "evaluator/remote_evaluator.h"
+#include "event_text.h"
 #include "local_token.h"
 #include "poet/engine.h"
 #include "policy/policy_file.h"
@@ -66,12 +66,12 @@ struct Options {
   int local_workers = 0;  // worker processes to start and supervise on this machine
   int liveness_ms = wire_timing::kLivenessMs;
   std::string worker_binary;
-  std::vector<std::string> worker_args;           // passed to every local worker (tests' fault switches)
+  std::vector<std::string> worker_args;                    // passed to every local worker (tests' fault switches)
   std::string status_address = kCoordinatorStatusAddress;  // the HTTP status socket; empty: none
-  std::string health_address;                     // the probes' listener (/healthz alone); empty: none
-  std::string curve_keys;                         // CURVE key directory; empty: no authentication
-  std::string start_from;                         // a policy file for the first pair's θ; empty: the init stream
-  std::optional<double> verify_fraction;          // default: kListenVerifyFraction with --listen and no CURVE
+  std::string health_address;                              // the probes' listener (/healthz alone); empty: none
+  std::string curve_keys;                                  // CURVE key directory; empty: no authentication
+  std::string start_from;                 // a policy file for the first pair's θ; empty: the init stream
+  std::optional<double> verify_fraction;  // default: kListenVerifyFraction with --listen and no CURVE
   uint64_t verify_seed = 1;
 };
 

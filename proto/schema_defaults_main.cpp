@@ -3,13 +3,13 @@
 // simulation's types (EsSettings, MutationOptions, WalkerOptions) take theirs from this header, so they agree
 // with a config that leaves a field out without the simulation linking protobuf. Run by the build.
 
+#include <google/protobuf/descriptor.h>
+
 #include <charconv>
 #include <cstdio>
 #include <fstream>
 #include <iostream>
 #include <string>
-
-#include <google/protobuf/descriptor.h>
 
 #include "poet.pb.h"
 
@@ -52,8 +52,8 @@ std::string constant(const protobuf::FieldDescriptor& f) {
     case protobuf::FieldDescriptor::CPPTYPE_BOOL:
       return "inline constexpr bool " + name + " = " + (f.default_value_bool() ? "true" : "false") + ";";
     case protobuf::FieldDescriptor::CPPTYPE_ENUM:
-      return "inline constexpr int " + name + " = " + std::to_string(f.default_value_enum()->number()) +
-             ";  // " + f.default_value_enum()->name();
+      return "inline constexpr int " + name + " = " + std::to_string(f.default_value_enum()->number()) + ";  // " +
+             f.default_value_enum()->name();
     default:
       return {};  // messages and strings carry no default the simulation uses
   }

@@ -10,8 +10,8 @@
 namespace poet {
 
 struct TerrainStatistics {
-  double mean_abs_dy = 0;   // over the 199 gaps between consecutive ground points, metres
-  double obstacles = 0;     // obstacles per course (a pit, a stump, a staircase each count once)
+  double mean_abs_dy = 0;  // over the 199 gaps between consecutive ground points, metres
+  double obstacles = 0;    // obstacles per course (a pit, a stump, a staircase each count once)
   double pits = 0, stumps = 0, stairs = 0;
   double mean_pit_width = 0, mean_stump_height = 0;  // terrain steps, as sampled (0 when none)
 };

@@ -34,8 +34,7 @@ int CourseSweep::fell() const {
 }
 
 int CourseSweep::timed_out() const {
-  return static_cast<int>(
-      std::count_if(episodes.begin(), episodes.end(), [](const auto& e) { return e.timed_out(); }));
+  return static_cast<int>(std::count_if(episodes.begin(), episodes.end(), [](const auto& e) { return e.timed_out(); }));
 }
 
 double CourseSweep::mean_steps() const {
@@ -44,8 +43,8 @@ double CourseSweep::mean_steps() const {
   return sum / static_cast<double>(episodes.size());
 }
 
-CourseSweep sweep_course(const Mlp& policy, const std::string& label, const EnvEncoding& encoding,
-                         uint32_t first_seed, int count, const WalkerOptions& options, int max_steps, int threads) {
+CourseSweep sweep_course(const Mlp& policy, const std::string& label, const EnvEncoding& encoding, uint32_t first_seed,
+                         int count, const WalkerOptions& options, int max_steps, int threads) {
   if (count < 1) throw std::invalid_argument("sweep: at least one seed is needed");
   if (uint64_t(first_seed) + uint64_t(count) > kMaxEnvSeed)
     throw std::invalid_argument("sweep: terrain seeds must stay below 1000000");

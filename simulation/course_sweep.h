@@ -25,8 +25,8 @@ struct CourseSweep {
 };
 
 // Requires count >= 1 and first_seed + count <= kMaxEnvSeed (throws std::invalid_argument otherwise).
-CourseSweep sweep_course(const Mlp& policy, const std::string& label, const EnvEncoding& encoding,
-                         uint32_t first_seed, int count, const WalkerOptions& options = {},
-                         int max_steps = walker::kDefaultTimeLimit, int threads = 1);
+CourseSweep sweep_course(const Mlp& policy, const std::string& label, const EnvEncoding& encoding, uint32_t first_seed,
+                         int count, const WalkerOptions& options = {}, int max_steps = walker::kDefaultTimeLimit,
+                         int threads = 1);
 
 }  // namespace poet

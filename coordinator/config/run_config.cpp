@@ -60,7 +60,8 @@ struct Range {
     if (hi == kInf)
       return lo == -kInf ? "must be a finite number" : (lo_open ? "must be > " : "must be >= ") + number_text(lo);
     if (lo == -kInf) return (hi_open ? "must be < " : "must be <= ") + number_text(hi);
-    return std::string("must be in ") + (lo_open ? "(" : "[") + number_text(lo) + ", " + number_text(hi) + (hi_open ? ")" : "]");
+    return std::string("must be in ") + (lo_open ? "(" : "[") + number_text(lo) + ", " + number_text(hi) +
+           (hi_open ? ")" : "]");
   }
 };
 
@@ -188,8 +189,8 @@ void check_batch_size(Checks& c, const pb::RunConfig& config) {
   // step 2: one ES step of 2n rollouts for every active pair
   const int64_t es_batch = 2 * n * pairs;
   if (es_batch > kMaxBatchRollouts) {
-    c.fail("es.perturbations", "2 · es.perturbations · poet.active_cap = 2 · " + number_text(n) + " · " + number_text(pairs) +
-                                   " = " + number_text(es_batch) + too_many);
+    c.fail("es.perturbations", "2 · es.perturbations · poet.active_cap = 2 · " + number_text(n) + " · " +
+                                   number_text(pairs) + " = " + number_text(es_batch) + too_many);
     return;
   }
   // step 3 (mode POET only): every ordered pair of active pairs gets a proposal's ES step and a direct
@@ -201,8 +202,8 @@ void check_batch_size(Checks& c, const pb::RunConfig& config) {
     c.fail("poet.active_cap",
            "a transfer round of poet.active_cap · (poet.active_cap − 1) · (2 · es.perturbations + evaluation "
            "episodes) = " +
-               number_text(pairs) + " · " + number_text(pairs - 1) + " · (2 · " + number_text(n) + " + " + number_text(episodes) +
-               ") = " + number_text(transfer_batch) + too_many);
+               number_text(pairs) + " · " + number_text(pairs - 1) + " · (2 · " + number_text(n) + " + " +
+               number_text(episodes) + ") = " + number_text(transfer_batch) + too_many);
 }
 
 void check_walker(Checks& c, const pb::WalkerConfig& walker) {
@@ -372,8 +373,8 @@ PoetSettings poet_settings(const pb::PoetConfig& p) {
   s.active_cap = p.active_cap();
   s.novelty_k = p.novelty_k();
   s.novelty_normalized = p.novelty_normalized();
-  s.child_ranking = p.child_ranking() == pb::LOWEST_SCORE_FIRST ? ChildRanking::kLowestScoreFirst
-                                                                 : ChildRanking::kNovelty;
+  s.child_ranking =
+      p.child_ranking() == pb::LOWEST_SCORE_FIRST ? ChildRanking::kLowestScoreFirst : ChildRanking::kNovelty;
   s.admission_proposal = proposal_kind(p.admission_proposal());
   s.transfer_proposal = proposal_kind(p.transfer_proposal());
   s.solved_score = p.solved_score();

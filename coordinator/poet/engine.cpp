@@ -15,11 +15,7 @@ uint64_t IterationContext::key(std::string_view purpose, std::initializer_list<u
 }
 
 IterationContext iteration_context(RunState& state, Evaluator& evaluator, IterationReport& report) {
-  return {state,
-          evaluator,
-          report,
-          state.settings,
-          state.next_iteration};
+  return {state, evaluator, report, state.settings, state.next_iteration};
 }
 
 void record_evaluation(IterationContext& ctx, Pair& pair, const std::vector<double>& theta, const Evaluation& eval) {

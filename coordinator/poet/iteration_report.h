@@ -1,7 +1,7 @@
 #pragma once
 // What one iteration produced for the run directory: its events (pair created or retired, transfers, solves,
-// curriculum stages; as values, run_event.h) and one statistics row per pair that took an ES step. Deterministic: no wall-clock times,
-// so a resumed run writes the same bytes as an uninterrupted one.
+// curriculum stages; as values, run_event.h) and one statistics row per pair that took an ES step. Deterministic: no
+// wall-clock times, so a resumed run writes the same bytes as an uninterrupted one.
 
 #include <cstdint>
 #include <string>

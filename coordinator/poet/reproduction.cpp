@@ -71,10 +71,9 @@ std::optional<Start> best_start(IterationContext& ctx, const Child& child) {
   std::vector<size_t> steps;
   for (size_t i : active) {
     const Pair& source = ctx.state.pairs[i];
-    steps.push_back(steps_batch.add_es_step(
-        {share(source.theta), child.env, fresh.sigma,
-         ctx.key("admission-noise", {u(ctx.t), u(child.attempt), u(source.id)})},
-        ctx.settings.es.perturbations));
+    steps.push_back(steps_batch.add_es_step({share(source.theta), child.env, fresh.sigma,
+                                             ctx.key("admission-noise", {u(ctx.t), u(child.attempt), u(source.id)})},
+                                            ctx.settings.es.perturbations));
   }
   steps_batch.run(ctx.evaluator, ctx.state.counters, ctx.settings.es);
 

@@ -22,7 +22,6 @@ inline SharedParams share(std::vector<double> params) {
   return std::make_shared<const std::vector<double>>(std::move(params));
 }
 
-
 // One ES step's request: perturbations of θ on env with noise σ; ε keys derive from step_key.
 struct EsRequest {
   SharedParams theta;

@@ -1,18 +1,21 @@
 #include "poet/run_settings.h"
 
+#include <array>
+
+#include "enum_names.h"
+
 namespace poet {
 
 std::string_view mode_name(RunMode mode) {
-  switch (mode) {
-    case RunMode::kPoetWithoutTransfer:
-      return "POET_WITHOUT_TRANSFER";
-    case RunMode::kEsAlone:
-      return "ES_ALONE";
-    case RunMode::kDirectPath:
-      return "DIRECT_PATH";
-    default:
-      return "POET";
-  }
+  static constexpr std::array<std::string_view, 4> kNames = {"POET", "POET_WITHOUT_TRANSFER", "ES_ALONE",
+                                                             "DIRECT_PATH"};
+  return enum_name(mode, kNames, "?");
+}
+
+std::string_view mode_words(RunMode mode) {
+  static constexpr std::array<std::string_view, 4> kWords = {"POET", "POET without transfer", "ES alone",
+                                                             "direct-path curriculum"};
+  return enum_name(mode, kWords, "?");
 }
 
 }  // namespace poet

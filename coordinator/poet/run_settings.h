@@ -15,11 +15,13 @@
 namespace poet {
 
 enum class RunMode { kPoet, kPoetWithoutTransfer, kEsAlone, kDirectPath };
-// The mode as a config names it ("POET", "POET_WITHOUT_TRANSFER", "ES_ALONE", "DIRECT_PATH"), for messages.
+// The mode as a config names it ("POET", "POET_WITHOUT_TRANSFER", "ES_ALONE", "DIRECT_PATH"), for messages, and
+// in words for people ("POET without transfer", "ES alone", "direct-path curriculum").
 std::string_view mode_name(RunMode mode);
-enum class ProposalKind { kAdam, kSgd };                    // the update Adam's next step would make, or SGD's
-enum class TransferTest { kFull, kThreshold };              // N(N−1) proposal steps a round, or Enhanced POET's
-enum class ChildRanking { kNovelty, kLowestScoreFirst };   // the order admission walks the passing children in
+std::string_view mode_words(RunMode mode);
+enum class ProposalKind { kAdam, kSgd };                  // the update Adam's next step would make, or SGD's
+enum class TransferTest { kFull, kThreshold };            // N(N−1) proposal steps a round, or Enhanced POET's
+enum class ChildRanking { kNovelty, kLowestScoreFirst };  // the order admission walks the passing children in
 
 // The episode settings every task of a run shares.
 struct EpisodeSettings {

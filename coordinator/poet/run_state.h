@@ -77,7 +77,7 @@ struct CurriculumStage {
 };
 
 struct RunState {
-  RunSettings settings;  // made once from the run config (the config message itself is the run directory's)
+  RunSettings settings;    // made once from the run config (the config message itself is the run directory's)
   int next_iteration = 0;  // the iteration the run does next
   int next_pair_id = 0;
   std::vector<Pair> pairs;  // every pair ever created, in creation order (the archive)

@@ -51,8 +51,8 @@ void transfer(IterationContext& ctx) {
       const Pair& source = ctx.state.pairs[b];
       if (source.id == target.id) continue;
       const uint64_t eval_key = ctx.key("transfer-eval", {u(ctx.t), u(target.id), u(source.id), 0});
-      direct[a].push_back({source.id, false, source.theta, first.add_evaluation(share(source.theta), target.env,
-                                                                                eval_key)});
+      direct[a].push_back(
+          {source.id, false, source.theta, first.add_evaluation(share(source.theta), target.env, eval_key)});
       if (full) es_handles[a].push_back(step_of(first, target, direct[a].back()));
     }
   }
@@ -76,7 +76,8 @@ void transfer(IterationContext& ctx) {
   RolloutBatch second = ctx.batch();
   for (size_t a = 0; a < active.size(); ++a) {
     const Pair& target = ctx.state.pairs[active[a]];
-    const std::vector<EsOutcome> outcomes = stepped_batch.es_outcomes(es_handles[a], ctx.settings.es);  // one target at a time
+    const std::vector<EsOutcome> outcomes =
+        stepped_batch.es_outcomes(es_handles[a], ctx.settings.es);  // one target at a time
     for (size_t s = 0; s < stepped[a].size(); ++s) {
       const Candidate& d = *stepped[a][s];
       std::vector<double> theta = propose(ctx.settings.poet.transfer_proposal, d.theta, outcomes[s].gradient,

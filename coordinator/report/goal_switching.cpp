@@ -1,7 +1,9 @@
 #include "report/goal_switching.h"
 
 #include <algorithm>
+#include <array>
 
+#include "enum_names.h"
 #include "report/event_fields.h"
 
 namespace poet {
@@ -33,17 +35,9 @@ SolveCause cause_of(const RunSnapshot& run, const Pair& pair) {
 }  // namespace
 
 const char* to_string(SolveCause cause) {
-  switch (cause) {
-    case SolveCause::kNotSolved:
-      return "not solved";
-    case SolveCause::kAdmission:
-      return "at admission";
-    case SolveCause::kOwnEs:
-      return "by its own ES";
-    case SolveCause::kTransfer:
-      return "by a transfer";
-  }
-  return "?";
+  static constexpr std::array<std::string_view, 4> kNames = {"not solved", "at admission", "by its own ES",
+                                                             "by a transfer"};
+  return enum_name(cause, kNames, "?").data();
 }
 
 std::vector<LineageLink> lineage_chain(const RunSnapshot& run, const RunMetrics& metrics, int pair_id) {
@@ -69,10 +63,9 @@ std::vector<LineageLink> lineage_chain(const RunSnapshot& run, const RunMetrics&
         if (t.iteration == link.solved) link.solved_by = t.source;
     const bool started_elsewhere = pair->parent_id != kNone && pair->initial_source_pair != pair->parent_id;
     // a transfer in the iteration of the solve came after it (transfers follow the ES steps) unless it solved
-    const bool took_transfer =
-        link.cause == SolveCause::kTransfer ||
-        std::any_of(link.transfers_in.begin(), link.transfers_in.end(),
-                    [&](const AcceptedTransfer& t) { return t.iteration < link.solved; });
+    const bool took_transfer = link.cause == SolveCause::kTransfer ||
+                               std::any_of(link.transfers_in.begin(), link.transfers_in.end(),
+                                           [&](const AcceptedTransfer& t) { return t.iteration < link.solved; });
     link.solved_through_transfer = pair->solved() && (started_elsewhere || took_transfer);
     chain.push_back(std::move(link));  // the size bound above: a damaged state's parent cycle cannot loop
   }

@@ -3,6 +3,7 @@
 #include <array>
 
 #include "course_picture.h"
+#include "enum_names.h"
 #include "poet/rollout_batch.h"
 #include "report/pair_episode.h"
 #include "report/report_plots.h"
@@ -46,15 +47,8 @@ std::string picture_kind_names() {
 }
 
 const char* mime_type(PictureEncoding encoding) {
-  switch (encoding) {
-    case PictureEncoding::kPng:
-      return "image/png";
-    case PictureEncoding::kSvg:
-      return "image/svg+xml";
-    case PictureEncoding::kGif:
-      return "image/gif";
-  }
-  return "application/octet-stream";
+  static constexpr std::array<std::string_view, 3> kTypes = {"image/png", "image/svg+xml", "image/gif"};
+  return enum_name(encoding, kTypes, "application/octet-stream").data();
 }
 
 Expected<RolloutResult> pair_episode(const RunSnapshot& run, int pair) {

@@ -82,20 +82,18 @@ Expected<RunSnapshot> read_run_snapshot(const fs::path& dir) {
   snapshot.live = RunLock::held_by_another_process(dir);
 
   const fs::path events_path = dir / kEventsFile;
-  Expected<std::string> events = read_log_prefix(events_path, checkpoint->events_bytes(),
-                                                    checkpoint->has_events_crc32()
-                                                        ? std::optional<uint32_t>(checkpoint->events_crc32())
-                                                        : std::nullopt);
+  Expected<std::string> events = read_log_prefix(
+      events_path, checkpoint->events_bytes(),
+      checkpoint->has_events_crc32() ? std::optional<uint32_t>(checkpoint->events_crc32()) : std::nullopt);
   if (!events) return Unexpected{events.error()};
   Expected<std::vector<nlohmann::json>> parsed_events = parse_events(events_path, *events);
   if (!parsed_events) return Unexpected{parsed_events.error()};
   snapshot.events = std::move(*parsed_events);
 
   const fs::path stats_path = dir / kStatsFile;
-  Expected<std::string> stats = read_log_prefix(stats_path, checkpoint->stats_bytes(),
-                                                  checkpoint->has_stats_crc32()
-                                                      ? std::optional<uint32_t>(checkpoint->stats_crc32())
-                                                      : std::nullopt);
+  Expected<std::string> stats = read_log_prefix(
+      stats_path, checkpoint->stats_bytes(),
+      checkpoint->has_stats_crc32() ? std::optional<uint32_t>(checkpoint->stats_crc32()) : std::nullopt);
   if (!stats) return Unexpected{stats.error()};
   Expected<std::vector<StatsRow>> rows = parse_stats(stats_path, *stats);
   if (!rows) return Unexpected{rows.error()};

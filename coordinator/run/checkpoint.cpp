@@ -87,7 +87,6 @@ pb::RunCounters to_proto(const RunCounters& counters) {
 
 using Error = std::optional<std::string>;
 
-
 Error check_finite(const std::string& field, double value) {
   if (std::isfinite(value)) return std::nullopt;
   return field + ": must be finite (got " + number_text(value) + ")";
@@ -107,14 +106,16 @@ Error check_at_least(const std::string& field, int64_t value, int64_t lo) {
 // An iteration that is either kNone or one the run has reached (t <= next_iteration).
 Error check_iteration_or_none(const std::string& field, int value, int next_iteration) {
   if (value == kNone || (value >= 0 && value <= next_iteration)) return std::nullopt;
-  return field + ": must be -1 or in [0, " + number_text(int64_t{next_iteration}) + "] (got " + number_text(int64_t{value}) + ")";
+  return field + ": must be -1 or in [0, " + number_text(int64_t{next_iteration}) + "] (got " +
+         number_text(int64_t{value}) + ")";
 }
 
 // kParamCount finite values, and none negative when non_negative (Adam's second moment is a mean of squares).
 Error check_params(const std::string& field, const google::protobuf::RepeatedField<double>& params,
                    bool non_negative = false) {
   if (params.size() != kParamCount)
-    return field + ": " + number_text(int64_t{params.size()}) + " values, expected " + number_text(int64_t{kParamCount});
+    return field + ": " + number_text(int64_t{params.size()}) + " values, expected " +
+           number_text(int64_t{kParamCount});
   for (int i = 0; i < params.size(); ++i) {
     if (!std::isfinite(params[i]) || (non_negative && params[i] < 0))
       return field + "[" + number_text(int64_t{i}) + "]: must be " + (non_negative ? "finite and >= 0" : "finite") +

@@ -14,8 +14,8 @@ Json fields(const SolvedEvent& e) {
 }
 
 Json fields(const ChildEvent& e) {
-  Json j = {{"event", "child"}, {"attempt", e.attempt}, {"parent", e.parent},
-            {"env", e.env},     {"e", e.e},             {"duplicate", e.duplicate}};
+  Json j = {{"event", "child"}, {"attempt", e.attempt},    {"parent", e.parent}, {"env", e.env},
+            {"e", e.e},         {"duplicate", e.duplicate}};
   if (e.mc_score) {
     j["mc_score"] = *e.mc_score;
     j["passed_mc"] = e.passed_mc;
@@ -24,14 +24,14 @@ Json fields(const ChildEvent& e) {
 }
 
 Json fields(const PairCreatedEvent& e) {
-  return {{"event", "pair_created"}, {"pair", e.pair},         {"env", e.env},     {"seed", e.seed},
-          {"parent", e.parent},      {"source", e.source},     {"proposal", e.proposal},
-          {"score", e.score},        {"novelty", e.novelty}};
+  return {{"event", "pair_created"}, {"pair", e.pair},     {"env", e.env},
+          {"seed", e.seed},          {"parent", e.parent}, {"source", e.source},
+          {"proposal", e.proposal},  {"score", e.score},   {"novelty", e.novelty}};
 }
 
 Json fields(const ReproductionEvent& e) {
   if (e.eligible == 0) return {{"event", "reproduction"}, {"eligible", 0}};
-  return {{"event", "reproduction"},   {"eligible", e.eligible},   {"tried", e.tried},
+  return {{"event", "reproduction"},    {"eligible", e.eligible},   {"tried", e.tried},
           {"duplicates", e.duplicates}, {"passed_mc", e.passed_mc}, {"admitted", e.admitted}};
 }
 
@@ -40,8 +40,8 @@ Json fields(const PairRetiredEvent& e) {
 }
 
 Json fields(const TransferEvent& e) {
-  return {{"event", "transfer"}, {"target", e.target}, {"source", e.source},
-          {"proposal", e.proposal}, {"score", e.score}, {"previous_score", e.previous_score}};
+  return {{"event", "transfer"},    {"target", e.target}, {"source", e.source},
+          {"proposal", e.proposal}, {"score", e.score},   {"previous_score", e.previous_score}};
 }
 
 Json fields(const TransferRoundEvent& e) {
@@ -58,7 +58,8 @@ Json fields(const StageEvent& e) {
 }
 
 Json fields(const RunFinishedEvent& e) {
-  return {{"event", "run_finished"}, {"reason", e.target_solved ? "target solved" : "budget spent"},
+  return {{"event", "run_finished"},
+          {"reason", e.target_solved ? "target solved" : "budget spent"},
           {"es_steps", e.es_steps}};
 }
 

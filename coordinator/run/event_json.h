@@ -2,9 +2,8 @@
 // The engine's events as the run's log writes them: one JSON object per event, {"iteration": t, "event": name,
 // fields...} in a fixed field order, so equal runs write equal bytes (events.jsonl; spec §3's record).
 
-#include <vector>
-
 #include <nlohmann/json.hpp>
+#include <vector>
 
 #include "poet/iteration_report.h"
 #include "poet/run_event.h"

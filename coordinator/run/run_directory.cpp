@@ -111,7 +111,8 @@ std::vector<std::string> earlier_run_files(const fs::path& dir) {
   if (!ec && stats > pair_stats_header().size())
     found.push_back(std::string(kStatsFile) + " (" + std::to_string(stats) + " bytes)");
   for (const char* sub : {kEnvsDir, kPoliciesDir})
-    if (const size_t n = files_in(dir / sub); n > 0) found.push_back(std::string(sub) + "/ (" + std::to_string(n) + " files)");
+    if (const size_t n = files_in(dir / sub); n > 0)
+      found.push_back(std::string(sub) + "/ (" + std::to_string(n) + " files)");
   return found;
 }
 
@@ -156,9 +157,11 @@ std::string pair_stats_header() {
 std::string pair_stats_row(const PairStatsRow& row) {
   std::string line = std::to_string(row.iteration) + "," + std::to_string(row.pair) + "," + csv_field(row.env);
   line += "," + number_text(row.score) + "," + (row.finished ? "true" : "false") + "," + std::to_string(row.eval_steps);
-  line += "," + number_text(row.best_score) + "," + (row.solved ? "true" : "false") + "," + std::to_string(row.es_steps);
+  line +=
+      "," + number_text(row.best_score) + "," + (row.solved ? "true" : "false") + "," + std::to_string(row.es_steps);
   line += "," + number_text(row.lr) + "," + number_text(row.sigma) + "," + number_text(row.perturbation_mean);
-  line += "," + number_text(row.perturbation_max) + "," + number_text(row.grad_norm) + "," + number_text(row.theta_norm);
+  line +=
+      "," + number_text(row.perturbation_max) + "," + number_text(row.grad_norm) + "," + number_text(row.theta_norm);
   line += "," + std::to_string(row.run_rollouts) + "," + std::to_string(row.run_env_steps) + "\n";
   return line;
 }
@@ -215,7 +218,8 @@ Expected<RunDirectory> RunDirectory::create(const fs::path& dir, const pb::RunCo
   if (has_checkpoint) return Unexpected{dir.string() + " already holds a run; resume it or choose another directory"};
   if (const std::vector<std::string> earlier = earlier_run_files(dir); !earlier.empty())
     return Unexpected{dir.string() + " holds files of an earlier run but no " + kCheckpointFile + ": " +
-                      joined(earlier) + ". Without its checkpoint that run cannot be resumed, and a new run here "
+                      joined(earlier) +
+                      ". Without its checkpoint that run cannot be resumed, and a new run here "
                       "would overwrite them: move them away (or remove them) to start a new run in this directory, "
                       "or choose another one"};
   for (const char* sub : {kEnvsDir, kPoliciesDir}) {

@@ -15,11 +15,11 @@
 // the logs hold exactly the iterations the restored state has seen and a resumed run writes the same bytes as an
 // uninterrupted one, and refuses logs whose bytes differ from those the checkpoint has seen. The logs are the
 // run's history and cannot be rebuilt (only recomputed, by running the config again); config.textproto, envs/ and
-// policies/ are derived from the checkpoint and resume writes them again when they are missing or differ. The pair files are written after the checkpoint, so they never run ahead of it (a failure
-// or crash between the two leaves them behind), and resume brings them up to the checkpoint's state.
-// Errors come back as messages naming the file; nothing throws except std::bad_alloc.
-// Not thread-safe: one owner (the coordinator's main loop), and one RunDirectory per directory across processes
-// (the lock).
+// policies/ are derived from the checkpoint and resume writes them again when they are missing or differ. The pair
+// files are written after the checkpoint, so they never run ahead of it (a failure or crash between the two leaves them
+// behind), and resume brings them up to the checkpoint's state. Errors come back as messages naming the file; nothing
+// throws except std::bad_alloc. Not thread-safe: one owner (the coordinator's main loop), and one RunDirectory per
+// directory across processes (the lock).
 
 #include <cstdint>
 #include <filesystem>

@@ -62,7 +62,7 @@ struct PublishedRun {
 };
 
 struct BoardView {
-  std::shared_ptr<const PublishedRun> run;            // null before the first publish_run
+  std::shared_ptr<const PublishedRun> run;           // null before the first publish_run
   std::shared_ptr<const DispatchSnapshot> dispatch;  // null without a dispatcher
   double dispatch_age_s = 0;                         // since the dispatcher's snapshot was published
   RunPhase phase = RunPhase::kStarting;

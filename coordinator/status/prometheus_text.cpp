@@ -87,8 +87,8 @@ std::string prometheus_text(const BoardView& v) {
        dispatch.verified_jobs},
       {"poet_unverified_jobs_total", "counter",
        "Jobs chosen for verification that no other worker was connected to check.", dispatch.unverified_jobs},
-      {"poet_wrong_workers_total", "counter",
-       "Workers refused because their results differed from two other workers'.", dispatch.wrong_workers},
+      {"poet_wrong_workers_total", "counter", "Workers refused because their results differed from two other workers'.",
+       dispatch.wrong_workers},
   };
   for (const Series& one : series) {
     family(one.name, one.type, one.help);

@@ -1,8 +1,10 @@
 #include "status/run_picture_cache.h"
 
+#include <array>
 #include <cmath>
 #include <nlohmann/json.hpp>
 
+#include "enum_names.h"
 #include "report/pair_episode.h"
 #include "report/run_pictures.h"
 #include "run/run_directory.h"
@@ -17,15 +19,8 @@ constexpr int kEpisodeEvery = 2;    // a pose every 2 steps: 25 per simulated se
 double rounded(double v) { return std::round(v * 1000.0) / 1000.0; }
 
 const char* box_kind(ObstacleKind kind) {
-  switch (kind) {
-    case ObstacleKind::kPitWall:
-      return "pit";
-    case ObstacleKind::kStump:
-      return "stump";
-    case ObstacleKind::kStair:
-      return "stair";
-  }
-  return "?";
+  static constexpr std::array<std::string_view, 3> kNames = {"pit", "stump", "stair"};
+  return enum_name(kind, kNames, "?").data();
 }
 
 }  // namespace

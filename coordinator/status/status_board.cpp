@@ -1,8 +1,10 @@
 #include "status/status_board.h"
 
 #include <algorithm>
+#include <array>
 #include <utility>
 
+#include "enum_names.h"
 #include "envgen/env_distance.h"
 #include "poet/engine.h"
 #include "run/run_directory.h"
@@ -28,19 +30,9 @@ double seconds_between(SteadyTime from, SteadyTime to) { return std::chrono::dur
 }  // namespace
 
 std::string_view to_string(RunPhase phase) {
-  switch (phase) {
-    case RunPhase::kStarting:
-      return "starting";
-    case RunPhase::kRunning:
-      return "running";
-    case RunPhase::kWaitingForWorkers:
-      return "waiting_for_workers";
-    case RunPhase::kStopping:
-      return "stopping";
-    case RunPhase::kFinished:
-      return "finished";
-  }
-  return "unknown";
+  static constexpr std::array<std::string_view, 5> kNames = {"starting", "running", "waiting_for_workers", "stopping",
+                                                             "finished"};
+  return enum_name(phase, kNames, "unknown");
 }
 
 StatusBoard::StatusBoard(std::filesystem::path run_dir, Clock clock)
@@ -168,7 +160,8 @@ status::Archive StatusBoard::archive() const { return archive_message(view()); }
 status::WorkerList StatusBoard::workers() const { return worker_list(view()); }
 
 Expected<status::EventList> StatusBoard::events(int64_t since, int64_t limit) const {
-  return event_list(run_dir_ / kEventsFile, std::max<int64_t>(since, 0), std::clamp<int64_t>(limit, 1, kMaxEventsPerPage));
+  return event_list(run_dir_ / kEventsFile, std::max<int64_t>(since, 0),
+                    std::clamp<int64_t>(limit, 1, kMaxEventsPerPage));
 }
 
 std::string StatusBoard::metrics_text() const { return prometheus_text(view()); }

@@ -20,9 +20,9 @@
 #include <string>
 
 #include "expected.h"
+#include "status/status_board.h"
 #include "status_client/host_port.h"
 #include "status_client/status_defaults.h"
-#include "status/status_board.h"
 
 namespace poet {
 

@@ -18,7 +18,7 @@ namespace {
 // formatting
 
 // A value as people read it in a table: whole numbers written out in full, others as number_text writes them.
-std::string number(double value) {
+std::string table_number(double value) {
   if (!std::isfinite(value)) return value > 0 ? "inf" : value < 0 ? "-inf" : "nan";
   if (value == std::floor(value) && std::abs(value) < 1e15) return std::to_string(static_cast<long long>(value));
   return poet::number_text(value);
@@ -88,7 +88,7 @@ std::string value_text(const google::protobuf::Value& value) {
     case google::protobuf::Value::kStringValue:
       return value.string_value();
     case google::protobuf::Value::kNumberValue:
-      return number(value.number_value());
+      return table_number(value.number_value());
     case google::protobuf::Value::kBoolValue:
       return value.bool_value() ? "true" : "false";
     case google::protobuf::Value::kNullValue:
@@ -100,7 +100,6 @@ std::string value_text(const google::protobuf::Value& value) {
     }
   }
 }
-
 
 }  // namespace
 
@@ -190,7 +189,9 @@ void print_pair(const status::PairDetail& d) {
 }
 
 namespace {
-std::string interval(const poet::pb::Interval& i) { return "[" + number(i.lo()) + ", " + number(i.hi()) + "]"; }
+std::string interval(const poet::pb::Interval& i) {
+  return "[" + table_number(i.lo()) + ", " + table_number(i.hi()) + "]";
+}
 }  // namespace
 
 void print_archive(const status::Archive& archive) {
@@ -198,7 +199,7 @@ void print_archive(const status::Archive& archive) {
   for (const status::ArchiveEntry& e : archive.pairs()) {
     const auto& enc = e.encoding();
     table.add({std::to_string(e.id()), e.env(), std::to_string(e.seed()), e.active() ? "active" : "retired",
-               number(enc.roughness()), enc.has_pit_gap() ? interval(enc.pit_gap()) : "-",
+               table_number(enc.roughness()), enc.has_pit_gap() ? interval(enc.pit_gap()) : "-",
                enc.has_stump_height() ? interval(enc.stump_height()) : "-",
                enc.has_stair_height() ? interval(enc.stair_height()) : "-"});
   }
@@ -218,7 +219,8 @@ void print_workers(const status::WorkerList& list) {
 }
 
 void print_events(const status::EventList& list) {
-  for (const google::protobuf::Struct& event : list.events()) std::printf("%s\n", describe_event(event_view(event)).c_str());
+  for (const google::protobuf::Struct& event : list.events())
+    std::printf("%s\n", describe_event(event_view(event)).c_str());
   if (list.more())
     std::printf("(more: poetctl events --since %lld)\n", static_cast<long long>(list.next()));
   else

@@ -12,8 +12,8 @@
 
 #include "config/run_config.h"
 #include "envgen/env_proto.h"
-#include "run/checkpoint.h"
 #include "poet/lineage.h"
+#include "run/checkpoint.h"
 #include "run/run_directory.h"
 #include "tool_flags.h"
 

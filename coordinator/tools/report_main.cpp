@@ -26,21 +26,6 @@ namespace poet {
 namespace {
 namespace fs = std::filesystem;
 
-// The mode in words, for people.
-const char* mode_label(RunMode mode) {
-  switch (mode) {
-    case RunMode::kPoet:
-      return "POET";
-    case RunMode::kPoetWithoutTransfer:
-      return "POET without transfer";
-    case RunMode::kEsAlone:
-      return "ES alone";
-    case RunMode::kDirectPath:
-      return "direct-path curriculum";
-  }
-  return "?";
-}
-
 std::string level_name(size_t level) { return std::string(to_string(static_cast<Difficulty>(level))); }
 
 nlohmann::ordered_json milestone_json(const std::optional<Milestone>& m) {
@@ -103,8 +88,8 @@ void print_goal_switching(const RunSnapshot& run, const RunMetrics& m) {
               beyond_easy ? "each environment solved at challenging or above" : "the deepest solved environment");
   for (int id : ids) {
     const std::vector<LineageLink> chain = lineage_chain(run, m, id);
-    const auto through = std::count_if(chain.begin(), chain.end(),
-                                       [](const LineageLink& l) { return l.solved_through_transfer; });
+    const auto through =
+        std::count_if(chain.begin(), chain.end(), [](const LineageLink& l) { return l.solved_through_transfer; });
     std::printf("  pair %d: %zu environments, %td of them solved by an agent that came through a transfer\n", id,
                 chain.size(), through);
     for (const LineageLink& l : chain) std::printf("    %s\n", describe_link(l).c_str());
@@ -123,16 +108,17 @@ nlohmann::ordered_json goal_switching_json(const RunSnapshot& run, const RunMetr
                              {"source", t.source},
                              {"proposal", t.proposal},
                              {"gain", t.score - t.previous_score}});
-      chain.push_back({{"pair", l.pair},
-                       {"env", l.env},
-                       {"level", level_name(static_cast<size_t>(l.level))},
-                       {"created", l.created},
-                       {"first_theta_from", l.first_theta_from == kNone ? nullptr : nlohmann::ordered_json(l.first_theta_from)},
-                       {"solved", l.solved == kNone ? nullptr : nlohmann::ordered_json(l.solved)},
-                       {"solved_how", to_string(l.cause)},
-                       {"solved_by", l.solved_by == kNone ? nullptr : nlohmann::ordered_json(l.solved_by)},
-                       {"solved_through_transfer", l.solved_through_transfer},
-                       {"transfers_in", std::move(transfers)}});
+      chain.push_back(
+          {{"pair", l.pair},
+           {"env", l.env},
+           {"level", level_name(static_cast<size_t>(l.level))},
+           {"created", l.created},
+           {"first_theta_from", l.first_theta_from == kNone ? nullptr : nlohmann::ordered_json(l.first_theta_from)},
+           {"solved", l.solved == kNone ? nullptr : nlohmann::ordered_json(l.solved)},
+           {"solved_how", to_string(l.cause)},
+           {"solved_by", l.solved_by == kNone ? nullptr : nlohmann::ordered_json(l.solved_by)},
+           {"solved_through_transfer", l.solved_through_transfer},
+           {"transfers_in", std::move(transfers)}});
     }
     out.push_back({{"pair", id}, {"chain", std::move(chain)}});
   }
@@ -164,7 +150,7 @@ void print_milestones(const RunSnapshot& run, const RunMetrics& m) {
   }
   if (run.wall_times.empty())
     std::printf("  (no wall times: %s)\n", run.wall_times_problem.empty() ? "the run directory has no wall_times.csv"
-                                                                           : run.wall_times_problem.c_str());
+                                                                          : run.wall_times_problem.c_str());
   else if (!run.wall_times_problem.empty())
     std::printf("  (wall times: %s)\n", run.wall_times_problem.c_str());
   std::printf("\n");
@@ -175,7 +161,7 @@ nlohmann::ordered_json to_json(const RunSnapshot& run, const RunMetrics& m, cons
   const RunState& state = run.state;
   nlohmann::ordered_json out;
   out["run_dir"] = run.dir.string();
-  out["mode"] = mode_label(state.settings.mode);
+  out["mode"] = mode_words(state.settings.mode);
   out["seed"] = state.settings.seed;
   out["iterations_done"] = m.iterations_done;
   out["iteration_limit"] = state.settings.iterations;
@@ -187,16 +173,16 @@ nlohmann::ordered_json to_json(const RunSnapshot& run, const RunMetrics& m, cons
   out["levels"] = nlohmann::ordered_json::array();
   for (size_t l = 0; l < kLevels; ++l) {
     const LevelSolveSummary& s = m.solve_summary[l];
-    out["levels"].push_back({{"level", level_name(l)},
-                             {"created", m.total.created[l]},
-                             {"passed_mc", m.total.passed_mc[l]},
-                             {"admitted", m.total.admitted[l]},
-                             {"solved", m.total.solved[l]},
-                             {"iterations_to_solve",
-                              {{"count", s.count}, {"mean", s.mean}, {"sd", s.sd}, {"min", s.min}, {"max", s.max}}},
-                             {"first_created", milestone_json(m.firsts[l].created)},
-                             {"first_admitted", milestone_json(m.firsts[l].admitted)},
-                             {"first_solved", milestone_json(m.firsts[l].solved)}});
+    out["levels"].push_back(
+        {{"level", level_name(l)},
+         {"created", m.total.created[l]},
+         {"passed_mc", m.total.passed_mc[l]},
+         {"admitted", m.total.admitted[l]},
+         {"solved", m.total.solved[l]},
+         {"iterations_to_solve", {{"count", s.count}, {"mean", s.mean}, {"sd", s.sd}, {"min", s.min}, {"max", s.max}}},
+         {"first_created", milestone_json(m.firsts[l].created)},
+         {"first_admitted", milestone_json(m.firsts[l].admitted)},
+         {"first_solved", milestone_json(m.firsts[l].solved)}});
   }
   out["mutation_attempts"] = state.counters.children_tried;
   out["duplicates"] = m.duplicates;
@@ -267,7 +253,8 @@ nlohmann::ordered_json to_json(const RunSnapshot& run, const RunMetrics& m, cons
 void print_table(const RunSnapshot& run, const RunMetrics& m, const Coverage& coverage,
                  const std::string& samples_file) {
   const RunState& state = run.state;
-  std::printf("Run %s: %s, seed %llu, %d of %d iterations done%s\n", run.dir.c_str(), mode_label(state.settings.mode),
+  std::printf("Run %s: %s, seed %llu, %d of %d iterations done%s\n", run.dir.c_str(),
+              std::string(mode_words(state.settings.mode)).c_str(),
               static_cast<unsigned long long>(state.settings.seed), m.iterations_done, state.settings.iterations,
               run.live ? " (live: reported as of its last checkpoint)" : "");
   std::printf("%lld rollouts, %.1f M environment steps\n\n", static_cast<long long>(state.counters.rollouts),

@@ -1,9 +1,12 @@
 #include "envgen/env_distance.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <stdexcept>
 #include <vector>
+
+#include "enum_names.h"
 
 namespace poet {
 
@@ -70,17 +73,9 @@ Difficulty difficulty(const EnvVector& e) {
 Difficulty difficulty(const EnvEncoding& e) { return difficulty(env_vector(e)); }
 
 std::string_view to_string(Difficulty d) {
-  switch (d) {
-    case Difficulty::kEasy:
-      return "easy";
-    case Difficulty::kChallenging:
-      return "challenging";
-    case Difficulty::kVeryChallenging:
-      return "very challenging";
-    case Difficulty::kExtremelyChallenging:
-      return "extremely challenging";
-  }
-  return "unknown";
+  static constexpr std::array<std::string_view, 4> kNames = {"easy", "challenging", "very challenging",
+                                                             "extremely challenging"};
+  return enum_name(d, kNames, "unknown");
 }
 
 }  // namespace poet

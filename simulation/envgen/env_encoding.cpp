@@ -14,8 +14,7 @@ bool EnvEncoding::same_genes(const EnvEncoding& o) const {
 
 namespace {
 
-std::optional<std::string> check_interval(std::string_view field, const std::optional<Interval>& iv,
-                                          bool integer) {
+std::optional<std::string> check_interval(std::string_view field, const std::optional<Interval>& iv, bool integer) {
   if (!iv) return std::nullopt;
   const std::string f(field);
   if (!std::isfinite(iv->lo) || !std::isfinite(iv->hi)) return f + ": bounds must be finite numbers";
@@ -29,8 +28,8 @@ std::optional<std::string> check_interval(std::string_view field, const std::opt
   return std::nullopt;
 }
 
-std::optional<std::string> check_type(std::string_view type, std::initializer_list<std::pair<std::string_view,
-                                      const std::optional<Interval>*>> genes) {
+std::optional<std::string> check_type(
+    std::string_view type, std::initializer_list<std::pair<std::string_view, const std::optional<Interval>*>> genes) {
   int present = 0;
   for (const auto& g : genes) present += g.second->has_value() ? 1 : 0;
   if (present == 0 || present == static_cast<int>(genes.size())) return std::nullopt;
@@ -64,13 +63,13 @@ std::optional<std::string> validate(const EnvEncoding& e) {
   };
   for (const auto& [name, field] : fields)
     if (auto err = check_interval(name, *field.first, field.second)) return err;
-  if (auto err = check_type("stump", {{"stump_width", &e.stump_width},
-                                      {"stump_height", &e.stump_height},
-                                      {"stump_float", &e.stump_float}}))
+  if (auto err = check_type(
+          "stump",
+          {{"stump_width", &e.stump_width}, {"stump_height", &e.stump_height}, {"stump_float", &e.stump_float}}))
     return err;
-  if (auto err = check_type("stair", {{"stair_height", &e.stair_height},
-                                      {"stair_width", &e.stair_width},
-                                      {"stair_steps", &e.stair_steps}}))
+  if (auto err = check_type(
+          "stair",
+          {{"stair_height", &e.stair_height}, {"stair_width", &e.stair_width}, {"stair_steps", &e.stair_steps}}))
     return err;
   if (e.stump_width && e.stump_width->lo < 1) return "stump_width: a stump is at least 1 terrain step wide";
   if (e.stair_width && e.stair_width->lo < 1) return "stair_width: a stair is at least 1 terrain step wide";

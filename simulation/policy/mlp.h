@@ -3,11 +3,10 @@
 // h ← tanh(h·W + b), in double precision. Parameters are 2804 numbers in the reference's (POET/estool) layout:
 // per layer the weight matrix row-major [input][output], then the bias: W1 24×40, b1, W2 40×40, b2, W3 40×4, b3.
 
+#include <Eigen/Core>
 #include <array>
 #include <span>
 #include <vector>
-
-#include <Eigen/Core>
 
 #include "rng.h"
 

@@ -94,8 +94,7 @@ Terrain Terrain::generate(const EnvDef& def) {
                             top - box_h * ts, top});
       }
       counter = stair_steps * stair_width + 1;
-      t.features_.push_back(
-          {ObstacleKind::kStair, i, double(stair_width), stair_height, stair_steps, stair_dir});
+      t.features_.push_back({ObstacleKind::kStair, i, double(stair_width), stair_height, stair_steps, stair_dir});
     } else if (state == State::kStairs && !oneshot) {
       const int s = stair_steps * stair_width - counter;
       const int n = s / stair_width;

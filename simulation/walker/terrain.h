@@ -26,10 +26,10 @@ struct TerrainBox {
 // One obstacle as sampled (sizes in terrain steps, before any thickness clamp): for analysis and statistics.
 struct ObstacleFeature {
   ObstacleKind kind;
-  int point_index;  // terrain point where it starts
-  double width;     // pit: 1 + gap (wall to wall), stump: width, stair: width of one step
-  double height;    // pit: depth, stump: height, stair: rise of one step
-  int steps = 1;    // stairs: step count
+  int point_index;    // terrain point where it starts
+  double width;       // pit: 1 + gap (wall to wall), stump: width, stair: width of one step
+  double height;      // pit: depth, stump: height, stair: rise of one step
+  int steps = 1;      // stairs: step count
   int direction = 0;  // stairs: +1 up, -1 down
 };
 
@@ -38,7 +38,7 @@ class Terrain {
   // Draws the course for a valid definition (see validate()); throws std::invalid_argument otherwise.
   static Terrain generate(const EnvDef& def);
 
-  const std::vector<Point>& ground() const { return ground_; }  // kTerrainLength points, left to right
+  const std::vector<Point>& ground() const { return ground_; }     // kTerrainLength points, left to right
   const std::vector<TerrainBox>& boxes() const { return boxes_; }  // in generation order
   const std::vector<ObstacleFeature>& features() const { return features_; }
   // The initial push is F = push_scale · (2u − 1) with u ~ U[0, 1) drawn right after the terrain draws.

@@ -74,8 +74,8 @@ b2FixtureDef walker_fixture(const b2Shape* shape, double density, double frictio
 
 b2Vec2 vec(double x, double y) { return b2Vec2(static_cast<float>(x), static_cast<float>(y)); }
 
-b2RevoluteJoint* make_joint(b2World& world, b2Body* a, b2Body* b, double anchor_a_y, double anchor_b_y,
-                            double lower, double upper) {
+b2RevoluteJoint* make_joint(b2World& world, b2Body* a, b2Body* b, double anchor_a_y, double anchor_b_y, double lower,
+                            double upper) {
   b2RevoluteJointDef jd;
   jd.bodyA = a;
   jd.bodyB = b;

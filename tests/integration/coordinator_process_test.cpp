@@ -18,11 +18,11 @@
 #include <vector>
 
 #include "child_process.h"
-#include "scratch_dir.h"
 #include "policy/mlp.h"
 #include "policy/policy_file.h"
 #include "rng.h"
 #include "run/checkpoint_file.h"
+#include "scratch_dir.h"
 
 namespace {
 

@@ -82,8 +82,8 @@ TEST_F(ReportProcessTest, ReportsTheMetricsTableJsonAndPlotsOfAFinishedRunWithou
   EXPECT_TRUE(before == files_of(run)) << "the run directory changed";
 
   for (const char* line : {"Environments by difficulty level", "When each level was first reached",
-                           "Lineage of the deepest solved environment", "Transfers:", "ANNECS at admission:",
-                           "ANNECS at archiving:", "Coverage (seed", "Pairs"})
+                           "Lineage of the deepest solved environment",
+                           "Transfers:", "ANNECS at admission:", "ANNECS at archiving:", "Coverage (seed", "Pairs"})
     EXPECT_TRUE(contains(table, line)) << line << "\n" << table;
 
   const nlohmann::json j = nlohmann::json::parse(read(root_ / "report.json"));
@@ -152,22 +152,29 @@ TEST_F(ReportProcessTest, LineageWritesRunnableControlConfigsWithTheLineagesBudg
     ASSERT_EQ(tool(POET_LINEAGE_BIN, {"--run-dir", run.string(), "--pair", "1", flag}, &text, &err), 0) << err;
     const bool es_alone = std::string(flag) == "--es-alone-config";
     EXPECT_TRUE(contains(text, es_alone ? "mode: ES_ALONE" : "mode: DIRECT_PATH")) << text;
-    EXPECT_TRUE(contains(text, es_alone ? "iterations: " + std::to_string(budget)
-                                        : "budget_es_steps: " + std::to_string(budget)))
+    EXPECT_TRUE(contains(
+        text, es_alone ? "iterations: " + std::to_string(budget) : "budget_es_steps: " + std::to_string(budget)))
         << text;
     const fs::path config = root_ / (std::string(flag + 2) + ".textproto");
     std::ofstream(config) << text;
     const fs::path dir = root_ / flag;
     const std::string name = flag + 2;
-    std::vector<std::string> args = {"--config", config.string(), "--run-dir", dir.string(), "--start-from",
-                                     std::string(POET_SOURCE_DIR) + "/data/walkers/flat-walker.json", "--threads",
-                                     "2", "--quiet", "--status-address", ""};
+    std::vector<std::string> args = {"--config",
+                                     config.string(),
+                                     "--run-dir",
+                                     dir.string(),
+                                     "--start-from",
+                                     std::string(POET_SOURCE_DIR) + "/data/walkers/flat-walker.json",
+                                     "--threads",
+                                     "2",
+                                     "--quiet",
+                                     "--status-address",
+                                     ""};
     if (!es_alone) {  // the direct path stops by its own rule; the limit is only a bound
       args.push_back("--iterations");
       args.push_back(std::to_string(budget * 2 + 10));
     }
-    ASSERT_EQ(wait(spawn(POET_COORDINATOR_BIN, args, name)), 0)
-        << read(root_ / (name + ".err"));
+    ASSERT_EQ(wait(spawn(POET_COORDINATOR_BIN, args, name)), 0) << read(root_ / (name + ".err"));
     std::string report_json;
     ASSERT_EQ(report({"--run-dir", dir.string(), "--json", "-", "--coverage-per-level", "5"}, &report_json, &err), 0)
         << err;

@@ -118,9 +118,9 @@ TEST_F(ToolsProcessTest, RolloutDrawsTheWalkAsAGif) {
   EXPECT_EQ(bytes.compare(0, 6, "GIF89a"), 0);
   EXPECT_TRUE(contains(bytes, "NETSCAPE2.0"));  // looping
 
-  const Outcome bad = run(POET_ROLLOUT_BIN, {"--max-steps", "10", "--picture", "", "--gif",
-                                             (root_ / "no-such-dir" / "walk.gif").string()},
-                          "gif-bad");
+  const Outcome bad =
+      run(POET_ROLLOUT_BIN,
+          {"--max-steps", "10", "--picture", "", "--gif", (root_ / "no-such-dir" / "walk.gif").string()}, "gif-bad");
   EXPECT_EQ(bad.code, 1);
   EXPECT_TRUE(contains(bad.err, "no-such-dir")) << bad.err;
 }

@@ -28,8 +28,8 @@
 
 #include "build_fingerprint.h"
 #include "child_process.h"
-#include "loopback_port.h"
 #include "envgen/named_courses.h"
+#include "loopback_port.h"
 #include "policy/mlp.h"
 #include "rng.h"
 #include "rollout_task_proto.h"
@@ -264,7 +264,9 @@ class WorkerProcessTest : public ::testing::Test {
   }
 
   // Waits for a worker to end (bounded), answering heartbeats meanwhile; its exit code (128 + signal), or -1.
-  int wait_exit(pid_t pid, Millis timeout) { return children_.wait(pid, timeout, [&] { receive(5ms); }).value_or(-1); }
+  int wait_exit(pid_t pid, Millis timeout) {
+    return children_.wait(pid, timeout, [&] { receive(5ms); }).value_or(-1);
+  }
 
   // the children go first, the directory after them
   poet::testing::ScratchDir scratch_{"poet_worker_process_test"};

@@ -83,8 +83,8 @@ inline pid_t spawn_child(std::vector<std::string> args, const std::filesystem::p
   }
   posix_spawnattr_setflags(&attributes, flags);
   pid_t pid = -1;
-  const int rc = posix_spawn(&pid, argv[0], &actions, &attributes, argv.data(),
-                             options.environment ? envp.data() : environ);
+  const int rc =
+      posix_spawn(&pid, argv[0], &actions, &attributes, argv.data(), options.environment ? envp.data() : environ);
   posix_spawn_file_actions_destroy(&actions);
   posix_spawnattr_destroy(&attributes);
   if (rc != 0 && error != nullptr) *error = std::strerror(rc);
@@ -97,7 +97,8 @@ inline std::vector<std::string> environment_without(std::initializer_list<std::s
   for (char** e = environ; *e != nullptr; ++e) {
     const std::string_view entry(*e);
     bool drop = false;
-    for (std::string_view name : names) drop = drop || (entry.starts_with(name) && entry.substr(name.size()).starts_with("="));
+    for (std::string_view name : names)
+      drop = drop || (entry.starts_with(name) && entry.substr(name.size()).starts_with("="));
     if (!drop) out.emplace_back(entry);
   }
   return out;
@@ -169,8 +170,8 @@ class Children {
   }
 
   // Starts a child and waits at most `limit` for it to end; failing the test when it does not.
-  ChildOutcome run(std::vector<std::string> args, const std::filesystem::path& output,
-                   std::chrono::milliseconds limit, const ChildOptions& options = {}) {
+  ChildOutcome run(std::vector<std::string> args, const std::filesystem::path& output, std::chrono::milliseconds limit,
+                   const ChildOptions& options = {}) {
     const std::string program = args.empty() ? std::string() : args[0];
     const pid_t pid = start(std::move(args), output, options);
     if (pid < 0) return {};

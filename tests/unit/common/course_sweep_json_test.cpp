@@ -17,8 +17,8 @@ RolloutResult episode(double total_reward, int steps, bool finished, bool fell) 
 }
 
 TEST(CourseSweepJson, CarriesTheCountsAndNamesTheSeedsItFinishedOn) {
-  const CourseSweep sweep{"flat", 3, {episode(300.5, 900, true, false), episode(-100, 40, false, true),
-                                       episode(250, 1000, true, false)}};
+  const CourseSweep sweep{
+      "flat", 3, {episode(300.5, 900, true, false), episode(-100, 40, false, true), episode(250, 1000, true, false)}};
   const nlohmann::json j = to_json(sweep);
   EXPECT_EQ(j["course"], "flat");
   EXPECT_EQ(j["first_seed"], 3);

@@ -16,7 +16,7 @@ TEST(EventText, ViewIsWrittenAsIterationNameAndFieldsInOrder) {
 }
 
 TEST(EventText, JsonEventsKeepTheirFieldOrderAndWriteValuesAsJson) {
-  ordered_json event = {{"iteration", 12}, {"event", "transfer"}, {"target", 2}, {"env", "r0.4"},
+  ordered_json event = {{"iteration", 12}, {"event", "transfer"}, {"target", 2},  {"env", "r0.4"},
                         {"score", 0.5},    {"accepted", true},    {"ids", {1, 2}}};
   EXPECT_EQ(describe_event(event), "iteration 12: transfer target=2 env=r0.4 score=0.5 accepted=true ids=[1,2]");
 }

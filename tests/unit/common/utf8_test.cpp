@@ -17,21 +17,21 @@ TEST(Utf8, WellFormedTextIsAccepted) {
 
 TEST(Utf8, MalformedBytesAreRefused) {
   for (const std::string& text : {std::string("\xff"), std::string("bad \xff\xfe name"), std::string("\x80"),
-                                 std::string("\xc0\xaf"),          // overlong '/'
-                                 std::string("\xe0\x80\xaf"),      // overlong, three bytes
-                                 std::string("\xed\xa0\x80"),      // a UTF-16 surrogate
-                                 std::string("\xf4\x90\x80\x80"),  // past U+10FFFF
-                                 std::string("\xe2\x82"),          // cut short
-                                 std::string("\xe2\x28\xa1")})     // a continuation byte missing
+                                  std::string("\xc0\xaf"),          // overlong '/'
+                                  std::string("\xe0\x80\xaf"),      // overlong, three bytes
+                                  std::string("\xed\xa0\x80"),      // a UTF-16 surrogate
+                                  std::string("\xf4\x90\x80\x80"),  // past U+10FFFF
+                                  std::string("\xe2\x82"),          // cut short
+                                  std::string("\xe2\x28\xa1")})     // a continuation byte missing
     EXPECT_FALSE(is_valid_utf8(text)) << testing::PrintToString(text);
 }
 
 TEST(Utf8, ValidUtf8KeepsWellFormedTextAndMarksEachBadByte) {
   EXPECT_EQ(valid_utf8("σ = 0.05 \xf0\x9f\x9a\xb6"), "σ = 0.05 \xf0\x9f\x9a\xb6");
   EXPECT_EQ(valid_utf8("bad \xff\xfe name"), "bad ?? name");
-  EXPECT_EQ(valid_utf8("\xc0\xaf"), "??");         // overlong
-  EXPECT_EQ(valid_utf8("\xed\xa0\x80"), "???");    // a surrogate
-  EXPECT_EQ(valid_utf8("x\xe2\x82"), "x??");        // cut short
+  EXPECT_EQ(valid_utf8("\xc0\xaf"), "??");       // overlong
+  EXPECT_EQ(valid_utf8("\xed\xa0\x80"), "???");  // a surrogate
+  EXPECT_EQ(valid_utf8("x\xe2\x82"), "x??");     // cut short
   EXPECT_TRUE(is_valid_utf8(valid_utf8("\xe2\x28\xa1\xf4\x90\x80\x80")));
 }
 

@@ -23,7 +23,7 @@ TEST(Rollout, RandomPolicyOnFlatGroundNeverFinishesAndCountsEveryStep) {
     if (r.fell) {
       EXPECT_LT(r.total_reward, -50);  // the -100 of the last step is in the return
     }
-    EXPECT_LT(r.final_x, 10.0);                   // random policies never leave the start pad
+    EXPECT_LT(r.final_x, 10.0);  // random policies never leave the start pad
   }
 }
 

@@ -64,9 +64,8 @@ TEST(RunConfig, EveryPresetParsesAndValidates) {
     const Expected<pb::RunConfig> config = load_run_config(entry.path().string());
     EXPECT_TRUE(config) << config.error();
   }
-  for (const char* expected :
-       {"paper.textproto", "quick.textproto", "small.textproto", "challenging.textproto", "es_alone.textproto",
-        "direct_path.textproto", "no_transfer.textproto"})
+  for (const char* expected : {"paper.textproto", "quick.textproto", "small.textproto", "challenging.textproto",
+                               "es_alone.textproto", "direct_path.textproto", "no_transfer.textproto"})
     EXPECT_NE(std::find(names.begin(), names.end(), expected), names.end()) << expected << " missing";
 }
 
@@ -286,6 +285,7 @@ TEST(RunConfig, RunSettingsCarryEveryField) {
   const RunSettings s = run_settings(*c);
   EXPECT_EQ(s.mode, RunMode::kPoetWithoutTransfer);
   EXPECT_EQ(mode_name(s.mode), "POET_WITHOUT_TRANSFER");
+  EXPECT_EQ(mode_words(s.mode), "POET without transfer");
   EXPECT_EQ(s.seed, 99u);
   EXPECT_EQ(s.iterations, 321);
   EXPECT_EQ(s.checkpoint_interval, 4);

@@ -5,8 +5,8 @@
 
 #include "engine_test_support.h"
 #include "evaluator/local_evaluator.h"
-#include "run/checkpoint.h"
 #include "poet/engine.h"
+#include "run/checkpoint.h"
 
 namespace poet {
 namespace {

@@ -13,11 +13,11 @@
 #include "engine_test_support.h"
 #include "envgen/named_courses.h"
 #include "evaluator/local_evaluator.h"
-#include "run/checkpoint.h"
 #include "poet/engine.h"
 #include "policy/mlp.h"
 #include "rng.h"
 #include "rollout.h"
+#include "run/checkpoint.h"
 #include "run/checkpoint_file.h"
 
 namespace poet {

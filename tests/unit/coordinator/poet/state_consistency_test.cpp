@@ -11,8 +11,8 @@
 
 #include "engine_test_support.h"
 #include "envgen/env_proto.h"
-#include "run/checkpoint.h"
 #include "rng.h"
+#include "run/checkpoint.h"
 #include "run/checkpoint_file.h"
 #include "scripted_evaluator.h"
 
@@ -190,8 +190,9 @@ TEST(StateConsistency, RefusesStatesTheEngineCouldNotHaveProduced) {
   EXPECT_TRUE(contains(refusal(poet, [](pb::Checkpoint& m) { m.mutable_config()->mutable_poet()->set_active_cap(1); }),
                        "more than poet.active_cap"));
   EXPECT_TRUE(contains(refusal(poet, [](pb::Checkpoint& m) { m.set_finished(true); }), "finished: true"));
-  EXPECT_TRUE(contains(refusal(poet, [&](pb::Checkpoint& m) { *m.add_stages() = to_checkpoint(direct.config, direct.state).stages(0); }),
-                       "stages: a curriculum"));
+  EXPECT_TRUE(contains(
+      refusal(poet, [&](pb::Checkpoint& m) { *m.add_stages() = to_checkpoint(direct.config, direct.state).stages(0); }),
+      "stages: a curriculum"));
   EXPECT_TRUE(contains(refusal(poet,
                                [](pb::Checkpoint& m) {
                                  m.mutable_counters()->set_children_admitted(m.counters().children_admitted() + 1);

@@ -152,9 +152,8 @@ ScriptedEvaluator threshold_script(double direct_on_flat, double direct_on_rough
 }
 
 size_t perturbations_in(const std::vector<RolloutTask>& batch) {
-  return static_cast<size_t>(std::count_if(batch.begin(), batch.end(), [](const RolloutTask& t) {
-    return t.perturbation.has_value();
-  }));
+  return static_cast<size_t>(
+      std::count_if(batch.begin(), batch.end(), [](const RolloutTask& t) { return t.perturbation.has_value(); }));
 }
 
 // Pair 0's threshold is the best of its last five scores (130, above its latest 100): a direct 120 does not pass

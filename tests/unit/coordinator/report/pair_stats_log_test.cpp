@@ -38,9 +38,7 @@ TEST(PairStatsLog, StrictReadingGivesEveryRowOrNamesTheBadLine) {
 TEST(PairStatsLog, TheTailReadsOnWholeLinesAndSkipsRowsThatDoNotRead) {
   poet::testing::ScratchDir dir;
   const std::filesystem::path path = dir.path() / "pair_stats.csv";
-  const auto append = [&](const std::string& text) {
-    std::ofstream(path, std::ios::binary | std::ios::app) << text;
-  };
+  const auto append = [&](const std::string& text) { std::ofstream(path, std::ios::binary | std::ios::app) << text; };
   PairStatsTail tail(path);
   EXPECT_TRUE(tail.rows_of(1).empty());  // no file yet
   append(std::string(kHeader) + "3,1,x,12.5,true,20,false,7\r\n3,2,x,bad,true,20,false,7\n4,1,x,13,fal");

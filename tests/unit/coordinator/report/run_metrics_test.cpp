@@ -119,7 +119,7 @@ TEST(RunMetrics, WhenEachLevelWasFirstReached) {
   run.wall_times = {{3, 7.5}, {7, 17.5}, {11, 27.5}};
   const RunMetrics sparse = compute_run_metrics(run);
   ASSERT_TRUE(sparse.firsts[1].solved && sparse.firsts[1].solved->wall_s);
-  EXPECT_DOUBLE_EQ(*sparse.firsts[1].solved->wall_s, 27.5);  // solved at 9, saved at 11
+  EXPECT_DOUBLE_EQ(*sparse.firsts[1].solved->wall_s, 27.5);   // solved at 9, saved at 11
   EXPECT_DOUBLE_EQ(*sparse.firsts[1].created->wall_s, 17.5);  // created at 5, saved at 7
 
   run.wall_times.clear();
@@ -180,7 +180,8 @@ TEST(RunMetrics, ClosestToTargetAmongSolvedEnvironments) {
   direct.state.settings.target = EnvDef{course("hard", 3, 0, 0), 0};
   direct.state.next_iteration = 30;
   direct.state.pairs = {pair(0, course("hard", 3, 0, 0), 0, kNone, 4)};
-  direct.state.stages = {{EnvDef{course("flat", 0, 0, 0), 0}, 0, 4}, {EnvDef{course("r1.5", 1.5, 0, 0), 0}, 5, 9},
+  direct.state.stages = {{EnvDef{course("flat", 0, 0, 0), 0}, 0, 4},
+                         {EnvDef{course("r1.5", 1.5, 0, 0), 0}, 5, 9},
                          {EnvDef{course("hard", 3, 0, 0), 0}, 10, kNone}};
   const RunMetrics path = compute_run_metrics(direct);
   ASSERT_TRUE(path.closest_to_target && path.closest_to_target->distance);

@@ -8,8 +8,8 @@
 #include <string>
 
 #include "config/run_config.h"
-#include "run/checkpoint.h"
 #include "poet/engine.h"
+#include "run/checkpoint.h"
 
 namespace poet {
 namespace {

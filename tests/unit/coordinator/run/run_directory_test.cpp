@@ -119,7 +119,6 @@ std::string stats_text(const IterationReport& report) {
 // A fresh directory per test, removed afterwards even when the test fails.
 class RunDirectoryTest : public ::testing::Test {
  protected:
-
   // Creates the run and saves state; fails the test on any error.
   RunDirectory create_and_save(const RunState& state) {
     Expected<RunDirectory> dir = RunDirectory::create(dir_, small_config());

@@ -76,7 +76,6 @@ json parse(const google::protobuf::Message& message) {
 
 class StatusBoardTest : public ::testing::Test {
  protected:
-
   void write(const std::string& file, const std::string& text, bool append = false) {
     std::ofstream out(dir_ / file, std::ios::binary | (append ? std::ios::app : std::ios::trunc));
     out << text;
