@@ -16,6 +16,8 @@ build_packages=(
   libzmq3-dev cppzmq-dev libcpp-httplib-dev
   libspdlog-dev libfmt-dev
   nlohmann-json3-dev libcli11-dev libcairo2-dev libgif-dev
+  # the Python module (python/): pybind11 and Debian's Python headers; numpy at import
+  pybind11-dev python3-dev python3-numpy
 )
 
 test_packages=(
@@ -25,6 +27,8 @@ test_packages=(
   docker-compose python3-yaml curl
   # the dashboard tests: the status page in headless chromium, driven by its WebDriver (same version)
   chromium chromium-driver
+  # the Python module's tests (pytest) and examples (pandas, matplotlib)
+  python3-pytest python3-pandas python3-matplotlib
 )
 
 runtime_packages=(

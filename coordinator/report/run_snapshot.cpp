@@ -3,6 +3,7 @@
 #include <fstream>
 #include <optional>
 
+#include "config/run_config.h"
 #include "report/events_log.h"
 #include "run/checkpoint.h"
 #include "run/checkpoint_file.h"
@@ -79,6 +80,7 @@ Expected<RunSnapshot> read_run_snapshot(const fs::path& dir) {
   RunSnapshot snapshot;
   snapshot.dir = dir;
   snapshot.state = std::move(*state);
+  snapshot.config_text = run_config_text(checkpoint->config());
   snapshot.live = RunLock::held_by_another_process(dir);
 
   const fs::path events_path = dir / kEventsFile;

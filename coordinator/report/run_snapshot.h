@@ -20,6 +20,7 @@ namespace poet {
 struct RunSnapshot {
   std::filesystem::path dir;
   RunState state;
+  std::string config_text;  // the checkpoint's config in text format (what config.textproto holds)
   std::vector<nlohmann::json> events;  // events.jsonl up to the checkpoint's size, one object per line
   std::vector<StatsRow> stats;         // pair_stats.csv up to the checkpoint's size
   bool live = false;                   // another process holds run.lock: the run is being written

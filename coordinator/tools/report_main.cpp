@@ -17,6 +17,7 @@
 #include "envgen/env_json.h"
 #include "report/coverage.h"
 #include "report/goal_switching.h"
+#include "report/report_json.h"
 #include "report/report_plots.h"
 #include "report/run_metrics.h"
 #include "report/run_snapshot.h"
@@ -25,38 +26,6 @@
 namespace poet {
 namespace {
 namespace fs = std::filesystem;
-
-std::string level_name(size_t level) { return std::string(to_string(static_cast<Difficulty>(level))); }
-
-nlohmann::ordered_json milestone_json(const std::optional<Milestone>& m) {
-  if (!m) return nullptr;
-  nlohmann::ordered_json out = {{"iteration", m->iteration}};
-  out["rollouts"] = m->rollouts >= 0 ? nlohmann::ordered_json(m->rollouts) : nullptr;
-  out["env_steps"] = m->env_steps >= 0 ? nlohmann::ordered_json(m->env_steps) : nullptr;
-  out["wall_s"] = m->wall_s ? nlohmann::ordered_json(*m->wall_s) : nullptr;
-  return out;
-}
-
-// The pairs whose lineage the report shows: every solved pair at challenging or above; without one, the solved
-// pair with the most ancestors (the first such). Parents precede their children in the archive, so one pass
-// gives every pair's depth.
-std::vector<int> lineage_pairs(const RunSnapshot& run) {
-  std::vector<int> out;
-  for (const Pair& p : run.state.pairs)
-    if (p.solved() && difficulty(p.env.encoding) != Difficulty::kEasy) out.push_back(p.id);
-  if (!out.empty()) return out;
-  std::map<int, int> depth;
-  int deepest = -1;
-  for (const Pair& p : run.state.pairs) {
-    const auto parent = depth.find(p.parent_id);
-    depth[p.id] = parent == depth.end() ? 0 : parent->second + 1;
-    if (p.solved() && depth[p.id] > deepest) {
-      deepest = depth[p.id];
-      out = {p.id};
-    }
-  }
-  return out;
-}
 
 std::string describe_link(const LineageLink& l) {
   std::string text = "pair " + std::to_string(l.pair) + " " + l.env + " (" + level_name(static_cast<size_t>(l.level)) +
@@ -97,34 +66,6 @@ void print_goal_switching(const RunSnapshot& run, const RunMetrics& m) {
   std::printf("\n");
 }
 
-nlohmann::ordered_json goal_switching_json(const RunSnapshot& run, const RunMetrics& m) {
-  nlohmann::ordered_json out = nlohmann::ordered_json::array();
-  for (int id : lineage_pairs(run)) {
-    nlohmann::ordered_json chain = nlohmann::ordered_json::array();
-    for (const LineageLink& l : lineage_chain(run, m, id)) {
-      nlohmann::ordered_json transfers = nlohmann::ordered_json::array();
-      for (const AcceptedTransfer& t : l.transfers_in)
-        transfers.push_back({{"iteration", t.iteration},
-                             {"source", t.source},
-                             {"proposal", t.proposal},
-                             {"gain", t.score - t.previous_score}});
-      chain.push_back(
-          {{"pair", l.pair},
-           {"env", l.env},
-           {"level", level_name(static_cast<size_t>(l.level))},
-           {"created", l.created},
-           {"first_theta_from", l.first_theta_from == kNone ? nullptr : nlohmann::ordered_json(l.first_theta_from)},
-           {"solved", l.solved == kNone ? nullptr : nlohmann::ordered_json(l.solved)},
-           {"solved_how", to_string(l.cause)},
-           {"solved_by", l.solved_by == kNone ? nullptr : nlohmann::ordered_json(l.solved_by)},
-           {"solved_through_transfer", l.solved_through_transfer},
-           {"transfers_in", std::move(transfers)}});
-    }
-    out.push_back({{"pair", id}, {"chain", std::move(chain)}});
-  }
-  return out;
-}
-
 void print_milestones(const RunSnapshot& run, const RunMetrics& m) {
   std::printf(
       "When each level was first reached (the run's rollouts and environment steps by that iteration's ES steps; "
@@ -154,100 +95,6 @@ void print_milestones(const RunSnapshot& run, const RunMetrics& m) {
   else if (!run.wall_times_problem.empty())
     std::printf("  (wall times: %s)\n", run.wall_times_problem.c_str());
   std::printf("\n");
-}
-
-nlohmann::ordered_json to_json(const RunSnapshot& run, const RunMetrics& m, const Coverage& coverage,
-                               const std::string& samples_file) {
-  const RunState& state = run.state;
-  nlohmann::ordered_json out;
-  out["run_dir"] = run.dir.string();
-  out["mode"] = mode_words(state.settings.mode);
-  out["seed"] = state.settings.seed;
-  out["iterations_done"] = m.iterations_done;
-  out["iteration_limit"] = state.settings.iterations;
-  out["finished"] = state.finished || m.iterations_done >= state.settings.iterations;
-  out["live"] = run.live;
-  out["rollouts"] = state.counters.rollouts;
-  out["env_steps"] = state.counters.env_steps;
-  out["wall_times_problem"] = run.wall_times_problem.empty() ? nullptr : nlohmann::ordered_json(run.wall_times_problem);
-  out["levels"] = nlohmann::ordered_json::array();
-  for (size_t l = 0; l < kLevels; ++l) {
-    const LevelSolveSummary& s = m.solve_summary[l];
-    out["levels"].push_back(
-        {{"level", level_name(l)},
-         {"created", m.total.created[l]},
-         {"passed_mc", m.total.passed_mc[l]},
-         {"admitted", m.total.admitted[l]},
-         {"solved", m.total.solved[l]},
-         {"iterations_to_solve", {{"count", s.count}, {"mean", s.mean}, {"sd", s.sd}, {"min", s.min}, {"max", s.max}}},
-         {"first_created", milestone_json(m.firsts[l].created)},
-         {"first_admitted", milestone_json(m.firsts[l].admitted)},
-         {"first_solved", milestone_json(m.firsts[l].solved)}});
-  }
-  out["mutation_attempts"] = state.counters.children_tried;
-  out["duplicates"] = m.duplicates;
-  nlohmann::ordered_json over_time = nlohmann::ordered_json::array();
-  for (const LevelTimePoint& p : m.over_time)
-    over_time.push_back({{"iteration", p.iteration},
-                         {"created", p.total.created},
-                         {"passed_mc", p.total.passed_mc},
-                         {"admitted", p.total.admitted},
-                         {"solved", p.total.solved}});
-  out["over_time"] = std::move(over_time);
-  nlohmann::ordered_json solves = nlohmann::ordered_json::array();
-  for (const SolveTime& s : m.solve_times)
-    solves.push_back({{"pair", s.pair},
-                      {"level", level_name(static_cast<size_t>(s.level))},
-                      {"created", s.created},
-                      {"solved", s.solved},
-                      {"iterations", s.solved - s.created}});
-  out["solve_times"] = std::move(solves);
-  nlohmann::ordered_json accepted = nlohmann::ordered_json::array();
-  for (const AcceptedTransfer& t : m.accepted_transfers)
-    accepted.push_back({{"iteration", t.iteration},
-                        {"target", t.target},
-                        {"source", t.source},
-                        {"proposal", t.proposal},
-                        {"score", t.score},
-                        {"previous_score", t.previous_score},
-                        {"gain", t.score - t.previous_score}});
-  out["transfers"] = {{"replacement_attempts", m.transfer_attempts},
-                      {"accepted", m.transfer_successes},
-                      {"accepted_list", std::move(accepted)}};
-  out["goal_switching"] = goal_switching_json(run, m);
-  out["annecs"] = {{"at_admission", {{"value", m.annecs_at_admission}, {"definition", kAnnecsAtAdmission}}},
-                   {"at_archiving", {{"value", m.annecs_at_archiving}, {"definition", kAnnecsAtArchiving}}}};
-  nlohmann::ordered_json cov = {{"seed", coverage.seed},
-                                {"samples_per_level", coverage.per_level},
-                                {"solved_at_challenging_or_above", coverage.solved.size()}};
-  for (size_t l = 0; l < 3; ++l)
-    cov["sum"][level_name(l + 1)] = coverage.sum[l] ? nlohmann::ordered_json(*coverage.sum[l]) : nullptr;
-  if (!samples_file.empty()) cov["samples_file"] = samples_file;
-  out["coverage"] = std::move(cov);
-  if (m.closest_to_target) {
-    const TargetDistance& t = *m.closest_to_target;
-    out["closest_to_target"] = {{"target", t.target_name},
-                                {"target_vector", t.target},
-                                {"distance", t.distance ? nlohmann::ordered_json(*t.distance) : nullptr},
-                                {"closest_solved", t.closest_env}};
-  }
-  nlohmann::ordered_json pairs = nlohmann::ordered_json::array();
-  for (const Pair& p : state.pairs)
-    pairs.push_back({{"id", p.id},
-                     {"env", p.env.encoding.name},
-                     {"vector", env_vector(p.env.encoding)},
-                     {"level", level_name(static_cast<size_t>(difficulty(p.env.encoding)))},
-                     {"created", p.created_iteration},
-                     {"parent", p.parent_id},
-                     {"first_theta_from", p.initial_source_pair},
-                     {"solved", p.solved() ? nlohmann::ordered_json(p.first_solved_iteration) : nullptr},
-                     {"retired", p.active() ? nullptr : nlohmann::ordered_json(p.retired_iteration)},
-                     {"best_score", p.best_score},
-                     {"latest_score", p.latest_score},
-                     {"es_steps", p.es_steps},
-                     {"transfers_in", p.transfers.size()}});
-  out["pairs"] = std::move(pairs);
-  return out;
 }
 
 void print_table(const RunSnapshot& run, const RunMetrics& m, const Coverage& coverage,
@@ -424,7 +271,7 @@ int main(int argc, char** argv) {
     print_table(*run, metrics, coverage, samples_path);
     return 0;
   }
-  const std::string text = to_json(*run, metrics, coverage, samples_path).dump(2) + "\n";
+  const std::string text = report_json(*run, metrics, coverage, samples_path).dump(2) + "\n";
   if (json_path == "-") {
     std::cout << text;
     return 0;

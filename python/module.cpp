@@ -1,0 +1,362 @@
+// The Python module poet._poet (the package poet re-exports it): the walker as a Gymnasium-style environment,
+// policies and their evaluation. Arguments from Python are hostile input: wrong shapes, dtypes and non-finite
+// actions are ValueError, a step outside an episode is RuntimeError, unreadable files give the tools' messages.
+// The GIL is released while episodes run.
+
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "course_spec.h"
+#include "episode_env.h"
+#include "parallel_for.h"
+#include "policy/mlp.h"
+#include "policy/policy_file.h"
+#include "rollout.h"
+#include "run_view.h"
+#include "walker/walker_constants.h"
+
+namespace py = pybind11;
+
+namespace poet::python {
+namespace {
+
+using FloatArray = py::array_t<float, py::array::c_style | py::array::forcecast>;
+
+LidarRule lidar_rule(const std::string& name) {
+  if (name == "nearest") return LidarRule::kNearest;
+  if (name == "first") return LidarRule::kFirst;
+  throw std::invalid_argument("lidar must be 'nearest' or 'first', got '" + name + "'");
+}
+
+WalkerOptions walker_options(const std::string& lidar, double push_scale) {
+  if (!std::isfinite(push_scale) || push_scale < 0)
+    throw std::invalid_argument("push_scale must be a finite number >= 0");
+  WalkerOptions options;
+  options.lidar = lidar_rule(lidar);
+  options.push_scale = push_scale;
+  return options;
+}
+
+// A 1-D floating-point array of n finite values, as doubles; anything else is ValueError naming `what`.
+template <size_t N>
+std::array<double, N> finite_vector(const py::handle& value, const char* what) {
+  if (!py::isinstance<py::array>(value))
+    throw std::invalid_argument(std::string(what) + " must be a numpy array of shape (" + std::to_string(N) + ",)");
+  const py::array array = py::reinterpret_borrow<py::array>(value);
+  if (array.dtype().kind() != 'f')
+    throw std::invalid_argument(std::string(what) + " must hold floating-point numbers, got dtype " +
+                                std::string(py::str(array.dtype())));
+  if (array.ndim() != 1 || array.shape(0) != static_cast<py::ssize_t>(N))
+    throw std::invalid_argument(std::string(what) + " must have shape (" + std::to_string(N) + ",), got " +
+                                std::string(py::str(py::tuple(
+                                    py::cast(std::vector<py::ssize_t>(array.shape(), array.shape() + array.ndim()))))));
+  const auto doubles = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(array);
+  std::array<double, N> out{};
+  for (size_t i = 0; i < N; ++i) {
+    out[i] = doubles.at(static_cast<py::ssize_t>(i));
+    if (!std::isfinite(out[i]))
+      throw std::invalid_argument(std::string(what) + "[" + std::to_string(i) + "] is not finite");
+  }
+  return out;
+}
+
+// A 1-D array of n values, value(i) each: the one way results become numpy columns here.
+template <class T, class Value>
+py::array_t<T> column(size_t n, Value value) {
+  py::array_t<T> out(static_cast<py::ssize_t>(n));
+  auto view = out.template mutable_unchecked<1>();
+  for (size_t i = 0; i < n; ++i) view(static_cast<py::ssize_t>(i)) = static_cast<T>(value(i));
+  return out;
+}
+
+template <size_t N>
+FloatArray float_array(const std::array<double, N>& values) {
+  FloatArray out(static_cast<py::ssize_t>(N));
+  auto view = out.mutable_unchecked<1>();
+  for (size_t i = 0; i < N; ++i) view(static_cast<py::ssize_t>(i)) = static_cast<float>(values[i]);
+  return out;
+}
+
+py::dict episode_info(const EpisodeEnv& env, bool finished, bool fell) {
+  py::dict info;
+  info["seed"] = env.seed();
+  info["steps"] = env.steps();
+  info["x"] = env.hull_x();
+  info["finished"] = finished;
+  info["fell"] = fell;
+  return info;
+}
+
+class PyWalkerEnv {
+ public:
+  PyWalkerEnv(CourseSpec course, std::optional<int64_t> seed, const std::string& lidar, double push_scale,
+              int max_steps)
+      : env_(std::move(course), seed ? std::optional(checked_seed(*seed)) : std::nullopt,
+             walker_options(lidar, push_scale), max_steps) {}
+
+  py::tuple reset(std::optional<int64_t> seed, const py::object& options) {
+    if (!options.is_none() && !py::isinstance<py::dict>(options))
+      throw std::invalid_argument("options must be a dict or None");
+    const Observation& obs = env_.reset(seed ? std::optional(checked_seed(*seed)) : std::nullopt);
+    return py::make_tuple(float_array(obs), episode_info(env_, false, false));
+  }
+
+  py::tuple step(const py::handle& action) {
+    const Action a = finite_vector<kActDim>(action, "action");
+    const EpisodeStep s = env_.step(a);
+    return py::make_tuple(float_array(env_.observation()), s.reward, s.terminated, s.truncated,
+                          episode_info(env_, s.finished, s.fell));
+  }
+
+  const EpisodeEnv& episode() const { return env_; }
+
+ private:
+  EpisodeEnv env_;
+};
+
+class PyPolicy {
+ public:
+  explicit PyPolicy(PolicyFile file) : file_(std::move(file)), mlp_(file_.params) {}
+
+  static PyPolicy load(const std::string& path) {
+    Expected<PolicyFile> file = load_policy(path);
+    if (!file) throw std::invalid_argument(file.error());
+    return PyPolicy(std::move(*file));
+  }
+
+  FloatArray act(const py::handle& obs) const {
+    const Observation o = finite_vector<kObsDim>(obs, "obs");
+    return float_array(mlp_.act(o));
+  }
+
+  py::array_t<double> params() const { return py::array_t<double>(file_.params.size(), file_.params.data()); }
+  std::optional<double> score() const { return file_.score; }
+  const Mlp& mlp() const { return mlp_; }
+
+ private:
+  PolicyFile file_;
+  Mlp mlp_;
+};
+
+// num_envs walkers stepped together on C++ threads. Gymnasium's next-step autoreset: the step after an episode
+// ends resets that walker (its action ignored) and reports the first observation with reward 0, neither
+// terminated nor truncated. Walker i runs courses[i % len(courses)].
+class PyVectorWalkerEnv {
+ public:
+  PyVectorWalkerEnv(const std::vector<CourseSpec>& courses, int num_envs, int threads, const std::string& lidar,
+                    double push_scale, int max_steps)
+      : threads_(threads) {
+    if (courses.empty()) throw std::invalid_argument("courses must name at least one course");
+    if (num_envs < 1) throw std::invalid_argument("num_envs must be at least 1, got " + std::to_string(num_envs));
+    if (threads < 1) throw std::invalid_argument("threads must be at least 1, got " + std::to_string(threads));
+    const WalkerOptions options = walker_options(lidar, push_scale);
+    for (int i = 0; i < num_envs; ++i)
+      envs_.emplace_back(courses[static_cast<size_t>(i) % courses.size()], std::nullopt, options, max_steps);
+    ended_.assign(envs_.size(), 0);
+  }
+
+  // seed: walker i gets seed + i; without one, each keeps its course's seed.
+  py::tuple reset(std::optional<int64_t> seed, const py::object& options) {
+    if (!options.is_none() && !py::isinstance<py::dict>(options))
+      throw std::invalid_argument("options must be a dict or None");
+    std::vector<std::optional<uint32_t>> seeds(envs_.size());
+    if (seed)
+      for (size_t i = 0; i < envs_.size(); ++i) seeds[i] = checked_seed(*seed + static_cast<int64_t>(i));
+    {
+      py::gil_scoped_release release;
+      parallel_for(size(), threads_,
+                   [&](int i) { envs_[static_cast<size_t>(i)].reset(seeds[static_cast<size_t>(i)]); });
+    }
+    ended_.assign(envs_.size(), 0);
+    started_ = true;
+    std::vector<EpisodeStep> none(envs_.size());
+    return py::make_tuple(observations(), infos(none));
+  }
+
+  py::tuple step(const py::handle& actions) {
+    if (!started_) throw std::logic_error("step() before reset(): call reset() first");
+    const std::vector<Action> a = action_rows(actions);
+    std::vector<EpisodeStep> steps(envs_.size());
+    {
+      py::gil_scoped_release release;
+      parallel_for(size(), threads_, [&](int k) {
+        const auto i = static_cast<size_t>(k);
+        if (ended_[i]) {
+          envs_[i].reset();
+          ended_[i] = 0;
+          return;
+        }
+        steps[i] = envs_[i].step(a[i]);
+        ended_[i] = steps[i].terminated || steps[i].truncated ? 1 : 0;
+      });
+    }
+    return py::make_tuple(observations(), column<double>(steps.size(), [&](size_t i) { return steps[i].reward; }),
+                          column<bool>(steps.size(), [&](size_t i) { return steps[i].terminated; }),
+                          column<bool>(steps.size(), [&](size_t i) { return steps[i].truncated; }), infos(steps));
+  }
+
+  int size() const { return static_cast<int>(envs_.size()); }
+
+ private:
+  // (num_envs, 4) floating-point finite actions; anything else is ValueError.
+  std::vector<Action> action_rows(const py::handle& value) const {
+    const std::string shape = "(" + std::to_string(envs_.size()) + ", " + std::to_string(kActDim) + ")";
+    if (!py::isinstance<py::array>(value))
+      throw std::invalid_argument("actions must be a numpy array of shape " + shape);
+    const py::array array = py::reinterpret_borrow<py::array>(value);
+    if (array.dtype().kind() != 'f')
+      throw std::invalid_argument("actions must hold floating-point numbers, got dtype " +
+                                  std::string(py::str(array.dtype())));
+    if (array.ndim() != 2 || array.shape(0) != static_cast<py::ssize_t>(envs_.size()) || array.shape(1) != kActDim)
+      throw std::invalid_argument("actions must have shape " + shape);
+    const auto doubles = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(array);
+    const auto view = doubles.unchecked<2>();
+    std::vector<Action> rows(envs_.size());
+    for (size_t i = 0; i < rows.size(); ++i)
+      for (size_t j = 0; j < kActDim; ++j) {
+        rows[i][j] = view(static_cast<py::ssize_t>(i), static_cast<py::ssize_t>(j));
+        if (!std::isfinite(rows[i][j]))
+          throw std::invalid_argument("actions[" + std::to_string(i) + ", " + std::to_string(j) + "] is not finite");
+      }
+    return rows;
+  }
+
+  py::array_t<float> observations() const {
+    py::array_t<float> out({static_cast<py::ssize_t>(envs_.size()), static_cast<py::ssize_t>(kObsDim)});
+    auto view = out.mutable_unchecked<2>();
+    for (size_t i = 0; i < envs_.size(); ++i)
+      for (size_t j = 0; j < kObsDim; ++j)
+        view(static_cast<py::ssize_t>(i), static_cast<py::ssize_t>(j)) = static_cast<float>(envs_[i].observation()[j]);
+    return out;
+  }
+
+  py::dict infos(const std::vector<EpisodeStep>& steps) const {
+    const size_t n = envs_.size();
+    py::dict info;
+    info["seed"] = column<int64_t>(n, [&](size_t i) { return envs_[i].seed(); });
+    info["steps"] = column<int64_t>(n, [&](size_t i) { return envs_[i].steps(); });
+    info["finished"] = column<bool>(n, [&](size_t i) { return steps[i].finished; });
+    info["fell"] = column<bool>(n, [&](size_t i) { return steps[i].fell; });
+    return info;
+  }
+
+  std::vector<EpisodeEnv> envs_;
+  std::vector<char> ended_;  // ended at the last step: reset at the next (char: set from several threads)
+  int threads_ = 1;
+  bool started_ = false;
+};
+
+py::dict evaluate(const PyPolicy& policy, const CourseSpec& course, const std::vector<int64_t>& seeds, int threads,
+                  const std::string& lidar, double push_scale, int max_steps) {
+  if (threads < 1) throw std::invalid_argument("threads must be at least 1, got " + std::to_string(threads));
+  if (max_steps < 1) throw std::invalid_argument("max_steps must be at least 1, got " + std::to_string(max_steps));
+  const WalkerOptions options = walker_options(lidar, push_scale);
+  std::vector<uint32_t> terrain_seeds;
+  for (int64_t s : seeds) terrain_seeds.push_back(checked_seed(s));
+  std::vector<RolloutResult> episodes(terrain_seeds.size());
+  {
+    py::gil_scoped_release release;
+    parallel_for(static_cast<int>(episodes.size()), threads, [&](int i) {
+      const Terrain terrain = Terrain::generate({course.encoding, terrain_seeds[static_cast<size_t>(i)]});
+      episodes[static_cast<size_t>(i)] = rollout(policy.mlp(), terrain, options, {.max_steps = max_steps});
+    });
+  }
+  const size_t n = episodes.size();
+  py::dict out;
+  out["return"] = column<double>(n, [&](size_t i) { return episodes[i].total_reward; });
+  out["steps"] = column<int64_t>(n, [&](size_t i) { return episodes[i].steps; });
+  out["finished"] = column<bool>(n, [&](size_t i) { return episodes[i].finished; });
+  out["fell"] = column<bool>(n, [&](size_t i) { return episodes[i].fell; });
+  return out;
+}
+
+}  // namespace
+}  // namespace poet::python
+
+PYBIND11_MODULE(_poet, m) {
+  using namespace poet;
+  using namespace poet::python;
+  m.doc() = "poet's C++ core: the POET bipedal walker, policies and their evaluation";
+  py::register_exception_translator([](std::exception_ptr p) {
+    try {
+      if (p) std::rethrow_exception(p);
+    } catch (const std::logic_error& e) {
+      if (dynamic_cast<const std::invalid_argument*>(&e)) {
+        PyErr_SetString(PyExc_ValueError, e.what());
+      } else {
+        PyErr_SetString(PyExc_RuntimeError, e.what());
+      }
+    }
+  });
+
+  py::class_<CourseSpec>(m, "_Course", "A course resolved from a name, an environment file or JSON text.");
+  m.def("_course_from_name_or_file", &course_from_name_or_file, py::arg("course"));
+  m.def("_course_from_json_text", &course_from_json_text, py::arg("text"));
+
+  py::class_<PyWalkerEnv>(m, "_WalkerEnv")
+      .def(py::init<CourseSpec, std::optional<int64_t>, const std::string&, double, int>(), py::arg("course"),
+           py::arg("seed"), py::arg("lidar"), py::arg("push_scale"), py::arg("max_steps"))
+      .def("reset", &PyWalkerEnv::reset, py::arg("seed") = py::none(), py::arg("options") = py::none())
+      .def("step", &PyWalkerEnv::step, py::arg("action"))
+      .def_property_readonly("seed", [](const PyWalkerEnv& e) { return e.episode().seed(); })
+      .def_property_readonly("max_steps", [](const PyWalkerEnv& e) { return e.episode().max_steps(); });
+
+  py::class_<PyPolicy>(m, "Policy", "A 24→40→40→4 tanh network, the project's policy (and the reference's files).")
+      .def_static("load", &PyPolicy::load, py::arg("path"),
+                  "Reads a policy file ([[p0 ... p2803], score] or [[p...]]); ValueError with the reason if it "
+                  "cannot.")
+      .def("act", &PyPolicy::act, py::arg("obs"),
+           "The action (float32, shape (4,), each in [-1, 1]) for one observation (shape (24,)).")
+      .def_property_readonly("params", &PyPolicy::params, "The 2804 parameters, float64.")
+      .def_property_readonly("score", &PyPolicy::score, "The score recorded in the file, or None.");
+
+  py::class_<PyVectorWalkerEnv>(m, "_VectorWalkerEnv")
+      .def(py::init<const std::vector<CourseSpec>&, int, int, const std::string&, double, int>(), py::arg("courses"),
+           py::arg("num_envs"), py::arg("threads"), py::arg("lidar"), py::arg("push_scale"), py::arg("max_steps"))
+      .def("reset", &PyVectorWalkerEnv::reset, py::arg("seed") = py::none(), py::arg("options") = py::none())
+      .def("step", &PyVectorWalkerEnv::step, py::arg("actions"))
+      .def_property_readonly("num_envs", &PyVectorWalkerEnv::size);
+
+  m.def("_evaluate", &evaluate, py::arg("policy"), py::arg("course"), py::arg("seeds"), py::arg("threads"),
+        py::arg("lidar"), py::arg("push_scale"), py::arg("max_steps"));
+
+  m.def(
+      "_read_run",
+      [](const std::string& dir) {
+        RunView view;
+        {
+          py::gil_scoped_release release;
+          view = read_run_view(dir);
+        }
+        py::list pairs;
+        for (const PairView& p : view.pairs) {
+          py::dict pair;
+          pair["id"] = p.id;
+          pair["env"] = p.env_json;
+          pair["theta"] = py::array_t<double>(static_cast<py::ssize_t>(p.theta.size()), p.theta.data());
+          pair["best_theta"] = py::array_t<double>(static_cast<py::ssize_t>(p.best_theta.size()), p.best_theta.data());
+          pairs.append(pair);
+        }
+        py::dict out;
+        out["report"] = view.report_json;
+        out["events"] = view.events_json;
+        out["config"] = view.config_text;
+        out["next_iteration"] = view.next_iteration;
+        out["live"] = view.live;
+        out["pairs"] = pairs;
+        return out;
+      },
+      py::arg("dir"));
+
+  m.attr("OBS_DIM") = static_cast<int>(kObsDim);
+  m.attr("ACT_DIM") = static_cast<int>(kActDim);
+  m.attr("DEFAULT_PUSH_SCALE") = walker::kDefaultPushScale;
+  m.attr("DEFAULT_MAX_STEPS") = walker::kDefaultTimeLimit;
+}

@@ -1,0 +1,236 @@
+"""poet: the POET bipedal walker and its courses from Python.
+
+WalkerEnv follows Gymnasium's API (reset/step, terminated and truncated) without depending on gymnasium;
+Policy and evaluate give the numbers poet-eval prints. The C++ core is poet._poet.
+"""
+
+import json
+import os
+
+import numpy as np
+
+from . import _poet
+from ._poet import ACT_DIM, DEFAULT_MAX_STEPS, DEFAULT_PUSH_SCALE, OBS_DIM, Policy
+
+__all__ = ["WalkerEnv", "VectorWalkerEnv", "Policy", "evaluate", "Run", "as_gymnasium", "OBS_DIM", "ACT_DIM"]
+
+
+def _course(course):
+    """A named course, an environment file (path) or a dict in the environment file's schema."""
+    if isinstance(course, dict):
+        try:
+            text = json.dumps(course, allow_nan=False)
+        except (TypeError, ValueError) as error:
+            raise ValueError(f"course: not an environment definition ({error})") from None
+        return _poet._course_from_json_text(text)
+    if isinstance(course, (str, os.PathLike)):
+        return _poet._course_from_name_or_file(os.fspath(course))
+    raise TypeError(
+        "course must be a course name, an environment file's path or a dict "
+        f"{{'config': {{...}}, 'seed': s}}, got {type(course).__name__}"
+    )
+
+
+def _whole(value, name):
+    if isinstance(value, bool) or not isinstance(value, (int, np.integer)):
+        raise TypeError(f"{name} must be an integer, got {type(value).__name__}")
+    return int(value)
+
+
+def _number(value, name):
+    if isinstance(value, bool) or not isinstance(value, (int, float, np.floating, np.integer)):
+        raise TypeError(f"{name} must be a number, got {type(value).__name__}")
+    return float(value)
+
+
+class _Episodes:
+    """reset and step of an environment of the C++ core (self._env), with the seed's type checked."""
+
+    def reset(self, *, seed=None, options=None):
+        if seed is not None:
+            seed = _whole(seed, "seed")
+        return self._env.reset(seed, options)
+
+    def step(self, action):
+        return self._env.step(action)
+
+
+class WalkerEnv(_Episodes):
+    """The bipedal walker on one course, with Gymnasium's conventions.
+
+    reset(seed=None, options=None) -> (obs, info); step(action) -> (obs, reward, terminated, truncated, info).
+    obs is float32 of shape (24,), action float32 of shape (4,). terminated: the walker fell or crossed the
+    finish line; truncated: max_steps steps were taken. A seed picks the course's terrain (and initial push); it
+    stays for later episodes until another is given. info holds seed, steps, x (the hull's position), finished
+    and fell.
+    """
+
+    metadata = {"render_modes": []}
+    observation_low = np.full(OBS_DIM, -np.inf, dtype=np.float32)
+    observation_high = np.full(OBS_DIM, np.inf, dtype=np.float32)
+    action_low = np.full(ACT_DIM, -1.0, dtype=np.float32)
+    action_high = np.full(ACT_DIM, 1.0, dtype=np.float32)
+
+    def __init__(self, course, *, seed=None, lidar="nearest", push_scale=DEFAULT_PUSH_SCALE,
+                 max_steps=DEFAULT_MAX_STEPS):
+        if seed is not None:
+            seed = _whole(seed, "seed")
+        if not isinstance(lidar, str):
+            raise TypeError(f"lidar must be 'nearest' or 'first', got {type(lidar).__name__}")
+        self._env = _poet._WalkerEnv(_course(course), seed, lidar, _number(push_scale, "push_scale"),
+                                     _whole(max_steps, "max_steps"))
+
+    @property
+    def seed(self):
+        """The terrain seed of the current (or next) episode."""
+        return self._env.seed
+
+    @property
+    def max_steps(self):
+        return self._env.max_steps
+
+
+def evaluate(policy, course, seeds, *, threads=1, lidar="nearest", push_scale=DEFAULT_PUSH_SCALE,
+             max_steps=DEFAULT_MAX_STEPS):
+    """The policy's episodes on the course, one per terrain seed, on `threads` threads.
+
+    Returns a dict of numpy arrays in the seeds' order: "return" (float64), "steps" (int64), "finished" and
+    "fell" (bool) — the numbers poet-eval prints, bit for bit. The result does not depend on `threads`.
+    """
+    if not isinstance(policy, Policy):
+        raise TypeError(f"policy must be a poet.Policy, got {type(policy).__name__}")
+    seeds = [_whole(s, "each seed") for s in seeds]
+    return _poet._evaluate(policy, _course(course), seeds, _whole(threads, "threads"), lidar,
+                           _number(push_scale, "push_scale"), _whole(max_steps, "max_steps"))
+
+
+def as_gymnasium(env):
+    """A gymnasium.Env around a WalkerEnv, for a user who has gymnasium (this package does not depend on it):
+    observation_space and action_space are Boxes of the env's bounds, reset and step are the env's."""
+    import gymnasium  # imported here: only this function needs it
+
+    if not isinstance(env, WalkerEnv):
+        raise TypeError(f"env must be a poet.WalkerEnv, got {type(env).__name__}")
+
+    class GymnasiumWalker(gymnasium.Env):
+        metadata = WalkerEnv.metadata
+
+        def __init__(self):
+            self.observation_space = gymnasium.spaces.Box(env.observation_low, env.observation_high, dtype=np.float32)
+            self.action_space = gymnasium.spaces.Box(env.action_low, env.action_high, dtype=np.float32)
+            self.walker = env
+
+        def reset(self, *, seed=None, options=None):
+            return env.reset(seed=seed, options=options)
+
+        def step(self, action):
+            return env.step(np.asarray(action, dtype=np.float32))
+
+    return GymnasiumWalker()
+
+
+class VectorWalkerEnv(_Episodes):
+    """num_envs walkers stepped together on `threads` C++ threads (the GIL released), batched numpy in and out.
+
+    reset(seed=None) -> (obs (num_envs, 24) float32, info); step(actions (num_envs, 4)) -> (obs, rewards,
+    terminated, truncated, info), each an array of num_envs. Walker i runs courses[i % len(courses)]; a seed gives
+    walker i seed + i. Gymnasium's next-step autoreset: the step after a walker's episode ends resets it (its action
+    is ignored) and reports its first observation with reward 0, neither terminated nor truncated. info holds
+    arrays seed, steps, finished and fell.
+    """
+
+    def __init__(self, courses, num_envs, *, threads=1, lidar="nearest", push_scale=DEFAULT_PUSH_SCALE,
+                 max_steps=DEFAULT_MAX_STEPS):
+        if isinstance(courses, (str, dict, os.PathLike)):
+            courses = [courses]
+        courses = [_course(c) for c in courses]
+        self._env = _poet._VectorWalkerEnv(courses, _whole(num_envs, "num_envs"), _whole(threads, "threads"),
+                                           lidar, _number(push_scale, "push_scale"), _whole(max_steps, "max_steps"))
+        self.single_observation_low = WalkerEnv.observation_low
+        self.single_observation_high = WalkerEnv.observation_high
+        self.single_action_low = WalkerEnv.action_low
+        self.single_action_high = WalkerEnv.action_high
+
+    @property
+    def num_envs(self):
+        return self._env.num_envs
+
+
+class Run:
+    """A run directory, read-only: live or finished, it takes no lock and writes nothing. A live run is read as
+    of its last checkpoint, as poet-report reads it.
+
+    pairs, events, pair_stats and levels are pandas DataFrames (pandas is imported when one is asked for);
+    report is poet-report's JSON document as a dict; encoding(pair) and theta(pair) give a pair's environment
+    (the environment file's dict) and its θ; config is the run's config in protobuf text format. ValueError, with
+    the report's message, for a directory that is not a readable run.
+    """
+
+    def __init__(self, path):
+        if not isinstance(path, (str, os.PathLike)):
+            raise TypeError(f"path must be a run directory's path, got {type(path).__name__}")
+        self.path = os.fspath(path)
+        view = _poet._read_run(self.path)
+        self.report = json.loads(view["report"])
+        self.config = view["config"]
+        self.live = view["live"]
+        self.next_iteration = view["next_iteration"]
+        self._events = json.loads(view["events"])
+        self._pairs = {p["id"]: p for p in view["pairs"]}
+
+    def _pair(self, pair):
+        try:
+            return self._pairs[_whole(pair, "pair")]
+        except KeyError:
+            raise ValueError(f"no pair {pair} in {self.path}") from None
+
+    def encoding(self, pair):
+        """The pair's environment as a dict in the environment file's schema ({"config": {...}, "seed": s})."""
+        return json.loads(self._pair(pair)["env"])
+
+    def theta(self, pair, *, best=False):
+        """The pair's θ (or the best θ it has had) as a float64 array."""
+        return self._pair(pair)["best_theta" if best else "theta"].copy()
+
+    @property
+    def pairs(self):
+        """A row per pair ever created, as poet-report lists them."""
+        import pandas as pd
+
+        return pd.DataFrame(self.report["pairs"]).set_index("id")
+
+    @property
+    def events(self):
+        """A row per event the checkpoint has seen (events.jsonl), fields as columns."""
+        import pandas as pd
+
+        return pd.DataFrame(self._events)
+
+    @property
+    def pair_stats(self):
+        """A row per ES step (pair_stats.csv), the rows the checkpoint has seen."""
+        import io
+
+        import pandas as pd
+
+        with open(os.path.join(self.path, "pair_stats.csv"), "rb") as file:
+            text = file.read()
+        text = text[: text.rfind(b"\n") + 1].decode("utf-8", errors="replace")  # whole lines: a live run appends
+        frame = pd.read_csv(io.StringIO(text))
+        return frame[frame["iteration"] < self.next_iteration].reset_index(drop=True)
+
+    @property
+    def levels(self):
+        """poet-report's metrics per difficulty level: created, passed the MC, admitted, solved, iterations to
+        solve, and when each was first reached."""
+        import pandas as pd
+
+        rows = []
+        for level in self.report["levels"]:
+            row = {k: v for k, v in level.items() if not isinstance(v, dict) and v is not None}
+            for k, v in level["iterations_to_solve"].items():
+                row[f"iterations_to_solve_{k}"] = v
+            for first in ("first_created", "first_admitted", "first_solved"):
+                row[f"{first}_iteration"] = level[first]["iteration"] if level[first] else None
+            rows.append(row)
+        return pd.DataFrame(rows).set_index("level")

@@ -1,0 +1,30 @@
+#include "run_view.h"
+
+#include <stdexcept>
+
+#include "envgen/env_json.h"
+#include "report/coverage.h"
+#include "report/report_json.h"
+#include "report/run_metrics.h"
+#include "report/run_snapshot.h"
+
+namespace poet::python {
+
+RunView read_run_view(const std::string& dir) {
+  Expected<RunSnapshot> run = read_run_snapshot(dir);
+  if (!run) throw std::invalid_argument(run.error());
+  const RunMetrics metrics = compute_run_metrics(*run);
+  const Coverage coverage = compute_coverage(run->state);
+  RunView view;
+  view.report_json = report_json(*run, metrics, coverage).dump();
+  nlohmann::json events = nlohmann::json::array();
+  for (const nlohmann::json& e : run->events) events.push_back(e);
+  view.events_json = events.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
+  view.config_text = run->config_text;
+  view.next_iteration = run->state.next_iteration;
+  view.live = run->live;
+  for (const Pair& p : run->state.pairs) view.pairs.push_back({p.id, env_def_json_text(p.env), p.theta, p.best_theta});
+  return view;
+}
+
+}  // namespace poet::python

@@ -1,0 +1,81 @@
+"""poet.Policy and poet.evaluate: the shipped walker's numbers equal poet-eval's, bit for bit, whatever the thread
+count; damaged policy files give the tools' messages."""
+
+import json
+import subprocess
+
+import numpy as np
+import pytest
+
+import poet
+
+
+def test_a_policy_acts_on_an_observation(walker_path):
+    policy = poet.Policy.load(str(walker_path))
+    assert policy.params.shape == (2804,) and policy.params.dtype == np.float64
+    obs, _ = poet.WalkerEnv("flat").reset(seed=0)
+    action = policy.act(obs)
+    assert action.dtype == np.float32 and action.shape == (poet.ACT_DIM,)
+    assert np.all(np.abs(action) <= 1)
+    with pytest.raises(ValueError, match="shape"):
+        policy.act(obs[:10])
+
+
+def test_a_walk_through_the_environment_finishes_the_flat_course(walker_path):
+    policy = poet.Policy.load(str(walker_path))
+    env = poet.WalkerEnv("flat")
+    obs, _ = env.reset(seed=0)
+    total, terminated, truncated, info = 0.0, False, False, {}
+    while not (terminated or truncated):
+        obs, reward, terminated, truncated, info = env.step(policy.act(obs))
+        total += reward
+    assert info["finished"] and total > 230
+
+
+def test_evaluate_equals_poet_eval_bit_for_bit(walker_path, eval_bin):
+    policy = poet.Policy.load(str(walker_path))
+    for course in ("flat", "hardcore-like"):
+        printed = subprocess.run(
+            [eval_bin, "--policy", str(walker_path), "--course", course, "--seeds", "3:8", "--json", "-"],
+            check=True, capture_output=True, text=True, timeout=120).stdout
+        reference = json.loads(printed)["courses"][0]
+        ours = poet.evaluate(policy, course, range(3, 9), threads=2)
+        assert ours["return"].tolist() == reference["returns"]  # floats parsed from JSON: exact equality
+        assert ours["steps"].tolist() == reference["steps"]
+        assert [3 + i for i in np.flatnonzero(ours["finished"])] == reference["finished_seeds"]
+        assert int(ours["fell"].sum()) == reference["fell"]
+
+
+def test_evaluate_does_not_depend_on_the_thread_count(walker_path):
+    policy = poet.Policy.load(str(walker_path))
+    one = poet.evaluate(policy, "r3", [0, 5, 9], threads=1, max_steps=300)
+    three = poet.evaluate(policy, "r3", [0, 5, 9], threads=3, max_steps=300)
+    for key in ("return", "steps", "finished", "fell"):
+        assert np.array_equal(one[key], three[key])
+    assert one["return"].dtype == np.float64 and one["steps"].dtype == np.int64 and one["fell"].dtype == bool
+
+
+@pytest.mark.parametrize(
+    "text, message",
+    [("", "policy"), ("[[1, 2, 3], 1]", "2804"), ("not json", "")],
+)
+def test_damaged_policy_files_are_value_errors(tmp_path, text, message):
+    path = tmp_path / "policy.json"
+    path.write_text(text)
+    with pytest.raises(ValueError, match=message):
+        poet.Policy.load(str(path))
+
+
+def test_a_missing_policy_file_names_its_path(tmp_path):
+    with pytest.raises(ValueError, match="missing.json"):
+        poet.Policy.load(str(tmp_path / "missing.json"))
+
+
+def test_evaluate_refuses_bad_arguments(walker_path):
+    policy = poet.Policy.load(str(walker_path))
+    with pytest.raises(TypeError):
+        poet.evaluate("not a policy", "flat", [0])
+    with pytest.raises(ValueError):
+        poet.evaluate(policy, "flat", [-3])
+    with pytest.raises(ValueError):
+        poet.evaluate(policy, "flat", [0], threads=0)

@@ -1,0 +1,106 @@
+"""poet.Run: a run directory read without changing it, with poet-report's numbers; the example script runs on
+it. The run is made here, by poet-coordinator, in a temporary directory."""
+
+import hashlib
+import json
+import os
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+import poet
+
+CONFIG = """
+seed: 5
+iterations: 8
+es { perturbations: 3 }
+walker { max_steps: 100 }
+poet { mutation_interval: 2 transfer_interval: 2 repro_threshold: -1000 mc_low: -1000 mc_high: 1000
+       max_children: 3 max_admitted: 1 active_cap: 3 }
+"""
+
+
+def binary(name):
+    path = os.environ.get(name)
+    if not path:
+        pytest.skip(f"{name} is not set (ctest sets it)")
+    return path
+
+
+@pytest.fixture(scope="module")
+def run_dir(tmp_path_factory):
+    root = tmp_path_factory.mktemp("run")
+    config = root / "small.textproto"
+    config.write_text(CONFIG)
+    subprocess.run([binary("POET_COORDINATOR_BIN"), "--config", str(config), "--run-dir", str(root / "run"),
+                    "--threads", "2", "--quiet"], check=True, capture_output=True, timeout=240)
+    return root / "run"
+
+
+def digest(directory):
+    h = hashlib.sha256()
+    for path in sorted(directory.rglob("*")):
+        if path.is_file():
+            h.update(str(path.relative_to(directory)).encode())
+            h.update(path.read_bytes())
+    return h.hexdigest()
+
+
+def test_run_equals_poet_reports_numbers_and_writes_nothing(run_dir):
+    before = digest(run_dir)
+    run = poet.Run(run_dir)
+    report = json.loads(subprocess.run([binary("POET_REPORT_BIN"), "--run-dir", str(run_dir), "--json", "-"],
+                                       check=True, capture_output=True, text=True, timeout=120).stdout)
+    assert digest(run_dir) == before
+    assert run.next_iteration == 8 and not run.live
+    report["run_dir"] = run.report["run_dir"]  # the same directory, spelled as each was given it
+    assert run.report == report
+
+    pairs = run.pairs
+    assert list(pairs.index) == [p["id"] for p in report["pairs"]]
+    assert pairs["best_score"].tolist() == [p["best_score"] for p in report["pairs"]]
+    levels = run.levels
+    assert levels.loc["easy", "created"] == report["levels"][0]["created"]
+    assert levels["admitted"].sum() == sum(level["admitted"] for level in report["levels"])
+
+    events = run.events
+    assert set(events["event"]) >= {"pair_created", "reproduction", "transfer_round"}
+    assert events["iteration"].max() < run.next_iteration
+    stats = run.pair_stats
+    assert len(stats) == sum(1 for line in (run_dir / "pair_stats.csv").read_text().splitlines()[1:] if line)
+    assert set(stats["pair"]) == set(pairs.index)
+
+    for pair in pairs.index:
+        theta = run.theta(pair)
+        assert theta.shape == (2804,) and theta.dtype == np.float64 and np.all(np.isfinite(theta))
+        encoding = run.encoding(pair)
+        assert set(encoding) == {"config", "seed"}
+        on_disk = json.loads((run_dir / "envs" / f"pair-{pair}.env.json").read_text())
+        assert encoding == on_disk
+    assert "seed: 5" in run.config
+
+
+def test_the_example_plots_a_runs_scores(run_dir, tmp_path):
+    example = os.path.join(os.environ.get("POET_SOURCE_DIR", ""), "examples", "plot_scores.py")
+    out = tmp_path / "scores.png"
+    done = subprocess.run([sys.executable, example, str(run_dir), str(out)], capture_output=True, text=True,
+                          timeout=120, env={**os.environ, "MPLCONFIGDIR": str(tmp_path)})
+    assert done.returncode == 0, done.stderr
+    assert out.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+
+
+def test_what_is_not_a_run_says_so(tmp_path):
+    with pytest.raises(ValueError, match="checkpoint.pb"):
+        poet.Run(tmp_path)
+    with pytest.raises(ValueError, match="no such|does not exist|not"):
+        poet.Run(tmp_path / "missing")
+    with pytest.raises(TypeError):
+        poet.Run(42)
+
+
+def test_an_unknown_pair_is_a_value_error(run_dir):
+    run = poet.Run(run_dir)
+    with pytest.raises(ValueError, match="no pair 99"):
+        run.theta(99)
