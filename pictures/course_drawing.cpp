@@ -51,6 +51,14 @@ void draw_walker(cairo_t* cr, const Frame& f, const WalkerPose& pose, double alp
   cairo_stroke(cr);
 }
 
+Frame follow_camera(const Terrain& terrain, const WalkerPose& pose, double width, double height, double scale) {
+  const double x_min = pose[0].x - width / scale / 2;
+  double ground = terrain.ground().front().y;
+  for (const Point& p : terrain.ground())
+    if (p.x <= pose[0].x) ground = p.y;
+  return Frame{x_min, ground + (height * 0.75) / scale, scale};
+}
+
 void draw_course(cairo_t* cr, const Frame& f, const Terrain& terrain, double bottom) {
   const auto& ground = terrain.ground();
   // sky

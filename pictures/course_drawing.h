@@ -16,6 +16,10 @@ struct Frame {
   double py(double y) const { return (y_max - y) * scale; }
 };
 
+// The camera of a panel or frame following the walker: the window centred on the hull, the ground under it a
+// quarter of the height from the bottom (so courses that climb stay in view), `scale` units per metre.
+Frame follow_camera(const Terrain& terrain, const WalkerPose& pose, double width, double height, double scale);
+
 // Sky, the ground filled down to canvas height `bottom`, obstacles (pit walls grey, stumps brown, stairs
 // blue-grey) and the finish line.
 void draw_course(cairo_t* cr, const Frame& f, const Terrain& terrain, double bottom);

@@ -12,16 +12,6 @@
 namespace poet {
 namespace {
 
-// The camera of a panel or frame: the window centred on the hull, the ground a quarter from the bottom.
-Frame camera(const Terrain& terrain, const WalkerPose& pose, double width, double height, double scale) {
-  const double x_min = pose[0].x - width / scale / 2;
-  // the ground height under the hull, so courses that climb stay in view
-  double ground = terrain.ground().front().y;
-  for (const Point& p : terrain.ground())
-    if (p.x <= pose[0].x) ground = p.y;
-  return Frame{x_min, ground + (height * 0.75) / scale, scale};
-}
-
 void draw_hull_path(cairo_t* cr, const Frame& f, const RolloutResult& episode, size_t until) {
   cairo_set_source_rgba(cr, 0.8, 0.1, 0.1, 0.7);
   cairo_set_line_width(cr, 1.5);
@@ -73,7 +63,7 @@ Expected<std::string> render_filmstrip(PictureFormat format, const Terrain& terr
       cairo_rectangle(cr, 0, top + label, width, panel_height);
       cairo_clip(cr);
       cairo_translate(cr, 0, top + label);
-      const Frame f = camera(terrain, pose, width, panel_height, options.pixels_per_metre);
+      const Frame f = follow_camera(terrain, pose, width, panel_height, options.pixels_per_metre);
       draw_course(cr, f, terrain, panel_height);
       draw_hull_path(cr, f, episode, step);
       draw_walker(cr, f, pose, 1.0);
@@ -130,7 +120,7 @@ Expected<std::string> render_walk_gif(const Terrain& terrain, const RolloutResul
       std::unique_ptr<cairo_t, decltype(&cairo_destroy)> ctx(cairo_create(surface.get()), &cairo_destroy);
       cairo_t* cr = ctx.get();
       const WalkerPose& pose = episode.trajectory[shown];
-      const Frame f = camera(terrain, pose, options.width, options.height, options.pixels_per_metre);
+      const Frame f = follow_camera(terrain, pose, options.width, options.height, options.pixels_per_metre);
       draw_course(cr, f, terrain, options.height);
       draw_hull_path(cr, f, episode, shown);
       draw_walker(cr, f, pose, 1.0);

@@ -21,6 +21,7 @@
 #include "rollout.h"
 #include "run_view.h"
 #include "walker/walker_constants.h"
+#include "walker_frame.h"
 
 namespace py = pybind11;
 
@@ -113,6 +114,16 @@ class PyWalkerEnv {
     const EpisodeStep s = env_.step(a);
     return py::make_tuple(float_array(env_.observation()), s.reward, s.terminated, s.truncated,
                           episode_info(env_, s.finished, s.fell));
+  }
+
+  // The current frame as uint8 RGB of shape (height, width, 3), drawn by the pictures library.
+  py::array_t<uint8_t> render(int width, int height) const {
+    if (!env_.has_episode()) throw std::logic_error("render() before reset(): call reset() first");
+    Expected<FrameImage> frame = render_walker_frame(env_.terrain(), env_.pose(), {.width = width, .height = height});
+    if (!frame) throw std::invalid_argument(frame.error());
+    py::array_t<uint8_t> out({frame->height, frame->width, 3});
+    std::copy(frame->rgb.begin(), frame->rgb.end(), out.mutable_data());
+    return out;
   }
 
   const EpisodeEnv& episode() const { return env_; }
@@ -305,6 +316,7 @@ PYBIND11_MODULE(_poet, m) {
            py::arg("seed"), py::arg("lidar"), py::arg("push_scale"), py::arg("max_steps"))
       .def("reset", &PyWalkerEnv::reset, py::arg("seed") = py::none(), py::arg("options") = py::none())
       .def("step", &PyWalkerEnv::step, py::arg("action"))
+      .def("render", &PyWalkerEnv::render, py::arg("width"), py::arg("height"))
       .def_property_readonly("seed", [](const PyWalkerEnv& e) { return e.episode().seed(); })
       .def_property_readonly("max_steps", [](const PyWalkerEnv& e) { return e.episode().max_steps(); });
 

@@ -47,11 +47,15 @@ class _Episodes:
     """reset and step of an environment of the C++ core (self._env), with the seed's type checked."""
 
     def reset(self, *, seed=None, options=None):
+        """A new episode: (obs, info). A seed picks the terrain (and initial push) for this and later episodes;
+        options must be None or a dict (none are read)."""
         if seed is not None:
             seed = _whole(seed, "seed")
         return self._env.reset(seed, options)
 
     def step(self, action):
+        """One step: (obs, reward, terminated, truncated, info). RuntimeError outside an episode, ValueError for
+        an action of the wrong shape or dtype or not finite."""
         return self._env.step(action)
 
 
@@ -65,7 +69,7 @@ class WalkerEnv(_Episodes):
     and fell.
     """
 
-    metadata = {"render_modes": []}
+    metadata = {"render_modes": ["rgb_array"], "render_fps": 50}
     observation_low = np.full(OBS_DIM, -np.inf, dtype=np.float32)
     observation_high = np.full(OBS_DIM, np.inf, dtype=np.float32)
     action_low = np.full(ACT_DIM, -1.0, dtype=np.float32)
@@ -87,7 +91,13 @@ class WalkerEnv(_Episodes):
 
     @property
     def max_steps(self):
+        """Steps after which an episode is truncated."""
         return self._env.max_steps
+
+    def render(self, *, width=600, height=400):
+        """The current frame as uint8 RGB of shape (height, width, 3), the walker on its course as the project's
+        pictures draw it (the camera follows the hull). RuntimeError before reset."""
+        return self._env.render(_whole(width, "width"), _whole(height, "height"))
 
 
 def evaluate(policy, course, seeds, *, threads=1, lidar="nearest", push_scale=DEFAULT_PUSH_SCALE,
@@ -153,6 +163,7 @@ class VectorWalkerEnv(_Episodes):
 
     @property
     def num_envs(self):
+        """How many walkers step together."""
         return self._env.num_envs
 
 

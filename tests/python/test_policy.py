@@ -79,3 +79,17 @@ def test_evaluate_refuses_bad_arguments(walker_path):
         poet.evaluate(policy, "flat", [-3])
     with pytest.raises(ValueError):
         poet.evaluate(policy, "flat", [0], threads=0)
+
+
+def test_the_reference_walkers_files_load():
+    import os
+    import pathlib
+
+    reference = pathlib.Path(os.environ.get("POET_REFERENCE_DIR", "")) / "estool-zoo" / "zoo"
+    path = reference / "biped.cma.1.96.best.json"
+    if not path.is_file():
+        pytest.skip(f"no reference data at {reference} (POET_REFERENCE_DIR; see tests/README.md)")
+    policy = poet.Policy.load(str(path))
+    assert policy.params.shape == (2804,)
+    result = poet.evaluate(policy, "flat", [0, 1], threads=2)
+    assert result["finished"].all()  # the reference's flat walker finishes flat, as the alignment tests check

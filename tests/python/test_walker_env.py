@@ -183,3 +183,34 @@ def test_as_gymnasium_gives_boxes_of_the_bounds_and_delegates(monkeypatch):
     assert len(gym_env.step([0.0, 0.0, 0.0, 0.0])) == 5
     with pytest.raises(TypeError):
         poet.as_gymnasium("flat")
+
+
+def test_render_draws_the_current_frame():
+    env = poet.WalkerEnv("hardcore-like", seed=3)
+    with pytest.raises(RuntimeError, match="before reset"):
+        env.render()
+    env.reset()
+    frame = env.render(width=240, height=160)
+    assert frame.dtype == np.uint8 and frame.shape == (160, 240, 3)
+    assert len(np.unique(frame.reshape(-1, 3), axis=0)) >= 4  # sky, ground and the walker
+    assert np.array_equal(env.render(width=240, height=160), frame)
+    for _ in range(40):
+        _, _, terminated, truncated, _ = env.step(np.array([0.5, -0.5, 0.5, -0.5], dtype=np.float32))
+        if terminated or truncated:
+            break
+    assert not np.array_equal(env.render(width=240, height=160), frame)  # the last frame of an episode renders
+    assert env.render().shape == (400, 600, 3)
+    with pytest.raises(ValueError, match="width"):
+        env.render(width=3)
+
+
+def test_every_public_name_has_a_docstring():
+    for name in poet.__all__:
+        thing = getattr(poet, name)
+        if callable(thing):
+            assert thing.__doc__, name
+            for member_name, member in vars(thing).items() if isinstance(thing, type) else []:
+                if not member_name.startswith("_") and (callable(member) or isinstance(member, property)):
+                    assert member.__doc__, f"{name}.{member_name}"
+    for method in ("reset", "step"):
+        assert getattr(poet.WalkerEnv, method).__doc__

@@ -1,0 +1,29 @@
+#pragma once
+// One frame of the walker on its course as pixels, for programs that show it themselves (the Python module's
+// render()): the camera follows the hull as in the animated GIF.
+
+#include <cstdint>
+#include <vector>
+
+#include "expected.h"
+#include "walker/terrain.h"
+#include "walker/walker_env.h"
+
+namespace poet {
+
+struct FrameOptions {
+  int width = 600, height = 400;  // pixels, each in [16, 4096]
+  double pixels_per_metre = 30;   // in (0, 1000]
+};
+
+// Row-major 8-bit RGB, width × height × 3 bytes.
+struct FrameImage {
+  int width = 0, height = 0;
+  std::vector<uint8_t> rgb;
+};
+
+// The frame, or an error naming the option out of range.
+Expected<FrameImage> render_walker_frame(const Terrain& terrain, const WalkerPose& pose,
+                                         const FrameOptions& options = {});
+
+}  // namespace poet
