@@ -3,5 +3,7 @@
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 bash "$root/deploy/install-deps.sh"
-cmake -S "$root" -B "$root/build" -DCMAKE_BUILD_TYPE=Release >/dev/null
+# POET_REFERENCE_DIR in the environment: the optional reference data for the alignment tests (tests/README.md)
+cmake -S "$root" -B "$root/build" -DCMAKE_BUILD_TYPE=Release \
+      ${POET_REFERENCE_DIR:+-DPOET_REFERENCE_DIR="$POET_REFERENCE_DIR"} >/dev/null
 cmake --build "$root/build" -j"$(nproc)"

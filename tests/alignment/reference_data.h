@@ -16,13 +16,23 @@ namespace poet::alignment {
 
 inline std::filesystem::path reference_dir() { return POET_REFERENCE_DIR; }
 
+// Why the reference data cannot be read (POET_REFERENCE_DIR not set, or no walker-traces/ in it), or empty.
+inline std::string reference_missing() {
+  if (reference_dir().empty())
+    return "POET_REFERENCE_DIR is not set (configure with -DPOET_REFERENCE_DIR=DIR, or run POET_REFERENCE_DIR=DIR "
+           "bash deploy/test.sh)";
+  if (!std::filesystem::exists(reference_dir() / "walker-traces"))
+    return "reference data not found at " + reference_dir().string();
+  return "";
+}
+
 // Skips the calling test (with the reason) when the reference data is not there.
-#define POET_REQUIRE_REFERENCE()                                                                              \
-  do {                                                                                                        \
-    if (!std::filesystem::exists(::poet::alignment::reference_dir() / "walker-traces"))                       \
-      GTEST_SKIP() << "reference data not found at " << ::poet::alignment::reference_dir()                    \
-                   << " (set -DPOET_REFERENCE_DIR=...): these alignment checks need the authors' traces and " \
-                      "the estool walkers; the walker's own unit tests still run";                            \
+#define POET_REQUIRE_REFERENCE()                                                                            \
+  do {                                                                                                      \
+    if (const std::string missing = ::poet::alignment::reference_missing(); !missing.empty())               \
+      GTEST_SKIP() << missing                                                                               \
+                   << ": these alignment checks need the authors' traces and the estool walkers; the walker's " \
+                      "own unit tests still run";                                                           \
   } while (0)
 
 inline nlohmann::json load_trace(const std::string& name) {
