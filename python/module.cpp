@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "course_spec.h"
+#include "course_sweep.h"
 #include "episode_env.h"
 #include "parallel_for.h"
 #include "policy/mlp.h"
@@ -271,13 +272,10 @@ py::dict evaluate(const PyPolicy& policy, const CourseSpec& course, const std::v
   const WalkerOptions options = walker_options(lidar, push_scale);
   std::vector<uint32_t> terrain_seeds;
   for (int64_t s : seeds) terrain_seeds.push_back(checked_seed(s));
-  std::vector<RolloutResult> episodes(terrain_seeds.size());
+  std::vector<RolloutResult> episodes;
   {
     py::gil_scoped_release release;
-    parallel_for(static_cast<int>(episodes.size()), threads, [&](int i) {
-      const Terrain terrain = Terrain::generate({course.encoding, terrain_seeds[static_cast<size_t>(i)]});
-      episodes[static_cast<size_t>(i)] = rollout(policy.mlp(), terrain, options, {.max_steps = max_steps});
-    });
+    episodes = run_episodes(policy.mlp(), course.encoding, terrain_seeds, options, max_steps, threads);
   }
   const size_t n = episodes.size();
   py::dict out;

@@ -48,12 +48,19 @@ CourseSweep sweep_course(const Mlp& policy, const std::string& label, const EnvE
   if (count < 1) throw std::invalid_argument("sweep: at least one seed is needed");
   if (uint64_t(first_seed) + uint64_t(count) > kMaxEnvSeed)
     throw std::invalid_argument("sweep: terrain seeds must stay below 1000000");
-  CourseSweep sweep{label, first_seed, std::vector<RolloutResult>(static_cast<size_t>(count))};
-  parallel_for(count, threads, [&](int i) {
-    const Terrain terrain = Terrain::generate({encoding, first_seed + static_cast<uint32_t>(i)});
-    sweep.episodes[static_cast<size_t>(i)] = rollout(policy, terrain, options, {.max_steps = max_steps});
+  std::vector<uint32_t> seeds(static_cast<size_t>(count));
+  for (size_t i = 0; i < seeds.size(); ++i) seeds[i] = first_seed + static_cast<uint32_t>(i);
+  return {label, first_seed, run_episodes(policy, encoding, seeds, options, max_steps, threads)};
+}
+
+std::vector<RolloutResult> run_episodes(const Mlp& policy, const EnvEncoding& encoding, std::span<const uint32_t> seeds,
+                                        const WalkerOptions& options, int max_steps, int threads) {
+  std::vector<RolloutResult> episodes(seeds.size());
+  parallel_for(static_cast<int>(seeds.size()), threads, [&](int i) {
+    const Terrain terrain = Terrain::generate({encoding, seeds[static_cast<size_t>(i)]});
+    episodes[static_cast<size_t>(i)] = rollout(policy, terrain, options, {.max_steps = max_steps});
   });
-  return sweep;
+  return episodes;
 }
 
 }  // namespace poet

@@ -3,6 +3,7 @@
 // code path of the alignment tests. Episodes are independent rollouts; the result does not depend on `threads`.
 
 #include <cstdint>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -28,5 +29,10 @@ struct CourseSweep {
 CourseSweep sweep_course(const Mlp& policy, const std::string& label, const EnvEncoding& encoding, uint32_t first_seed,
                          int count, const WalkerOptions& options = {}, int max_steps = walker::kDefaultTimeLimit,
                          int threads = 1);
+
+// One episode per terrain seed (each below kMaxEnvSeed), episode i on seeds[i], on up to `threads` threads; the
+// results do not depend on `threads`. sweep_course is this on consecutive seeds.
+std::vector<RolloutResult> run_episodes(const Mlp& policy, const EnvEncoding& encoding, std::span<const uint32_t> seeds,
+                                        const WalkerOptions& options, int max_steps, int threads);
 
 }  // namespace poet

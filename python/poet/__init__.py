@@ -43,6 +43,12 @@ def _number(value, name):
     return float(value)
 
 
+def _read_only(array):
+    """The bounds are shared by every environment: no one may change them in place."""
+    array.setflags(write=False)
+    return array
+
+
 class _Episodes:
     """reset and step of an environment of the C++ core (self._env), with the seed's type checked."""
 
@@ -70,10 +76,10 @@ class WalkerEnv(_Episodes):
     """
 
     metadata = {"render_modes": ["rgb_array"], "render_fps": 50}
-    observation_low = np.full(OBS_DIM, -np.inf, dtype=np.float32)
-    observation_high = np.full(OBS_DIM, np.inf, dtype=np.float32)
-    action_low = np.full(ACT_DIM, -1.0, dtype=np.float32)
-    action_high = np.full(ACT_DIM, 1.0, dtype=np.float32)
+    observation_low = _read_only(np.full(OBS_DIM, -np.inf, dtype=np.float32))
+    observation_high = _read_only(np.full(OBS_DIM, np.inf, dtype=np.float32))
+    action_low = _read_only(np.full(ACT_DIM, -1.0, dtype=np.float32))
+    action_high = _read_only(np.full(ACT_DIM, 1.0, dtype=np.float32))
 
     def __init__(self, course, *, seed=None, lidar="nearest", push_scale=DEFAULT_PUSH_SCALE,
                  max_steps=DEFAULT_MAX_STEPS):

@@ -28,6 +28,8 @@ def test_reset_and_step_follow_gymnasiums_signatures_and_types():
         assert bound.dtype == np.float32
     assert env.action_low.shape == env.action_high.shape == (poet.ACT_DIM,)
     assert np.all(env.action_low == -1) and np.all(env.action_high == 1)
+    with pytest.raises(ValueError):  # shared by every env: read-only
+        env.action_low[0] = 3
 
 
 def test_a_seed_makes_the_episode_deterministic():
