@@ -1,7 +1,8 @@
 // Writes schema_defaults.h (the path is the one argument): the declared default of every scalar field of the
-// settings messages of poet.proto, as C++ constants. The schema is the one home of every default; the
-// simulation's types (EsSettings, MutationOptions, WalkerOptions) take theirs from this header, so they agree
-// with a config that leaves a field out without the simulation linking protobuf. Run by the build.
+// settings messages the simulation's types carry (EsConfig, MutationConfig, WalkerConfig), as C++ constants. The
+// schema is the one home of every default; EsSettings, MutationOptions and WalkerOptions take theirs from this
+// header, so they agree with a config that leaves a field out without the simulation linking protobuf. Run by
+// the build.
 
 #include <google/protobuf/descriptor.h>
 
@@ -68,13 +69,13 @@ int main(int argc, char** argv) {
   }
   std::string text =
       "#pragma once\n"
-      "// Generated from proto/poet.proto by proto/schema_defaults_main.cpp: the schema's default of every scalar\n"
-      "// setting. Edit the schema, not this file.\n\n"
+      "// Generated from proto/poet.proto by proto/schema_defaults_main.cpp: the schema's defaults of the settings\n"
+      "// the simulation's types carry. Edit the schema, not this file.\n\n"
       "#include <cstdint>\n\nnamespace poet::schema_defaults {\n";
-  for (const protobuf::Descriptor* message :
-       {poet::pb::RunConfig::descriptor(), poet::pb::EsConfig::descriptor(), poet::pb::PoetConfig::descriptor(),
-        poet::pb::MutationConfig::descriptor(), poet::pb::WalkerConfig::descriptor(),
-        poet::pb::DirectPathConfig::descriptor()}) {
+  // the messages whose settings the simulation's types carry (EsSettings, MutationOptions, WalkerOptions); the
+  // engine's settings have no defaults of their own, so it needs none of the rest
+  for (const protobuf::Descriptor* message : {poet::pb::EsConfig::descriptor(), poet::pb::MutationConfig::descriptor(),
+                                              poet::pb::WalkerConfig::descriptor()}) {
     text += "\nnamespace " + snake_case(message->name()) + " {\n";
     for (int i = 0; i < message->field_count(); ++i) {
       const protobuf::FieldDescriptor& field = *message->field(i);
