@@ -1,6 +1,5 @@
 #include "envgen/env_json.h"
 
-
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -9,6 +8,7 @@
 #include <sstream>
 #include <vector>
 
+#include "envgen/cppn_json.h"
 #include "text_file.h"
 
 namespace poet {
@@ -109,13 +109,14 @@ json encoding_to_json(const EnvEncoding& e) {
   config["ground_roughness"] = e.roughness;
   for (std::string_view key : kIntervalKeys)
     config[std::string(key)] = interval_json(e.*interval_member(key), is_integer_gene(key));
+  if (e.cppn) config["cppn"] = cppn_to_json(*e.cppn);
   return config;
 }
 
 Expected<EnvEncoding> encoding_from_json(const json& config) {
   if (!config.is_object()) return fail(std::string("config: must be an object, got ") + config.type_name());
   for (const auto& [key, value] : config.items()) {
-    const bool known = key == "name" || key == "ground_roughness" ||
+    const bool known = key == "name" || key == "ground_roughness" || key == "cppn" ||
                        std::find(kIntervalKeys.begin(), kIntervalKeys.end(), key) != kIntervalKeys.end();
     if (!known) return fail(key + ": unknown key in config");
   }
@@ -129,6 +130,11 @@ Expected<EnvEncoding> encoding_from_json(const json& config) {
     const std::string k(key);
     if (!config.contains(k)) return fail(k + ": missing from config (use [] for an absent type)");
     if (auto err = read_interval(config[k], key, e.*interval_member(key))) return fail(*err);
+  }
+  if (config.contains("cppn")) {
+    Expected<CppnGenome> genome = cppn_from_json(config["cppn"]);
+    if (!genome) return fail(genome.error());
+    e.cppn = std::make_shared<const CppnGenome>(std::move(*genome));
   }
   if (auto err = validate(e)) return fail(*err);
 

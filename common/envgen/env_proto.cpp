@@ -5,8 +5,8 @@
 #include <string_view>
 #include <utility>
 
-#include "utf8.h"
 #include "text_format.h"
+#include "utf8.h"
 
 namespace poet {
 namespace {
@@ -52,6 +52,55 @@ std::string schema_message(std::string message, const EnvEncoding& encoding) {
   return message;
 }
 
+CppnRole role_from_proto(pb::CppnNode::Role role) {
+  if (role == pb::CppnNode::INPUT) return CppnRole::kInput;
+  if (role == pb::CppnNode::OUTPUT) return CppnRole::kOutput;
+  return CppnRole::kHidden;
+}
+
+pb::CppnNode::Role role_to_proto(CppnRole role) {
+  if (role == CppnRole::kInput) return pb::CppnNode::INPUT;
+  if (role == CppnRole::kOutput) return pb::CppnNode::OUTPUT;
+  return pb::CppnNode::HIDDEN;
+}
+
+// The schema's activation numbers are the enum's order.
+static_assert(pb::CppnNode::TANH == static_cast<int>(CppnActivation::kTanh));
+
+// Sizes are checked before anything is copied: a message may hold far more than a genome may.
+Expected<CppnGenome> cppn_from_proto(const pb::CppnGenome& message) {
+  if (static_cast<size_t>(message.nodes_size()) > kMaxCppnNodes)
+    return Unexpected{"cppn.nodes: " + std::to_string(message.nodes_size()) + " nodes; at most " +
+                      std::to_string(kMaxCppnNodes)};
+  if (static_cast<size_t>(message.connections_size()) > kMaxCppnConnections)
+    return Unexpected{"cppn.connections: " + std::to_string(message.connections_size()) + " connections; at most " +
+                      std::to_string(kMaxCppnConnections)};
+  CppnGenome genome;
+  for (const pb::CppnNode& n : message.nodes())
+    genome.nodes.push_back({n.id(), role_from_proto(n.role()), static_cast<CppnActivation>(n.activation()), n.bias()});
+  for (const pb::CppnConnection& c : message.connections())
+    genome.connections.push_back({c.from_node(), c.to_node(), c.weight()});
+  genome.scale = message.scale();
+  return genome;
+}
+
+void cppn_to_proto(const CppnGenome& genome, pb::CppnGenome& message) {
+  for (const CppnNode& n : genome.nodes) {
+    pb::CppnNode* out = message.add_nodes();
+    out->set_id(n.id);
+    out->set_role(role_to_proto(n.role));
+    out->set_activation(static_cast<pb::CppnNode::Activation>(n.activation));
+    out->set_bias(n.bias);
+  }
+  for (const CppnConnection& c : genome.connections) {
+    pb::CppnConnection* out = message.add_connections();
+    out->set_from_node(c.from);
+    out->set_to_node(c.to);
+    out->set_weight(c.weight);
+  }
+  message.set_scale(genome.scale);
+}
+
 }  // namespace
 
 Expected<EnvEncoding> encoding_from_proto(const pb::EnvEncoding& message) {
@@ -64,6 +113,11 @@ Expected<EnvEncoding> encoding_from_proto(const pb::EnvEncoding& message) {
     if (!interval.has_lo()) return Unexpected{std::string(field.name) + ".lo: missing (an interval gives both bounds)"};
     if (!interval.has_hi()) return Unexpected{std::string(field.name) + ".hi: missing (an interval gives both bounds)"};
     encoding.*field.member = Interval{interval.lo(), interval.hi()};
+  }
+  if (message.has_cppn()) {
+    Expected<CppnGenome> genome = cppn_from_proto(message.cppn());
+    if (!genome) return Unexpected{genome.error()};
+    encoding.cppn = std::make_shared<const CppnGenome>(std::move(*genome));
   }
   if (auto error = validate(encoding)) return Unexpected{schema_message(*error, encoding)};
   if (!is_valid_utf8(message.name())) return Unexpected{std::string("name: must be UTF-8 text")};
@@ -82,6 +136,7 @@ pb::EnvEncoding to_proto(const EnvEncoding& encoding) {
     out->set_lo(interval->lo);
     out->set_hi(interval->hi);
   }
+  if (encoding.cppn) cppn_to_proto(*encoding.cppn, *message.mutable_cppn());
   return message;
 }
 

@@ -163,10 +163,13 @@ void check_poet(Checks& c, const pb::PoetConfig& poet, pb::RunConfig::Mode mode)
   c.known_enum("poet.admission_proposal", poet.admission_proposal(), pb::ProposalKind_IsValid);
   c.known_enum("poet.transfer_proposal", poet.transfer_proposal(), pb::ProposalKind_IsValid);
   c.known_enum("poet.transfer_test", poet.transfer_test(), pb::TransferTest_IsValid);
+  c.known_enum("poet.environments", poet.environments(), pb::EnvironmentKind_IsValid);
   const pb::MutationConfig& m = poet.mutation();
   const bool evolves = mode == pb::RunConfig::POET || mode == pb::RunConfig::POET_WITHOUT_TRANSFER;
-  // With nothing to mutate every child equals its parent and is dropped: the run could never grow.
-  if (evolves && !m.roughness() && !m.pits() && !m.stumps() && !m.stairs())
+  // With nothing to mutate every child equals its parent and is dropped: the run could never grow. (A CPPN
+  // genome's mutation does not read these switches.)
+  if (evolves && poet.environments() == pb::OBSTACLE_COURSES && !m.roughness() && !m.pits() && !m.stumps() &&
+      !m.stairs())
     c.fail("poet.mutation", "no gene type enabled (roughness, pits, stumps and stairs are all false) in mode " +
                                 pb::RunConfig::Mode_Name(mode));
   c.real("poet.solved_score", poet.solved_score(), kScore);
@@ -231,6 +234,9 @@ void check_mode(Checks& c, const pb::RunConfig& config) {
     const pb::DirectPathConfig& direct = config.direct_path();
     if (!direct.has_target()) c.fail("direct_path.target", "required in mode DIRECT_PATH");
     check_target(c, "direct_path.target", direct.target());
+    // the curriculum moves obstacle genes one step at a time; a CPPN genome has no such path from flat
+    if (direct.target().encoding().has_cppn())
+      c.fail("direct_path.target", "a CPPN course has no direct path from flat (use an obstacle encoding)");
     c.real("direct_path.advance_threshold", direct.advance_threshold(), kScore);
     if (!direct.has_budget_es_steps()) c.fail("direct_path.budget_es_steps", "required in mode DIRECT_PATH");
     // POET's spend along a lineage: at most iterations (10^7) × active pairs (10^3) ES steps
@@ -380,6 +386,8 @@ PoetSettings poet_settings(const pb::PoetConfig& p) {
   s.solved_score = p.solved_score();
   s.keep_admission_selection = p.keep_admission_selection();
   s.transfer_test = p.transfer_test() == pb::THRESHOLD_TRANSFER_TEST ? TransferTest::kThreshold : TransferTest::kFull;
+  s.environments =
+      p.environments() == pb::CPPN_TERRAIN ? EnvironmentKind::kCppnTerrain : EnvironmentKind::kObstacleCourses;
   s.mutation = mutation_options(p.mutation());
   return s;
 }

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <string>
 
+#include "envgen/cppn_mutation.h"
 #include "envgen/named_courses.h"
 #include "poet/iteration_context.h"
 #include "policy/mlp.h"
@@ -54,6 +55,20 @@ std::vector<double> propose(ProposalKind kind, const std::vector<double>& theta,
   return sgd_proposal(theta, g, lr, es.l2_coeff);
 }
 
+namespace {
+
+// A POET run's first environment: flat, or a first CPPN genome drawn from the run's "first-cppn" stream.
+EnvEncoding first_environment(const RunSettings& settings) {
+  if (settings.poet.environments == EnvironmentKind::kObstacleCourses) return named_course("flat").value();
+  RandomStream stream(stream_key(settings.seed, "first-cppn"));
+  EnvEncoding encoding;
+  encoding.cppn = std::make_shared<const CppnGenome>(first_cppn_genome(stream));
+  encoding.name = cppn_name(*encoding.cppn);
+  return encoding;
+}
+
+}  // namespace
+
 RunState initial_state(const RunSettings& settings, std::optional<std::vector<double>> start_theta) {
   RunState state;
   state.settings = settings;
@@ -68,7 +83,7 @@ RunState initial_state(const RunSettings& settings, std::optional<std::vector<do
       first.env = EnvDef{named_course("flat").value(), settings.target.value().seed};
       break;
     default:
-      first.env = EnvDef{named_course("flat").value(), static_cast<uint32_t>(settings.seed % kMaxEnvSeed)};
+      first.env = EnvDef{first_environment(settings), static_cast<uint32_t>(settings.seed % kMaxEnvSeed)};
   }
   if (start_theta) {
     first.theta = std::move(*start_theta);

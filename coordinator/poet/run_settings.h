@@ -22,6 +22,7 @@ std::string_view mode_words(RunMode mode);
 enum class ProposalKind { kAdam, kSgd };                  // the update Adam's next step would make, or SGD's
 enum class TransferTest { kFull, kThreshold };            // N(N−1) proposal steps a round, or Enhanced POET's
 enum class ChildRanking { kNovelty, kLowestScoreFirst };  // the order admission walks the passing children in
+enum class EnvironmentKind { kObstacleCourses, kCppnTerrain };  // what a POET run's first environment is
 
 // The episode settings every task of a run shares.
 struct EpisodeSettings {
@@ -49,6 +50,7 @@ struct PoetSettings {
   double solved_score = 0;
   bool keep_admission_selection = false;
   TransferTest transfer_test = TransferTest::kFull;
+  EnvironmentKind environments = EnvironmentKind::kObstacleCourses;
   MutationOptions mutation;
 
   bool passes_mc(double score) const { return mc_low <= score && score <= mc_high; }

@@ -3,8 +3,10 @@
 #include <array>
 
 #include "course_picture.h"
+#include "course_stack.h"
 #include "enum_names.h"
 #include "poet/rollout_batch.h"
+#include "report/goal_switching.h"
 #include "report/pair_episode.h"
 #include "report/report_plots.h"
 #include "report/run_metrics.h"
@@ -13,13 +15,27 @@
 namespace poet {
 namespace {
 
-constexpr std::array<std::pair<PictureKind, std::string_view>, 7> kKinds = {{{PictureKind::kScores, "scores"},
+constexpr std::array<std::pair<PictureKind, std::string_view>, 8> kKinds = {{{PictureKind::kScores, "scores"},
                                                                              {PictureKind::kLevels, "levels"},
                                                                              {PictureKind::kTree, "tree"},
                                                                              {PictureKind::kRose, "rose"},
                                                                              {PictureKind::kCourse, "course"},
                                                                              {PictureKind::kFilmstrip, "filmstrip"},
-                                                                             {PictureKind::kWalk, "walk"}}};
+                                                                             {PictureKind::kWalk, "walk"},
+                                                                             {PictureKind::kLineage, "lineage"}}};
+
+// The courses from the first environment down to pair's, each labelled with its pair, name, creation and solve.
+Expected<std::string> render_lineage(PictureFormat format, const RunSnapshot& run, int pair) {
+  if (!run.state.find(pair)) return Unexpected{"no pair " + std::to_string(pair) + " in " + run.dir.string()};
+  std::vector<LabelledCourse> courses;
+  for (const LineageLink& link : lineage_chain(run, compute_run_metrics(run), pair)) {
+    const std::string solved = link.solved == kNone ? "unsolved" : "solved at " + std::to_string(link.solved);
+    courses.push_back({Terrain::generate(run.state.find(link.pair)->env),
+                       "pair " + std::to_string(link.pair) + "  " + link.env + "  created at " +
+                           std::to_string(link.created) + ", " + solved});
+  }
+  return render_course_stack(format, courses);
+}
 
 }  // namespace
 
@@ -37,7 +53,8 @@ std::optional<PictureEncoding> picture_encoding(std::string_view extension) {
 }
 
 bool needs_pair(PictureKind kind) {
-  return kind == PictureKind::kCourse || kind == PictureKind::kFilmstrip || kind == PictureKind::kWalk;
+  return kind == PictureKind::kCourse || kind == PictureKind::kFilmstrip || kind == PictureKind::kWalk ||
+         kind == PictureKind::kLineage;
 }
 
 std::string picture_kind_names() {
@@ -78,6 +95,8 @@ Expected<std::string> render_run_picture(const RunSnapshot& run, const PictureRe
       return render_tree_plot(format, run, compute_run_metrics(run));
     case PictureKind::kRose:
       return render_rose_plot(format, run);
+    case PictureKind::kLineage:
+      return render_lineage(format, run, request.pair);
     case PictureKind::kCourse:
     case PictureKind::kFilmstrip:
     case PictureKind::kWalk:

@@ -7,6 +7,8 @@
 //   scores, levels, tree, rose                    the run            .png or .svg
 //   course, filmstrip (with a pair id)            a pair's episode   .png or .svg
 //   walk (with a pair id)                         a pair's episode   .gif
+//   lineage (with a pair id)                      the courses of the pair's line of ancestors, first environment
+//                                                 first, one above another (course_stack.h)   .png or .svg
 
 #include <string>
 

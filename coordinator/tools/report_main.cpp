@@ -20,6 +20,7 @@
 #include "report/report_json.h"
 #include "report/report_plots.h"
 #include "report/run_metrics.h"
+#include "report/run_pictures.h"
 #include "report/run_snapshot.h"
 #include "tool_flags.h"
 
@@ -177,6 +178,12 @@ void print_table(const RunSnapshot& run, const RunMetrics& m, const Coverage& co
   }
 }
 
+// The pair whose lineage the plots draw: the last that print_goal_switching shows (the first pair when none).
+int deepest_pair(const RunSnapshot& run) {
+  const std::vector<int> ids = lineage_pairs(run);
+  return ids.empty() ? run.state.pairs.front().id : ids.back();
+}
+
 std::string write_samples(const std::string& path, const Coverage& coverage) {
   std::ofstream out(path);
   if (!out) return "cannot write " + path + ": " + std::strerror(errno);
@@ -207,7 +214,9 @@ int main(int argc, char** argv) {
   int per_level = kDefaultCoveragePerLevel;
   app.add_option("--run-dir", run_dir, "Run directory (finished, live or resumed)")->required();
   app.add_option("--json", json_path, "Write the metrics as JSON to this file ('-' for stdout, instead of the table)");
-  app.add_option("--plots", plots_dir, "Write scores.png, levels.png and tree.png into this directory");
+  app.add_option("--plots", plots_dir,
+                 "Write scores.png, levels.png, tree.png and lineage.png (the courses along the last lineage the "
+                 "table shows) into this directory");
   app.add_option("--target", target_path,
                  "Environment file (envs/*.env.json form): report the solved environment closest to it (default: a "
                  "control run's own target)");
@@ -252,7 +261,8 @@ int main(int argc, char** argv) {
     const std::pair<const char*, Expected<std::string>> plots[] = {
         {"scores.png", render_score_plot(PictureFormat::kPng, *run)},
         {"levels.png", render_level_plot(PictureFormat::kPng, metrics)},
-        {"tree.png", render_tree_plot(PictureFormat::kPng, *run, metrics)}};
+        {"tree.png", render_tree_plot(PictureFormat::kPng, *run, metrics)},
+        {"lineage.png", render_run_picture(*run, {PictureKind::kLineage, PictureEncoding::kPng, deepest_pair(*run)})}};
     for (const auto& [name, bytes] : plots) {
       const std::string path = (dir / name).string();
       const std::string error = bytes ? write_bytes(path, *bytes) : "cannot draw " + path + ": " + bytes.error();

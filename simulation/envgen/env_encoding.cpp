@@ -4,12 +4,15 @@
 #include <cmath>
 #include <string_view>
 
+#include "envgen/cppn_course.h"
+
 namespace poet {
 
 bool EnvEncoding::same_genes(const EnvEncoding& o) const {
   return roughness == o.roughness && pit_gap == o.pit_gap && stump_width == o.stump_width &&
          stump_height == o.stump_height && stump_float == o.stump_float && stair_height == o.stair_height &&
-         stair_width == o.stair_width && stair_steps == o.stair_steps;
+         stair_width == o.stair_width && stair_steps == o.stair_steps &&
+         (cppn == o.cppn || (cppn && o.cppn && *cppn == *o.cppn));
 }
 
 namespace {
@@ -74,10 +77,16 @@ std::optional<std::string> validate(const EnvEncoding& e) {
   if (e.stump_width && e.stump_width->lo < 1) return "stump_width: a stump is at least 1 terrain step wide";
   if (e.stair_width && e.stair_width->lo < 1) return "stair_width: a stair is at least 1 terrain step wide";
   if (e.stair_steps && e.stair_steps->lo < 1) return "stair_steps: a staircase has at least 1 step";
+  if (e.is_cppn()) {
+    if (e.roughness != 0 || e.pit_gap || e.stump_width || e.stair_height)
+      return "cppn: a CPPN course has ground_roughness 0 and no obstacle intervals";
+    return validate_cppn_course(*e.cppn);
+  }
   return std::nullopt;
 }
 
 std::string reference_name(const EnvEncoding& e) {
+  if (e.is_cppn()) return cppn_name(*e.cppn);
   std::string name = "r" + python_float(e.roughness);
   if (e.pit_gap) name += ".p" + python_float(e.pit_gap->lo) + "_" + python_float(e.pit_gap->hi);
   if (e.has_stumps())

@@ -3,8 +3,11 @@
 // that turns an encoding into one exact course (EnvDef). Units are terrain steps (14/30 m) for sizes.
 
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <string>
+
+#include "envgen/cppn_genome.h"
 
 namespace poet {
 
@@ -18,6 +21,8 @@ struct Interval {
 
 // An obstacle type is present when all of its intervals are; an absent type has all of them empty
 // (the reference's empty lists). Encodings that give some but not all of a type's intervals are invalid.
+// A CPPN course (Enhanced POET) is the second kind: its ground is drawn by the genome (envgen/cppn_course.h), with
+// roughness 0 and no obstacle type.
 struct EnvEncoding {
   std::string name = "flat";  // a label carried in files; never part of an environment's identity
   double roughness = 0;
@@ -28,12 +33,14 @@ struct EnvEncoding {
   std::optional<Interval> stair_height;
   std::optional<Interval> stair_width;
   std::optional<Interval> stair_steps;
+  std::shared_ptr<const CppnGenome> cppn;  // shared: an encoding is copied into every task on its course
 
+  bool is_cppn() const { return cppn != nullptr; }
   bool has_pits() const { return pit_gap.has_value(); }
   bool has_stumps() const { return stump_width && stump_height && stump_float; }
   bool has_stairs() const { return stair_height && stair_width && stair_steps; }
 
-  // Equal genes (every interval and the roughness); the name is ignored.
+  // Equal genes (every interval, the roughness and the genome); the name is ignored.
   bool same_genes(const EnvEncoding& other) const;
 };
 
@@ -51,11 +58,12 @@ inline constexpr double kMaxRoughness = 20.0;
 inline constexpr double kMaxIntervalValue = 20.0;  // any interval bound, in terrain steps or counts
 
 // Checks every field of an encoding: finite, non-negative, lo <= hi, integer genes whole with lo < hi, types
-// complete, within the maxima. Returns a message naming the first bad field, or nothing when valid.
+// complete, within the maxima; a CPPN course's genome as validate_cppn_course checks it. Returns a message naming the first bad field, or nothing when valid.
 std::optional<std::string> validate(const EnvEncoding& encoding);
 
 // The reference's label r<rough>[.p<lo>_<hi>][.b<w>_<hlo>_<hhi>][.s<steps_lo>_<stair_h_hi>], numbers in
-// Python's float form ("0.0", "0.8", "1.0"). It omits the seed and some genes: a label, never an identity.
+// Python's float form ("0.0", "0.8", "1.0"); cppn_name() for a CPPN course. It omits the seed and some genes: a
+// label, never an identity.
 std::string reference_name(const EnvEncoding& encoding);
 
 }  // namespace poet

@@ -2,6 +2,8 @@
 
 #include <cmath>
 
+#include "envgen/cppn_mutation.h"
+
 namespace poet {
 
 double round1(double x) { return std::nearbyint(x * 10.0) / 10.0; }
@@ -71,7 +73,13 @@ EnvEncoding mutate(const EnvEncoding& parent, const MutationOptions& options, Ra
 
 EnvDef mutate_def(const EnvDef& parent, const MutationOptions& options, RandomStream& stream) {
   EnvDef child;
-  child.encoding = mutate(parent.encoding, options, stream);
+  if (parent.encoding.is_cppn()) {
+    CppnGenome genome = mutate_cppn(*parent.encoding.cppn, stream);
+    child.encoding.name = cppn_name(genome);
+    child.encoding.cppn = std::make_shared<const CppnGenome>(std::move(genome));
+  } else {
+    child.encoding = mutate(parent.encoding, options, stream);
+  }
   child.seed = static_cast<uint32_t>(stream.uniform_int(0, kMaxEnvSeed));
   return child;
 }

@@ -66,7 +66,8 @@ Interval mutate_interval(const std::optional<Interval>& gene, const IntervalRule
 // validate(child).
 EnvEncoding mutate(const EnvEncoding& parent, const MutationOptions& options, RandomStream& stream);
 
-// mutate() of the encoding, then the child's terrain seed: uniform_int(0, kMaxEnvSeed) from the same stream.
+// mutate() of the encoding (mutate_cppn() of a CPPN course's genome, which the options do not concern), then the
+// child's terrain seed: uniform_int(0, kMaxEnvSeed) from the same stream.
 EnvDef mutate_def(const EnvDef& parent, const MutationOptions& options, RandomStream& stream);
 
 }  // namespace poet

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "envgen/cppn_course.h"
 #include "rng.h"
 #include "walker/walker_constants.h"
 
@@ -36,6 +37,12 @@ Terrain Terrain::generate(const EnvDef& def) {
   Terrain t;
   t.ground_.reserve(kTerrainLength);
   const double ts = kTerrainStep;
+  if (e.is_cppn()) {
+    const std::vector<double> relief = cppn_relief(*e.cppn);
+    for (int i = 0; i < kTerrainLength; ++i) t.ground_.push_back({i * ts, kTerrainHeight + relief[i]});
+    t.push_unit_ = rng.uniform01();
+    return t;
+  }
 
   State state = State::kGrass;
   double velocity = 0.0;

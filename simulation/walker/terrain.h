@@ -35,7 +35,8 @@ struct ObstacleFeature {
 
 class Terrain {
  public:
-  // Draws the course for a valid definition (see validate()); throws std::invalid_argument otherwise.
+  // Draws the course for a valid definition (see validate()); throws std::invalid_argument otherwise. A CPPN
+  // course's ground is kTerrainHeight plus cppn_relief(), with no boxes; its seed draws only the push.
   static Terrain generate(const EnvDef& def);
 
   const std::vector<Point>& ground() const { return ground_; }     // kTerrainLength points, left to right

@@ -3,7 +3,8 @@
 // started with no worker waits and completes once one connects, and one whose every worker leaves waits for the
 // next; a worker that heartbeats but never answers only delays the run (its job is taken back after a lease); a
 // coordinator killed with SIGKILL and started again finds its workers back and ends in the same files; a job that
-// kills every worker stops the run naming the task; the status socket answers during a run.
+// kills every worker stops the run naming the task; the status socket answers during a run. A CPPN run on workers,
+// killed and resumed, ends as on threads.
 
 #include <gtest/gtest.h>
 #include <httplib.h>
@@ -28,7 +29,37 @@ namespace {
 using namespace poet::testing;
 namespace fs = std::filesystem;
 using namespace std::chrono_literals;
-using DistributedRunTest = CoordinatorRunTest;
+class DistributedRunTest : public CoordinatorRunTest {
+ protected:
+  // Runs config_ on two workers over --listen, kills the coordinator with SIGKILL past its first checkpoint,
+  // starts it again, and expects the workers found again and the files of the run on threads.
+  void kill_and_resume_on_workers() {
+    const fs::path reference = threads_run();
+    const int port = free_port();
+    ASSERT_GT(port, 0);
+    const std::string endpoint = "tcp://127.0.0.1:" + std::to_string(port);
+    const pid_t before = coordinator(root_ / "R", {"--listen", endpoint}, "before");
+    await_log("before", "workers connect to (tcp://)");
+    std::vector<pid_t> workers;
+    for (const char* name : {"a", "b"})
+      workers.push_back(spawn(POET_WORKER_BIN, {"--connect", endpoint, "--threads", "1"}, name));
+    await_log("before", "(iteration [2-9]):");  // past the first checkpoint (checkpoint_interval 1)
+    ASSERT_EQ(::kill(before, SIGKILL), 0);
+    EXPECT_EQ(wait(before), 128 + SIGKILL);
+    EXPECT_NE(read(root_ / "R" / "events.jsonl"), read(reference / "events.jsonl")) << "the run ended before the kill";
+
+    const pid_t after = coordinator(root_ / "R", {"--listen", endpoint}, "after");
+    EXPECT_EQ(wait(after), 0) << read(root_ / "after.err");
+    const std::string log = read(root_ / "after.err");
+    EXPECT_TRUE(contains(log, "resum")) << log;
+    EXPECT_TRUE(contains(log, "joined")) << log;
+    expect_same_run(reference, root_ / "R");
+    for (pid_t worker : workers)
+      EXPECT_EQ(wait(worker), 0) << "the workers stay until the restarted run shuts them down";
+    const std::string worker_log = read(root_ / "a.err") + read(root_ / "b.err");
+    EXPECT_TRUE(contains(worker_log, "Hello again") || contains(worker_log, "connecting again")) << worker_log;
+  }
+};
 
 TEST_F(DistributedRunTest, AnyNumberOfWorkersGivesTheRunOfThreads) {
   const fs::path reference = threads_run();
@@ -112,29 +143,16 @@ TEST_F(DistributedRunTest, AWorkerThatNeverAnswersOnlyDelaysTheRun) {
 
 TEST_F(DistributedRunTest, ACoordinatorKilledMidRunFindsItsWorkersAgainAndEndsTheSame) {
   std::ofstream(config_, std::ios::trunc) << config_with("perturbations: 4", "perturbations: 24");
-  const fs::path reference = threads_run();
-  const int port = free_port();
-  ASSERT_GT(port, 0);
-  const std::string endpoint = "tcp://127.0.0.1:" + std::to_string(port);
-  const pid_t before = coordinator(root_ / "R", {"--listen", endpoint}, "before");
-  await_log("before", "workers connect to (tcp://)");
-  std::vector<pid_t> workers;
-  for (const char* name : {"a", "b"})
-    workers.push_back(spawn(POET_WORKER_BIN, {"--connect", endpoint, "--threads", "1"}, name));
-  await_log("before", "(iteration [2-9]):");  // past the first checkpoint (checkpoint_interval 1)
-  ASSERT_EQ(::kill(before, SIGKILL), 0);
-  EXPECT_EQ(wait(before), 128 + SIGKILL);
-  EXPECT_NE(read(root_ / "R" / "events.jsonl"), read(reference / "events.jsonl")) << "the run ended before the kill";
+  kill_and_resume_on_workers();
+}
 
-  const pid_t after = coordinator(root_ / "R", {"--listen", endpoint}, "after");
-  EXPECT_EQ(wait(after), 0) << read(root_ / "after.err");
-  const std::string log = read(root_ / "after.err");
-  EXPECT_TRUE(contains(log, "resum")) << log;
-  EXPECT_TRUE(contains(log, "joined")) << log;
-  expect_same_run(reference, root_ / "R");
-  for (pid_t worker : workers) EXPECT_EQ(wait(worker), 0) << "the workers stay until the restarted run shuts them down";
-  const std::string worker_log = read(root_ / "a.err") + read(root_ / "b.err");
-  EXPECT_TRUE(contains(worker_log, "Hello again") || contains(worker_log, "connecting again")) << worker_log;
+// Enhanced POET's CPPN terrain travels to workers and resumes like any course.
+TEST_F(DistributedRunTest, ACppnRunOnWorkersKilledAndResumedEndsAsOnThreads) {
+  std::string config = config_with("perturbations: 4", "perturbations: 24");
+  config.replace(config.find("active_cap: 3"), 13, "active_cap: 3 environments: CPPN_TERRAIN");
+  std::ofstream(config_, std::ios::trunc) << config;
+  kill_and_resume_on_workers();
+  EXPECT_TRUE(contains(read(root_ / "R" / "events.jsonl"), "cppn-"));
 }
 
 TEST_F(DistributedRunTest, AJobThatKillsEveryWorkerStopsTheRunNamingTheTask) {

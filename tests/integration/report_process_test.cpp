@@ -20,6 +20,15 @@ poet { mutation_interval: 1 transfer_interval: 2 repro_threshold: 200 mc_low: 50
        max_children: 4 max_admitted: 2 active_cap: 4 }
 )";
 
+// The same on CPPN terrain: the walker that solves flat meets slopes and hills.
+constexpr char kCppnWalkerConfig[] = R"(mode: POET
+seed: 3
+iterations: 3
+es { perturbations: 2 init_lr: 0.02 }
+poet { mutation_interval: 1 transfer_interval: 2 repro_threshold: 200 mc_low: 25 mc_high: 340
+       max_children: 4 max_admitted: 2 active_cap: 4 environments: CPPN_TERRAIN }
+)";
+
 // Every file under dir (relative path → content and modification time).
 std::map<std::string, std::pair<std::string, fs::file_time_type>> files_of(const fs::path& dir) {
   std::map<std::string, std::pair<std::string, fs::file_time_type>> files;
@@ -46,16 +55,16 @@ class ReportProcessTest : public CoordinatorRunTest {
     return tool(POETCTL_BIN, std::move(args), out, err);
   }
 
-  fs::path walker_run() {
-    const fs::path config = root_ / "walker.textproto";
-    std::ofstream(config) << kWalkerConfig;
-    const fs::path dir = root_ / "walker";
+  fs::path walker_run(const char* config_text = kWalkerConfig, const std::string& name = "walker") {
+    const fs::path config = root_ / (name + ".textproto");
+    std::ofstream(config) << config_text;
+    const fs::path dir = root_ / name;
     const pid_t pid = spawn(POET_COORDINATOR_BIN,
                             {"--config", config.string(), "--run-dir", dir.string(), "--start-from",
                              std::string(POET_SOURCE_DIR) + "/data/walkers/flat-walker.json", "--threads", "2",
                              "--quiet", "--status-address", ""},
-                            "walker");
-    EXPECT_EQ(wait(pid), 0) << read(root_ / "walker.err");
+                            name);
+    EXPECT_EQ(wait(pid), 0) << read(root_ / (name + ".err"));
     return dir;
   }
 
@@ -123,7 +132,7 @@ TEST_F(ReportProcessTest, ReportsTheMetricsTableJsonAndPlotsOfAFinishedRunWithou
   const std::string samples = read(root_ / "coverage.csv");
   EXPECT_EQ(std::count(samples.begin(), samples.end(), '\n'), 151);
   EXPECT_TRUE(contains(samples, "very challenging,"));
-  for (const char* plot : {"scores.png", "levels.png", "tree.png"}) {
+  for (const char* plot : {"scores.png", "levels.png", "tree.png", "lineage.png"}) {
     const std::string png = read(root_ / "plots" / plot);
     ASSERT_GT(png.size(), 1000u) << plot;
     EXPECT_EQ(png.substr(1, 3), "PNG") << plot;
@@ -282,7 +291,8 @@ TEST_F(ReportProcessTest, PicturesOfEveryKindFromARunDirectoryWithoutChangingIt)
                                                                       {"rose", "rose.svg", ""},
                                                                       {"course", "course.png", "1"},
                                                                       {"filmstrip", "filmstrip.svg", "2"},
-                                                                      {"walk", "walk.gif", "1"}}) {
+                                                                      {"walk", "walk.gif", "1"},
+                                                                      {"lineage", "lineage.png", "2"}}) {
     std::vector<std::string> args = {"picture", kind, (out / file).string(), "--run-dir", run.string()};
     if (!pair.empty()) args.insert(args.end(), {"--pair", pair});
     std::string err;
@@ -327,6 +337,44 @@ TEST_F(ReportProcessTest, PicturesOfEveryKindFromARunDirectoryWithoutChangingIt)
   EXPECT_TRUE(before == files_of(run));
 }
 
+// A CPPN run is read and drawn by every tool: its environment files hold the genome, the report reads the run,
+// pictures draw its courses, and poet-eval and poet-rollout run walkers on its environment files.
+TEST_F(ReportProcessTest, ACppnRunIsReadAndDrawnByEveryTool) {
+  const fs::path run = walker_run(kCppnWalkerConfig, "cppn");
+  const auto before = files_of(run);
+  const std::string env_file = (run / "envs" / "pair-1.env.json").string();
+  ASSERT_TRUE(fs::exists(env_file)) << "no child was admitted";
+  EXPECT_TRUE(contains(read(env_file), "\"cppn\": {")) << read(env_file);
+  EXPECT_TRUE(contains(read(run / "events.jsonl"), "cppn-")) << "environments are named by their genome";
+
+  std::string out, err;
+  ASSERT_EQ(report({"--run-dir", run.string(), "--json", (root_ / "cppn.json").string()}, &out, &err), 0) << err;
+  const nlohmann::json j = nlohmann::json::parse(read(root_ / "cppn.json"));
+  EXPECT_GE(j["pairs"].size(), 2u);
+  for (const auto& [kind, file] : std::vector<std::pair<std::string, std::string>>{{"course", "course.png"},
+                                                                                   {"filmstrip", "filmstrip.svg"},
+                                                                                   {"walk", "walk.gif"},
+                                                                                   {"lineage", "lineage.svg"}}) {
+    ASSERT_EQ(
+        poetctl({"picture", kind, (root_ / file).string(), "--run-dir", run.string(), "--pair", "1"}, nullptr, &err), 0)
+        << kind << ": " << err;
+  }
+  EXPECT_TRUE(is_png(read(root_ / "course.png")));
+  EXPECT_TRUE(is_svg(read(root_ / "filmstrip.svg")));
+  EXPECT_TRUE(is_gif(read(root_ / "walk.gif")));
+  EXPECT_TRUE(contains(read(root_ / "lineage.svg"), "<svg"));  // the first environment and pair 1, one above the other
+
+  const std::string policy = (run / "policies" / "pair-1.json").string();
+  ASSERT_EQ(tool(POET_EVAL_BIN, {"--policy", policy, "--env", env_file, "--seeds", "0:1"}, &out, &err), 0) << err;
+  EXPECT_TRUE(contains(out, "cppn-")) << out;
+  ASSERT_EQ(
+      tool(POET_ROLLOUT_BIN, {"--policy", policy, "--env", env_file, "--max-steps", "50", "--picture", ""}, &out, &err),
+      0)
+      << err;
+  EXPECT_TRUE(contains(out, "return ")) << out;
+  EXPECT_TRUE(before == files_of(run)) << "the run directory changed";
+}
+
 TEST_F(ReportProcessTest, PicturesFromALiveCoordinatorsStatusSocket) {
   std::ofstream(config_) << config_with("iterations: 6", "iterations: 100000");
   const fs::path run = root_ / "live";
@@ -347,6 +395,7 @@ TEST_F(ReportProcessTest, PicturesFromALiveCoordinatorsStatusSocket) {
   EXPECT_TRUE(is_svg(read(root_ / "tree.svg")));
   EXPECT_TRUE(is_png(read(root_ / "scores.png")));
   EXPECT_TRUE(is_gif(read(root_ / "walk.gif")));
+  EXPECT_TRUE(contains(read(root_ / "lineage.svg"), "<svg"));  // the first environment and pair 1, one above the other
   std::string err;
   EXPECT_EQ(
       poetctl({"--address", address, "picture", "course", (root_ / "c.svg").string(), "--pair", "4242"}, nullptr, &err),

@@ -277,6 +277,7 @@ TEST(RunConfig, RunSettingsCarryEveryField) {
            mc_low: 10 mc_high: 300 active_cap: 6 novelty_k: 3 novelty_normalized: true
            child_ranking: LOWEST_SCORE_FIRST admission_proposal: ADAM_PROPOSAL transfer_proposal: SGD_PROPOSAL
            solved_score: 250 keep_admission_selection: true transfer_test: THRESHOLD_TRANSFER_TEST
+           environments: CPPN_TERRAIN
            mutation { roughness: false pits: false stumps: false stairs: true mutate_stair_steps: true
                       all_types: false } }
     walker { push_scale: 0 lidar: FIRST max_steps: 500 stochastic_envs: true eval_episodes: 3 }
@@ -322,6 +323,7 @@ TEST(RunConfig, RunSettingsCarryEveryField) {
   EXPECT_EQ(p.solved_score, 250);
   EXPECT_TRUE(p.keep_admission_selection);
   EXPECT_EQ(p.transfer_test, TransferTest::kThreshold);
+  EXPECT_EQ(p.environments, EnvironmentKind::kCppnTerrain);
   const MutationOptions& m = p.mutation;
   EXPECT_FALSE(m.roughness);
   EXPECT_FALSE(m.pits);
@@ -605,8 +607,27 @@ TEST(RunConfig, PoetModesNeedAMutableGeneType) {
   EXPECT_TRUE(contains(poet, "POET")) << poet;
   const std::string no_transfer = error_of(std::string("mode: POET_WITHOUT_TRANSFER ") + none);
   EXPECT_TRUE(no_transfer.starts_with("poet.mutation:")) << no_transfer;
-  // One type is enough.
+  // One type is enough, and CPPN terrain's mutation does not read them.
   EXPECT_TRUE(parse_run_config("poet { mutation { roughness: false pits: false stumps: false stairs: true } }"));
+  EXPECT_TRUE(parse_run_config(std::string("poet { environments: CPPN_TERRAIN ") + (none + 7)));
+}
+
+TEST(RunConfig, CppnTargetsForEsAloneButNotTheDirectPath) {
+  const std::string cppn = R"(target { encoding { cppn {
+      nodes { id: 0 role: INPUT } nodes { id: 1 role: OUTPUT bias: 0.1 }
+      connections { from_node: 0 to_node: 1 weight: 0.5 } } } seed: 3 })";
+  const Expected<pb::RunConfig> es_alone = parse_run_config("mode: ES_ALONE es_alone { " + cppn + " }");
+  ASSERT_TRUE(es_alone) << es_alone.error();
+  const RunSettings s = run_settings(*es_alone);
+  ASSERT_TRUE(s.target->encoding.is_cppn());
+  EXPECT_EQ(s.target->encoding.cppn->connections[0].weight, 0.5);
+  EXPECT_EQ(error_of("mode: DIRECT_PATH direct_path { " + cppn + " budget_es_steps: 1 }"),
+            "direct_path.target: a CPPN course has no direct path from flat (use an obstacle encoding)");
+  const std::string cycle = error_of(R"(mode: ES_ALONE es_alone { target { encoding { cppn {
+      nodes { id: 0 role: INPUT } nodes { id: 1 role: OUTPUT } nodes { id: 2 activation: SIN }
+      connections { from_node: 0 to_node: 1 weight: 1 } connections { from_node: 1 to_node: 2 weight: 1 }
+      connections { from_node: 2 to_node: 1 weight: 1 } } } } })");
+  EXPECT_EQ(cycle, "es_alone.target.encoding.cppn.connections: they form a cycle");
 }
 
 TEST(RunConfig, SectionOfAnotherModeIsAContradiction) {

@@ -1,5 +1,5 @@
 // A run is a function of its config and seed: real rollouts on 1 or 2 threads, straight through or stopped,
-// checkpointed and resumed, end in byte-identical checkpoints.
+// checkpointed and resumed, end in byte-identical checkpoints — for obstacle courses and for CPPN terrain.
 
 #include <gtest/gtest.h>
 
@@ -11,9 +11,18 @@
 namespace poet {
 namespace {
 
-pb::RunConfig small_run() { return testing::small_real_run(); }
+// The runs checked: their configs by name.
+pb::RunConfig run_config(std::string_view name) {
+  pb::RunConfig c = testing::small_real_run();
+  if (name == "cppn") c = testing::small_cppn_run();
+  return c;
+}
 
-std::string checkpoint_bytes(const RunState& s) { return to_checkpoint(small_run(), s).SerializeAsString(); }
+class Determinism : public ::testing::TestWithParam<std::string> {
+ protected:
+  pb::RunConfig small_run() const { return run_config(GetParam()); }
+  std::string checkpoint_bytes(const RunState& s) const { return to_checkpoint(small_run(), s).SerializeAsString(); }
+};
 
 RunState run(const pb::RunConfig& config, int threads) {
   RunState s = initial_state(run_settings(config));
@@ -22,7 +31,7 @@ RunState run(const pb::RunConfig& config, int threads) {
   return s;
 }
 
-TEST(Determinism, OneAndTwoThreadsGiveIdenticalCheckpoints) {
+TEST_P(Determinism, OneAndTwoThreadsGiveIdenticalCheckpoints) {
   const RunState a = run(small_run(), 1);
   const RunState b = run(small_run(), 2);
   // the run exercised every part of the loop
@@ -33,7 +42,7 @@ TEST(Determinism, OneAndTwoThreadsGiveIdenticalCheckpoints) {
   EXPECT_EQ(checkpoint_bytes(a), checkpoint_bytes(b));   // the numbers themselves are pinned by golden_test.cpp
 }
 
-TEST(Determinism, ResumingFromACheckpointContinuesExactly) {
+TEST_P(Determinism, ResumingFromACheckpointContinuesExactly) {
   const std::string straight = checkpoint_bytes(run(small_run(), 2));
   for (int stop : {1, 2, 4}) {
     pb::RunConfig first_leg = small_run();
@@ -51,6 +60,9 @@ TEST(Determinism, ResumingFromACheckpointContinuesExactly) {
     EXPECT_EQ(checkpoint_bytes(*restored), straight) << "stopped after " << stop;
   }
 }
+
+INSTANTIATE_TEST_SUITE_P(Runs, Determinism, ::testing::Values("obstacles", "cppn"),
+                         [](const auto& info) { return info.param; });
 
 }  // namespace
 }  // namespace poet

@@ -50,6 +50,13 @@ inline pb::RunConfig small_real_run() {
   return c;
 }
 
+// small_real_run on CPPN terrain.
+inline pb::RunConfig small_cppn_run() {
+  pb::RunConfig c = small_real_run();
+  c.mutable_poet()->set_environments(pb::CPPN_TERRAIN);
+  return c;
+}
+
 inline EnvDef rough(double roughness, uint32_t seed = 11) {
   EnvDef def{named_course("flat").value(), seed};
   def.encoding.roughness = roughness;

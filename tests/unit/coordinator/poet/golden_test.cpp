@@ -26,6 +26,7 @@ namespace {
 // Update only for an intended change of behaviour, with the reason in the commit message.
 constexpr uint64_t kRolloutsDigest = 0x7d7a3dd85d8d55a2;
 constexpr uint64_t kCheckpointDigest = 0x4bdcea0404d83a03;
+constexpr uint64_t kCppnCheckpointDigest = 0x05a994401e44dc78;
 
 // FNV-1a: a fixed, documented function of the bytes, whatever the platform's std::hash does.
 uint64_t fnv1a(std::string_view bytes) {
@@ -69,8 +70,9 @@ TEST(Golden, SingleRolloutReturns) {
   EXPECT_EQ(digest, kRolloutsDigest) << changed("the walker simulation", digest, kRolloutsDigest) << table;
 }
 
-TEST(Golden, SmallRunCheckpoint) {
-  pb::RunConfig c = testing::small_real_run();
+// Five iterations of a small run; its checkpoint's digest against the pinned one.
+void expect_checkpoint_digest(const pb::RunConfig& config, uint64_t pinned, const char* what) {
+  pb::RunConfig c = config;
   c.set_iterations(5);
   RunState s = initial_state(run_settings(c));
   LocalEvaluator evaluator(2);
@@ -78,10 +80,18 @@ TEST(Golden, SmallRunCheckpoint) {
   ASSERT_GE(s.pairs.size(), 3u);  // reproduction and transfer ran
   ASSERT_GT(s.counters.transfer_attempts, 0);
   const uint64_t digest = fnv1a(encode_checkpoint_file(to_checkpoint(c, s)));
-  EXPECT_EQ(digest, kCheckpointDigest) << changed("the ES or the POET loop (or the simulation under it)", digest,
-                                                  kCheckpointDigest)
-                                       << "pairs " << s.pairs.size() << ", rollouts " << s.counters.rollouts
-                                       << ", env steps " << s.counters.env_steps;
+  EXPECT_EQ(digest, pinned) << changed(what, digest, pinned) << "pairs " << s.pairs.size() << ", rollouts "
+                            << s.counters.rollouts << ", env steps " << s.counters.env_steps;
+}
+
+TEST(Golden, SmallRunCheckpoint) {
+  expect_checkpoint_digest(testing::small_real_run(), kCheckpointDigest,
+                           "the ES or the POET loop (or the simulation under it)");
+}
+
+TEST(Golden, SmallCppnRunCheckpoint) {
+  expect_checkpoint_digest(testing::small_cppn_run(), kCppnCheckpointDigest,
+                           "CPPN terrain, its mutation, or the POET loop (or the simulation under it)");
 }
 
 }  // namespace
