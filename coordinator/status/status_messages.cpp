@@ -33,7 +33,7 @@ status::PairSummary summary(const PairInfo& info) {
   s.set_solved(p.solved());
   s.set_first_solved_iteration(p.first_solved_iteration);
   s.set_es_steps(p.es_steps);
-  s.set_difficulty(std::string(to_string(static_cast<Difficulty>(info.difficulty_level))));
+  s.set_difficulty(std::string(level_label(p.env.encoding)));
   s.set_difficulty_level(info.difficulty_level);
   return s;
 }

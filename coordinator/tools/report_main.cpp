@@ -123,6 +123,10 @@ void print_table(const RunSnapshot& run, const RunMetrics& m, const Coverage& co
   }
   std::printf("  (%lld mutation attempts, %lld of them duplicates of an archived environment)\n\n",
               static_cast<long long>(state.counters.children_tried), static_cast<long long>(m.duplicates));
+  if (state.settings.poet.environments == EnvironmentKind::kCppnTerrain)
+    std::printf(
+        "  (CPPN terrain: Table 1's levels describe obstacle courses; every CPPN course counts as easy here, "
+        "and ANNECS is this run's measure)\n\n");
   print_milestones(run, m);
 
   std::printf("Transfers: %lld replacement attempts, %lld accepted", static_cast<long long>(m.transfer_attempts),
@@ -167,7 +171,7 @@ void print_table(const RunSnapshot& run, const RunMetrics& m, const Coverage& co
   std::printf("\nPairs\n  %4s %-28s %-12s %7s %6s %6s %7s %7s %8s %8s %8s %5s\n", "id", "environment", "level",
               "created", "parent", "from", "solved", "retired", "best", "latest", "ES steps", "xfers");
   for (const Pair& p : state.pairs) {
-    const std::string level = level_name(static_cast<size_t>(difficulty(p.env.encoding)));
+    const std::string level(level_label(p.env.encoding));
     std::printf("  %4d %-28.28s %-12.12s %7d %6s %6s %7s %7s %8.1f %8.1f %8lld %5zu\n", p.id,
                 p.env.encoding.name.c_str(), level.c_str(), p.created_iteration,
                 p.parent_id == kNone ? "-" : std::to_string(p.parent_id).c_str(),

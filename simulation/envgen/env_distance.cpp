@@ -78,4 +78,8 @@ std::string_view to_string(Difficulty d) {
   return enum_name(d, kNames, "unknown");
 }
 
+std::string_view level_label(const EnvEncoding& encoding) {
+  return encoding.is_cppn() ? "CPPN terrain" : to_string(difficulty(encoding));
+}
+
 }  // namespace poet

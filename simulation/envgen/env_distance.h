@@ -44,4 +44,8 @@ double normalized_distance(const EnvVector& a, const EnvVector& b);
 // "easy", "challenging", "very challenging", "extremely challenging".
 std::string_view to_string(Difficulty difficulty);
 
+// An environment's level for people: to_string(difficulty(encoding)) for an obstacle course, "CPPN terrain" for a
+// CPPN course, which Table 1's conditions do not describe (its 5-vector is all zeros).
+std::string_view level_label(const EnvEncoding& encoding);
+
 }  // namespace poet

@@ -125,6 +125,48 @@ def test_courses_by_name_file_and_dict(tmp_path):
     assert poet.WalkerEnv(str(path), seed=1).seed == 1
 
 
+def cppn_course(weight):
+    """A CPPN course (Enhanced POET): input -> sin hidden node -> output, and input -> output."""
+    empty = {key: [] for key in ("pit_gap", "stump_width", "stump_height", "stump_float", "stair_height",
+                                 "stair_width", "stair_steps")}
+    genome = {
+        "nodes": [{"id": 0, "role": "input"},
+                  {"id": 1, "role": "output", "activation": "identity", "bias": 0.0},
+                  {"id": 2, "role": "hidden", "activation": "sin", "bias": 0.1}],
+        "connections": [{"from": 0, "to": 1, "weight": weight}, {"from": 0, "to": 2, "weight": 1.0},
+                        {"from": 2, "to": 1, "weight": 0.5}],
+        "scale": 1.0,
+    }
+    return {"config": {"ground_roughness": 0.0, **empty, "cppn": genome}, "seed": 7}
+
+
+def test_a_cppn_course_is_walked_and_drawn():
+    env = poet.WalkerEnv(cppn_course(0.4))
+    obs, _ = env.reset()
+    assert obs.shape == (24,)
+    for _ in range(5):
+        obs, reward, terminated, truncated, _ = env.step(zero_action())
+    assert np.isfinite(reward)
+    frame = env.render()
+    assert frame.dtype == np.uint8 and frame.ndim == 3
+    # the genome draws the ground: another weight, another picture of the course
+    steeper = poet.WalkerEnv(cppn_course(2.0))
+    steeper.reset()
+    env.reset()
+    assert not np.array_equal(steeper.render(), env.render())
+
+
+def test_a_hostile_genome_names_the_field():
+    bad = cppn_course(0.4)
+    bad["config"]["cppn"]["connections"][1]["weight"] = 1e308
+    with pytest.raises(ValueError, match=r"cppn.connections\[1\].weight"):
+        poet.WalkerEnv(bad)
+    cycle = cppn_course(0.4)
+    cycle["config"]["cppn"]["connections"].append({"from": 2, "to": 2, "weight": 1.0})
+    with pytest.raises(ValueError, match="itself"):
+        poet.WalkerEnv(cycle)
+
+
 @pytest.mark.parametrize(
     "course, error, message",
     [

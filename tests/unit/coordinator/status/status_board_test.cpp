@@ -158,6 +158,21 @@ TEST_F(StatusBoardTest, PairsAndArchiveListEveryPair) {
   EXPECT_EQ(archive[2]["seed"], 33);
 }
 
+TEST_F(StatusBoardTest, ACppnPairCarriesItsGenomeAndNoTableOneLevel) {
+  RunState state = three_pairs();
+  EnvDef cppn{{}, 5};
+  cppn.encoding.cppn = std::make_shared<const CppnGenome>(cppn_seed_genome(0.25, -0.5));
+  cppn.encoding.name = cppn_name(*cppn.encoding.cppn);
+  testing::add_pair(state, cppn, 80.0);
+  StatusBoard board(dir_, clock_.function());
+  board.publish_run(state, 10);
+  const json pair = parse(board.pairs())["pairs"][3];
+  EXPECT_EQ(pair["env"], cppn.encoding.name);
+  EXPECT_EQ(pair["difficulty"], "CPPN terrain");
+  EXPECT_EQ(pair["encoding"]["cppn"]["connections"][0]["weight"], 0.25);
+  EXPECT_EQ(pair["encoding"]["cppn"]["nodes"][1]["bias"], -0.5);
+}
+
 TEST_F(StatusBoardTest, PairDetailHasLineageAndScoresFromTheCsv) {
   write(kStatsFile, pair_stats_header());
   for (int t = 8; t < 12; ++t) {
