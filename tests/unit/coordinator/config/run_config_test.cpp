@@ -232,6 +232,7 @@ TEST(RunConfig, DefaultsAreTheReferenceValues) {
   EXPECT_EQ(c.poet().novelty_k(), 5);
   EXPECT_FALSE(c.poet().novelty_normalized());
   EXPECT_EQ(c.poet().child_ranking(), pb::NOVELTY);
+  EXPECT_EQ(c.poet().novelty(), pb::ENCODING_DISTANCE);
   EXPECT_EQ(c.poet().admission_proposal(), pb::SGD_PROPOSAL);
   EXPECT_EQ(c.poet().transfer_proposal(), pb::ADAM_PROPOSAL);
   EXPECT_EQ(c.poet().solved_score(), 230);
@@ -356,6 +357,17 @@ TEST(RunConfig, RunSettingsCarryEveryField) {
     if (mode == pb::RunConfig::ES_ALONE) *m.mutable_es_alone()->mutable_target() = direct->direct_path().target();
     EXPECT_EQ(mode_name(run_settings(m).mode), pb::RunConfig::Mode_Name(mode));
   }
+}
+
+// RunSettingsCarryEveryField normalises the encoding distance, which PATA-EC refuses: the measure on its own.
+TEST(RunConfig, RunSettingsCarryTheNoveltyMeasure) {
+  const Expected<pb::RunConfig> pata = parse_run_config("poet { novelty: PATA_EC novelty_k: 3 }");
+  ASSERT_TRUE(pata) << pata.error();
+  EXPECT_EQ(run_settings(*pata).poet.novelty, NoveltyMeasure::kPataEc);
+  EXPECT_EQ(run_settings(*pata).poet.novelty_k, 3);  // k is both measures'
+  const Expected<pb::RunConfig> plain = parse_run_config("mode: POET");
+  ASSERT_TRUE(plain) << plain.error();
+  EXPECT_EQ(run_settings(*plain).poet.novelty, NoveltyMeasure::kEncodingDistance);
 }
 
 // ------------------------------------------------------------------------------------------------ parse errors
@@ -632,6 +644,13 @@ TEST(RunConfig, KeepAdmissionSelectionOnlyWithoutTransfer) {
   }
   EXPECT_TRUE(parse_run_config("mode: POET_WITHOUT_TRANSFER poet { keep_admission_selection: true }"));
   EXPECT_TRUE(parse_run_config("poet { keep_admission_selection: false }"));
+}
+
+TEST(RunConfig, NormalizedNoveltyOnlyWithTheEncodingDistance) {
+  EXPECT_EQ(error_of("poet { novelty: PATA_EC novelty_normalized: true }"),
+            "poet.novelty_normalized: true contradicts poet.novelty PATA_EC (it applies to ENCODING_DISTANCE only)");
+  EXPECT_TRUE(parse_run_config("poet { novelty: ENCODING_DISTANCE novelty_normalized: true }"));
+  EXPECT_TRUE(parse_run_config("poet { novelty: PATA_EC novelty_normalized: false }"));
 }
 
 TEST(RunConfig, ModeRequirements) {

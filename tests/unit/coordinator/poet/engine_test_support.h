@@ -50,6 +50,14 @@ inline pb::RunConfig small_real_run() {
   return c;
 }
 
+// small_real_run with Enhanced POET's PATA-EC novelty: each reproduction evaluates every θ on every archived
+// environment and passing child, and from the second on two or more agents rank them.
+inline pb::RunConfig small_pata_ec_run() {
+  pb::RunConfig c = small_real_run();
+  c.mutable_poet()->set_novelty(pb::PATA_EC);
+  return c;
+}
+
 inline EnvDef rough(double roughness, uint32_t seed = 11) {
   EnvDef def{named_course("flat").value(), seed};
   def.encoding.roughness = roughness;
