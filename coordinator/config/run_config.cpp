@@ -176,6 +176,17 @@ void check_poet(Checks& c, const pb::PoetConfig& poet, pb::RunConfig::Mode mode)
   if (poet.keep_admission_selection() && mode != pb::RunConfig::POET_WITHOUT_TRANSFER)
     c.fail("poet.keep_admission_selection", "true contradicts mode " + pb::RunConfig::Mode_Name(mode) +
                                                 " (it applies to mode POET_WITHOUT_TRANSFER only)");
+  c.known_enum("poet.novelty", poet.novelty(), pb::NoveltyMeasure_IsValid);
+  // a normalisation of the 5-vectors means nothing to PATA-EC; taking it silently would hide a mistaken config
+  // A CPPN course's 5-vector is all zeros: the encoding distance would give every child novelty 0.
+  if (poet.environments() == pb::CPPN_TERRAIN && poet.novelty() == pb::ENCODING_DISTANCE &&
+      poet.child_ranking() == pb::NOVELTY)
+    c.fail("poet.environments",
+           "CPPN_TERRAIN with novelty ENCODING_DISTANCE ranks every child alike (a CPPN "
+           "course has no obstacle genes); set poet.novelty: PATA_EC or poet.child_ranking: "
+           "LOWEST_SCORE_FIRST");
+  if (poet.novelty_normalized() && poet.novelty() == pb::PATA_EC)
+    c.fail("poet.novelty_normalized", "true contradicts poet.novelty PATA_EC (it applies to ENCODING_DISTANCE only)");
 }
 
 // The tasks of one batch are held in memory together (poet/rollout_batch.h), so the largest batch an iteration
@@ -379,6 +390,7 @@ PoetSettings poet_settings(const pb::PoetConfig& p) {
   s.active_cap = p.active_cap();
   s.novelty_k = p.novelty_k();
   s.novelty_normalized = p.novelty_normalized();
+  s.novelty = p.novelty() == pb::PATA_EC ? NoveltyMeasure::kPataEc : NoveltyMeasure::kEncodingDistance;
   s.child_ranking =
       p.child_ranking() == pb::LOWEST_SCORE_FIRST ? ChildRanking::kLowestScoreFirst : ChildRanking::kNovelty;
   s.admission_proposal = proposal_kind(p.admission_proposal());

@@ -1,14 +1,16 @@
 // Step 1 of an iteration (spec §3): mutate eligible parents' environments into children, keep those that are new
-// and pass the minimal criterion, rank them (novelty or score), admit the best through the best starting agent
-// among the active pairs, and retire the oldest pairs beyond the cap.
+// and pass the minimal criterion, rank them (novelty, by encoding distance or PATA-EC, or score), admit the best
+// through the best starting agent among the active pairs, and retire the oldest pairs beyond the cap.
 
 #include <algorithm>
 #include <numeric>
 #include <optional>
+#include <span>
 
 #include "envgen/env_distance.h"
 #include "envgen/mutation.h"
 #include "poet/iteration_context.h"
+#include "poet/pata_ec.h"
 #include "rng.h"
 
 namespace poet {
@@ -103,6 +105,45 @@ std::optional<Start> best_start(IterationContext& ctx, const Child& child) {
   return best;
 }
 
+// Step 1.c with PATA-EC novelty (Enhanced POET). The agents are every pair's θ, active or retired (a retired
+// pair's θ as it stood at retirement), in creation order; the environments, every pair's (the archive) and every
+// survivor's. Each agent is evaluated on each of them in one batch, afresh at every reproduction because the
+// active agents have moved on since the last. Sets each survivor's novelty against the archive's PATA-ECs, never
+// against the other survivors', and returns the number of evaluations; with no survivor nothing is evaluated.
+size_t set_pata_ec_novelty(IterationContext& ctx, std::vector<Child>& survivors) {
+  if (survivors.empty()) return 0;
+  const auto u = [](auto v) { return static_cast<uint64_t>(v); };
+  const std::vector<Pair>& pairs = ctx.state.pairs;
+  const PoetSettings& poet = ctx.settings.poet;
+  std::vector<SharedParams> agents;
+  for (const Pair& p : pairs) agents.push_back(share(p.theta));
+
+  // every agent on one environment: an archived pair's (kind 0, its id) or a survivor's (kind 1, its attempt)
+  RolloutBatch batch = ctx.batch();
+  const auto add_row = [&](const EnvDef& env, uint64_t kind, uint64_t id) {
+    std::vector<size_t> row;
+    for (size_t a = 0; a < pairs.size(); ++a)
+      row.push_back(
+          batch.add_evaluation(agents[a], env, ctx.key("pata-ec-eval", {u(ctx.t), kind, id, u(pairs[a].id)})));
+    return row;
+  };
+  std::vector<std::vector<size_t>> rows;  // the archive's, then the survivors'
+  for (const Pair& p : pairs) rows.push_back(add_row(p.env, 0, u(p.id)));
+  for (const Child& c : survivors) rows.push_back(add_row(c.env, 1, u(c.attempt)));
+  batch.run(ctx.evaluator, ctx.state.counters);
+
+  std::vector<PataEc> characterised;
+  for (const std::vector<size_t>& row : rows) {
+    std::vector<double> scores;
+    for (size_t h : row) scores.push_back(batch.evaluation(h).score);
+    characterised.push_back(pata_ec(scores, poet.mc_low, poet.mc_high));
+  }
+  const std::span<const PataEc> archive(characterised.data(), pairs.size());
+  for (size_t c = 0; c < survivors.size(); ++c)
+    survivors[c].novelty = pata_ec_novelty(characterised[pairs.size() + c], archive, poet.novelty_k);
+  return rows.size() * agents.size();
+}
+
 void admit(IterationContext& ctx, const Child& child, Start start) {
   RunState& state = ctx.state;
   Pair pair;
@@ -179,9 +220,14 @@ void reproduce(IterationContext& ctx) {
   state.counters.children_passed_mc += static_cast<int64_t>(survivors.size());
 
   // c. ranking: most novel first against the archive (or lowest MC score first); ties keep generation order
-  std::vector<EnvEncoding> archive;
-  for (const Pair& p : state.pairs) archive.push_back(p.env.encoding);
-  for (Child& c : survivors) c.novelty = novelty(c.env.encoding, archive, poet.novelty_k, poet.novelty_normalized);
+  std::optional<size_t> pata_ec_evaluations;
+  if (poet.novelty == NoveltyMeasure::kPataEc) {
+    pata_ec_evaluations = set_pata_ec_novelty(ctx, survivors);
+  } else {
+    std::vector<EnvEncoding> archive;
+    for (const Pair& p : state.pairs) archive.push_back(p.env.encoding);
+    for (Child& c : survivors) c.novelty = novelty(c.env.encoding, archive, poet.novelty_k, poet.novelty_normalized);
+  }
   if (poet.child_ranking == ChildRanking::kLowestScoreFirst) {
     std::stable_sort(survivors.begin(), survivors.end(),
                      [](const Child& a, const Child& b) { return a.mc.score < b.mc.score; });
@@ -208,7 +254,8 @@ void reproduce(IterationContext& ctx) {
     admit(ctx, c, std::move(start));
     admitted += 1;
   }
-  ctx.event(ReproductionEvent{eligible.size(), poet.max_children, duplicates, survivors.size(), admitted});
+  ctx.event(ReproductionEvent{eligible.size(), poet.max_children, duplicates, survivors.size(), admitted,
+                              pata_ec_evaluations});
 
   // e. the cap: retire the oldest active pairs
   std::vector<size_t> active = state.active_indices();

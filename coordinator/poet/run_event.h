@@ -52,6 +52,9 @@ struct ReproductionEvent {
   int duplicates = 0;
   size_t passed_mc = 0;
   int admitted = 0;
+  // PATA-EC novelty only: the evaluations the characterisations cost (every θ on every archived environment and
+  // every child that passed the minimal criterion); absent otherwise, so other runs' event logs are unchanged.
+  std::optional<size_t> pata_ec_evaluations;
 };
 
 struct PairRetiredEvent {

@@ -19,9 +19,10 @@ enum class RunMode { kPoet, kPoetWithoutTransfer, kEsAlone, kDirectPath };
 // in words for people ("POET without transfer", "ES alone", "direct-path curriculum").
 std::string_view mode_name(RunMode mode);
 std::string_view mode_words(RunMode mode);
-enum class ProposalKind { kAdam, kSgd };                  // the update Adam's next step would make, or SGD's
-enum class TransferTest { kFull, kThreshold };            // N(N−1) proposal steps a round, or Enhanced POET's
-enum class ChildRanking { kNovelty, kLowestScoreFirst };  // the order admission walks the passing children in
+enum class ProposalKind { kAdam, kSgd };                   // the update Adam's next step would make, or SGD's
+enum class TransferTest { kFull, kThreshold };             // N(N−1) proposal steps a round, or Enhanced POET's
+enum class ChildRanking { kNovelty, kLowestScoreFirst };   // the order admission walks the passing children in
+enum class NoveltyMeasure { kEncodingDistance, kPataEc };  // 5-vectors' distance, or Enhanced POET's PATA-EC
 enum class EnvironmentKind { kObstacleCourses, kCppnTerrain };  // what a POET run's first environment is
 
 // The episode settings every task of a run shares.
@@ -43,7 +44,8 @@ struct PoetSettings {
   double mc_high = 0;
   int active_cap = 0;
   int novelty_k = 0;
-  bool novelty_normalized = false;
+  bool novelty_normalized = false;  // ENCODING_DISTANCE only
+  NoveltyMeasure novelty = NoveltyMeasure::kEncodingDistance;
   ChildRanking child_ranking = ChildRanking::kNovelty;
   ProposalKind admission_proposal = ProposalKind::kSgd;
   ProposalKind transfer_proposal = ProposalKind::kAdam;

@@ -31,8 +31,10 @@ Json fields(const PairCreatedEvent& e) {
 
 Json fields(const ReproductionEvent& e) {
   if (e.eligible == 0) return {{"event", "reproduction"}, {"eligible", 0}};
-  return {{"event", "reproduction"},    {"eligible", e.eligible},   {"tried", e.tried},
-          {"duplicates", e.duplicates}, {"passed_mc", e.passed_mc}, {"admitted", e.admitted}};
+  Json j = {{"event", "reproduction"},    {"eligible", e.eligible},   {"tried", e.tried},
+            {"duplicates", e.duplicates}, {"passed_mc", e.passed_mc}, {"admitted", e.admitted}};
+  if (e.pata_ec_evaluations) j["pata_ec_evaluations"] = *e.pata_ec_evaluations;
+  return j;
 }
 
 Json fields(const PairRetiredEvent& e) {

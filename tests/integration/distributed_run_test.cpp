@@ -149,7 +149,7 @@ TEST_F(DistributedRunTest, ACoordinatorKilledMidRunFindsItsWorkersAgainAndEndsTh
 // Enhanced POET's CPPN terrain travels to workers and resumes like any course.
 TEST_F(DistributedRunTest, ACppnRunOnWorkersKilledAndResumedEndsAsOnThreads) {
   std::string config = config_with("perturbations: 4", "perturbations: 24");
-  config.replace(config.find("active_cap: 3"), 13, "active_cap: 3 environments: CPPN_TERRAIN");
+  config.replace(config.find("active_cap: 3"), 13, "active_cap: 3 environments: CPPN_TERRAIN novelty: PATA_EC");
   std::ofstream(config_, std::ios::trunc) << config;
   kill_and_resume_on_workers();
   EXPECT_TRUE(contains(read(root_ / "R" / "events.jsonl"), "cppn-"));

@@ -26,7 +26,7 @@ seed: 3
 iterations: 3
 es { perturbations: 2 init_lr: 0.02 }
 poet { mutation_interval: 1 transfer_interval: 2 repro_threshold: 200 mc_low: 25 mc_high: 340
-       max_children: 4 max_admitted: 2 active_cap: 4 environments: CPPN_TERRAIN }
+       max_children: 4 max_admitted: 2 active_cap: 4 environments: CPPN_TERRAIN novelty: PATA_EC }
 )";
 
 // Every file under dir (relative path → content and modification time).

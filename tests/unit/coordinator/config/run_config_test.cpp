@@ -64,8 +64,9 @@ TEST(RunConfig, EveryPresetParsesAndValidates) {
     const Expected<pb::RunConfig> config = load_run_config(entry.path().string());
     EXPECT_TRUE(config) << config.error();
   }
-  for (const char* expected : {"paper.textproto", "quick.textproto", "small.textproto", "challenging.textproto",
-                               "es_alone.textproto", "direct_path.textproto", "no_transfer.textproto"})
+  for (const char* expected :
+       {"paper.textproto", "quick.textproto", "small.textproto", "challenging.textproto", "es_alone.textproto",
+        "direct_path.textproto", "no_transfer.textproto", "enhanced.textproto"})
     EXPECT_NE(std::find(names.begin(), names.end(), expected), names.end()) << expected << " missing";
 }
 
@@ -179,6 +180,24 @@ TEST(RunConfig, ChallengingPresetKeepsThePapersCriteria) {
   EXPECT_EQ(c.poet().transfer_test(), pb::THRESHOLD_TRANSFER_TEST);
 }
 
+// Enhanced POET's three changes and its criteria, at the challenging preset's scale and start.
+TEST(RunConfig, EnhancedPresetIsEnhancedPoet) {
+  const pb::RunConfig c = load_preset("enhanced.textproto");
+  const pb::RunConfig challenging = load_preset("challenging.textproto");
+  EXPECT_EQ(c.mode(), pb::RunConfig::POET);
+  EXPECT_EQ(c.poet().environments(), pb::CPPN_TERRAIN);
+  EXPECT_EQ(c.poet().novelty(), pb::PATA_EC);
+  EXPECT_EQ(c.poet().transfer_test(), pb::THRESHOLD_TRANSFER_TEST);
+  EXPECT_EQ(c.poet().repro_threshold(), 200);
+  EXPECT_EQ(c.poet().mc_low(), 25);
+  EXPECT_EQ(c.poet().mc_high(), 340);
+  EXPECT_EQ(c.seed(), challenging.seed());
+  EXPECT_EQ(c.es().SerializeAsString(), challenging.es().SerializeAsString());
+  for (auto field : {&pb::PoetConfig::mutation_interval, &pb::PoetConfig::transfer_interval,
+                     &pb::PoetConfig::max_children, &pb::PoetConfig::max_admitted, &pb::PoetConfig::active_cap})
+    EXPECT_EQ((c.poet().*field)(), (challenging.poet().*field)());
+}
+
 TEST(RunConfig, ControlPresetsHaveTheirModes) {
   const pb::RunConfig es_alone = load_preset("es_alone.textproto");
   EXPECT_EQ(es_alone.mode(), pb::RunConfig::ES_ALONE);
@@ -232,6 +251,7 @@ TEST(RunConfig, DefaultsAreTheReferenceValues) {
   EXPECT_EQ(c.poet().novelty_k(), 5);
   EXPECT_FALSE(c.poet().novelty_normalized());
   EXPECT_EQ(c.poet().child_ranking(), pb::NOVELTY);
+  EXPECT_EQ(c.poet().novelty(), pb::ENCODING_DISTANCE);
   EXPECT_EQ(c.poet().admission_proposal(), pb::SGD_PROPOSAL);
   EXPECT_EQ(c.poet().transfer_proposal(), pb::ADAM_PROPOSAL);
   EXPECT_EQ(c.poet().solved_score(), 230);
@@ -358,6 +378,17 @@ TEST(RunConfig, RunSettingsCarryEveryField) {
     if (mode == pb::RunConfig::ES_ALONE) *m.mutable_es_alone()->mutable_target() = direct->direct_path().target();
     EXPECT_EQ(mode_name(run_settings(m).mode), pb::RunConfig::Mode_Name(mode));
   }
+}
+
+// RunSettingsCarryEveryField normalises the encoding distance, which PATA-EC refuses: the measure on its own.
+TEST(RunConfig, RunSettingsCarryTheNoveltyMeasure) {
+  const Expected<pb::RunConfig> pata = parse_run_config("poet { novelty: PATA_EC novelty_k: 3 }");
+  ASSERT_TRUE(pata) << pata.error();
+  EXPECT_EQ(run_settings(*pata).poet.novelty, NoveltyMeasure::kPataEc);
+  EXPECT_EQ(run_settings(*pata).poet.novelty_k, 3);  // k is both measures'
+  const Expected<pb::RunConfig> plain = parse_run_config("mode: POET");
+  ASSERT_TRUE(plain) << plain.error();
+  EXPECT_EQ(run_settings(*plain).poet.novelty, NoveltyMeasure::kEncodingDistance);
 }
 
 // ------------------------------------------------------------------------------------------------ parse errors
@@ -609,7 +640,8 @@ TEST(RunConfig, PoetModesNeedAMutableGeneType) {
   EXPECT_TRUE(no_transfer.starts_with("poet.mutation:")) << no_transfer;
   // One type is enough, and CPPN terrain's mutation does not read them.
   EXPECT_TRUE(parse_run_config("poet { mutation { roughness: false pits: false stumps: false stairs: true } }"));
-  EXPECT_TRUE(parse_run_config(std::string("poet { environments: CPPN_TERRAIN ") + (none + 7)));
+  EXPECT_TRUE(parse_run_config(std::string("poet { environments: CPPN_TERRAIN novelty: PATA_EC ") + (none + 7)));
+  EXPECT_TRUE(error_of("poet { environments: CPPN_TERRAIN }").starts_with("poet.environments: CPPN_TERRAIN with"));
 }
 
 TEST(RunConfig, CppnTargetsForEsAloneButNotTheDirectPath) {
@@ -653,6 +685,13 @@ TEST(RunConfig, KeepAdmissionSelectionOnlyWithoutTransfer) {
   }
   EXPECT_TRUE(parse_run_config("mode: POET_WITHOUT_TRANSFER poet { keep_admission_selection: true }"));
   EXPECT_TRUE(parse_run_config("poet { keep_admission_selection: false }"));
+}
+
+TEST(RunConfig, NormalizedNoveltyOnlyWithTheEncodingDistance) {
+  EXPECT_EQ(error_of("poet { novelty: PATA_EC novelty_normalized: true }"),
+            "poet.novelty_normalized: true contradicts poet.novelty PATA_EC (it applies to ENCODING_DISTANCE only)");
+  EXPECT_TRUE(parse_run_config("poet { novelty: ENCODING_DISTANCE novelty_normalized: true }"));
+  EXPECT_TRUE(parse_run_config("poet { novelty: PATA_EC novelty_normalized: false }"));
 }
 
 TEST(RunConfig, ModeRequirements) {

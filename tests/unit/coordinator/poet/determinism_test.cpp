@@ -1,5 +1,6 @@
 // A run is a function of its config and seed: real rollouts on 1 or 2 threads, straight through or stopped,
-// checkpointed and resumed, end in byte-identical checkpoints — for obstacle courses and for CPPN terrain.
+// checkpointed and resumed, end in byte-identical checkpoints — for obstacle courses, CPPN terrain, PATA-EC novelty
+// and the three together (Enhanced POET).
 
 #include <gtest/gtest.h>
 
@@ -15,6 +16,13 @@ namespace {
 pb::RunConfig run_config(std::string_view name) {
   pb::RunConfig c = testing::small_real_run();
   if (name == "cppn") c = testing::small_cppn_run();
+  if (name == "pata_ec") c = testing::small_pata_ec_run();
+  if (name == "enhanced") {
+    c = testing::small_cppn_run();
+    c.mutable_poet()->set_child_ranking(pb::NOVELTY);
+    c.mutable_poet()->set_novelty(pb::PATA_EC);
+    c.mutable_poet()->set_transfer_test(pb::THRESHOLD_TRANSFER_TEST);
+  }
   return c;
 }
 
@@ -39,7 +47,8 @@ TEST_P(Determinism, OneAndTwoThreadsGiveIdenticalCheckpoints) {
   EXPECT_GE(a.active_indices().size(), 2u);
   EXPECT_GT(a.counters.transfer_attempts, 0);
   EXPECT_LT(a.active_indices().size(), a.pairs.size());  // someone retired
-  EXPECT_EQ(checkpoint_bytes(a), checkpoint_bytes(b));   // the numbers themselves are pinned by golden_test.cpp
+  // the numbers themselves are pinned by golden_test.cpp
+  EXPECT_EQ(checkpoint_bytes(a), checkpoint_bytes(b));
 }
 
 TEST_P(Determinism, ResumingFromACheckpointContinuesExactly) {
@@ -52,7 +61,7 @@ TEST_P(Determinism, ResumingFromACheckpointContinuesExactly) {
     // through bytes, as a checkpoint file would carry it
     pb::Checkpoint saved;
     ASSERT_TRUE(saved.ParseFromString(checkpoint_bytes(s)));
-    saved.mutable_config()->set_iterations(7);  // the resume extends the limit
+    saved.mutable_config()->set_iterations(small_run().iterations());  // the resume extends the limit
     Expected<RunState> restored = from_checkpoint(saved);
     ASSERT_TRUE(restored.has_value()) << restored.error();
     LocalEvaluator evaluator(1);
@@ -61,7 +70,7 @@ TEST_P(Determinism, ResumingFromACheckpointContinuesExactly) {
   }
 }
 
-INSTANTIATE_TEST_SUITE_P(Runs, Determinism, ::testing::Values("obstacles", "cppn"),
+INSTANTIATE_TEST_SUITE_P(Runs, Determinism, ::testing::Values("obstacles", "cppn", "pata_ec", "enhanced"),
                          [](const auto& info) { return info.param; });
 
 }  // namespace

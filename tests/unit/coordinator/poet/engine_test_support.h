@@ -50,10 +50,20 @@ inline pb::RunConfig small_real_run() {
   return c;
 }
 
-// small_real_run on CPPN terrain.
+// small_real_run on CPPN terrain, children ranked by their minimal-criterion score (the encoding distance sees
+// nothing in a CPPN course, and PATA-EC has runs of its own).
 inline pb::RunConfig small_cppn_run() {
   pb::RunConfig c = small_real_run();
   c.mutable_poet()->set_environments(pb::CPPN_TERRAIN);
+  c.mutable_poet()->set_child_ranking(pb::LOWEST_SCORE_FIRST);
+  return c;
+}
+
+// small_real_run with Enhanced POET's PATA-EC novelty: each reproduction evaluates every θ on every archived
+// environment and passing child, and from the second on two or more agents rank them.
+inline pb::RunConfig small_pata_ec_run() {
+  pb::RunConfig c = small_real_run();
+  c.mutable_poet()->set_novelty(pb::PATA_EC);
   return c;
 }
 

@@ -5,9 +5,11 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <bit>
 #include <cstdio>
 #include <string>
+#include <vector>
 
 #include "build_fingerprint.h"
 #include "engine_test_support.h"
@@ -26,7 +28,8 @@ namespace {
 // Update only for an intended change of behaviour, with the reason in the commit message.
 constexpr uint64_t kRolloutsDigest = 0x7d7a3dd85d8d55a2;
 constexpr uint64_t kCheckpointDigest = 0x4bdcea0404d83a03;
-constexpr uint64_t kCppnCheckpointDigest = 0x05a994401e44dc78;
+constexpr uint64_t kCppnCheckpointDigest = 0x1985d789e499ff19;
+constexpr uint64_t kPataEcCheckpointDigest = 0x70ad558146e8a0c6;
 
 // FNV-1a: a fixed, documented function of the bytes, whatever the platform's std::hash does.
 uint64_t fnv1a(std::string_view bytes) {
@@ -92,6 +95,28 @@ TEST(Golden, SmallRunCheckpoint) {
 TEST(Golden, SmallCppnRunCheckpoint) {
   expect_checkpoint_digest(testing::small_cppn_run(), kCppnCheckpointDigest,
                            "CPPN terrain, its mutation, or the POET loop (or the simulation under it)");
+}
+
+// The same run with PATA-EC novelty, whose characterisations add evaluations and change which children go first.
+TEST(Golden, SmallPataEcRunCheckpoint) {
+  pb::RunConfig c = testing::small_pata_ec_run();
+  c.set_iterations(5);
+  RunState s = initial_state(run_settings(c));
+  LocalEvaluator evaluator(2);
+  std::vector<double> novelties;
+  while (!run_complete(s)) {
+    const IterationReport report = run_iteration(s, evaluator);
+    for (const auto& created : testing::events_named(report, "pair_created"))
+      novelties.push_back(created["novelty"].get<double>());
+  }
+  ASSERT_GE(s.pairs.size(), 3u);
+  // PATA-EC was at work: some child differed from the archive in how the agents ranked on it
+  ASSERT_TRUE(std::any_of(novelties.begin(), novelties.end(), [](double n) { return n > 0; }));
+  const uint64_t digest = fnv1a(encode_checkpoint_file(to_checkpoint(c, s)));
+  EXPECT_EQ(digest, kPataEcCheckpointDigest)
+      << changed("PATA-EC novelty, the ES or the POET loop (or the simulation under it)", digest,
+                 kPataEcCheckpointDigest)
+      << "pairs " << s.pairs.size() << ", rollouts " << s.counters.rollouts << ", env steps " << s.counters.env_steps;
 }
 
 }  // namespace

@@ -4,6 +4,8 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
+#include <string>
 
 #include "engine_test_support.h"
 #include "envgen/env_distance.h"
@@ -158,6 +160,118 @@ TEST(Reproduction, LowestScoreFirstIsAnOption) {
   run_iteration(s, ev);
   ASSERT_EQ(s.pairs.size(), 2u);
   EXPECT_TRUE(s.pairs[1].env.encoding.same_genes(ev.batches[0][1].env.encoding));  // the child that scored 60
+}
+
+// PATA-EC novelty (Enhanced POET): a run whose agents are three pairs' θs — the eligible flat pair, an active
+// pair on r2 and a retired one on r3.
+struct PataEcRun {
+  RunState state;
+  std::vector<std::vector<double>> agents;  // the pairs' θs, in creation order
+
+  explicit PataEcRun(int max_admitted, int max_children = 6)
+      : state(state_at(pata_ec_config(max_admitted, max_children), 4, 250)) {
+    add_pair(state, rough(2.0), 0);
+    add_pair(state, rough(3.0), 0).retired_iteration = 2;
+    for (const Pair& p : state.pairs) agents.push_back(p.theta);
+  }
+  static pb::RunConfig pata_ec_config(int max_admitted, int max_children) {
+    pb::RunConfig c = tiny_config();
+    c.mutable_poet()->set_novelty(pb::PATA_EC);
+    c.mutable_poet()->set_max_admitted(max_admitted);
+    c.mutable_poet()->set_max_children(max_children);
+    c.set_seed(4);  // its first three children differ in genes, which the ranking test needs
+    return c;
+  }
+  size_t agent(const RolloutTask& t) const {
+    return static_cast<size_t>(std::find(agents.begin(), agents.end(), *t.theta) - agents.begin());
+  }
+};
+
+bool same_env(const EnvDef& a, const EnvDef& b) { return a.encoding.same_genes(b.encoding) && a.seed == b.seed; }
+
+TEST(Reproduction, PataEcCharacterisesOnlyTheChildrenThatPassTheCriterion) {
+  PataEcRun run(0);
+  const std::vector<double> mc_scores = {49, 100, 301, 120, 10, 200};  // children 1, 3 and 5 pass
+  ScriptedEvaluator ev([&](int call, size_t i, const RolloutTask& t) {
+    if (call == 0) return scored(mc_scores.at(i));
+    return scored(t.perturbation ? 0.0 : 100.0);
+  });
+  const IterationReport r = run_iteration(run.state, ev);
+  ASSERT_EQ(ev.batches[0].size(), 6u);
+  // one batch: each of the 3 agents (the retired one too) on the 3 archived environments and the 3 passing children
+  const std::vector<RolloutTask>& pata = ev.batches.at(1);
+  ASSERT_EQ(pata.size(), (3u + 3u) * 3u);
+  std::vector<EnvDef> environments;
+  for (size_t p = 0; p < 3; ++p) environments.push_back(run.state.pairs[p].env);
+  for (size_t c : {1, 3, 5}) environments.push_back(ev.batches[0][c].env);
+  for (size_t e = 0; e < environments.size(); ++e) {
+    for (size_t a = 0; a < 3; ++a) {
+      const RolloutTask& t = pata[e * 3 + a];
+      EXPECT_FALSE(t.perturbation);
+      EXPECT_TRUE(same_env(t.env, environments[e])) << e;
+      EXPECT_EQ(run.agent(t), a) << e;
+    }
+  }
+  EXPECT_EQ(events_named(r, "reproduction").at(0)["pata_ec_evaluations"], 18);
+  // the evaluations count as rollouts like any batch's
+  size_t tasks = 0;
+  for (const auto& batch : ev.batches) tasks += batch.size();
+  EXPECT_EQ(run.state.counters.rollouts, static_cast<int64_t>(tasks));
+}
+
+TEST(Reproduction, PataEcCostsNothingWhenNoChildPasses) {
+  PataEcRun run(1);
+  ScriptedEvaluator ev([](int call, size_t, const RolloutTask& t) {
+    if (call == 0) return scored(10);  // below mc_low
+    return scored(t.perturbation ? 0.0 : 100.0);
+  });
+  const IterationReport r = run_iteration(run.state, ev);
+  ASSERT_EQ(ev.batches.size(), 3u);  // the MC batch, then the ES step and its evaluation
+  EXPECT_TRUE(ev.batches[1].at(0).perturbation);
+  EXPECT_EQ(events_named(r, "reproduction").at(0)["pata_ec_evaluations"], 0);
+}
+
+// Three children given three score profiles over the agents (0, 1, 2), against an archive on which the agents
+// score 60, 70, 80 (PATA-EC (−1/2, 0, 1/2)):
+// - (30, 20, 10): all clipped to mc_low 50, so tied and ranked in agent order (−1/2, 0, 1/2): novelty 0
+//   (unclipped it would be the most novel);
+// - (400, 290, 10) → (300, 290, 50): (1/2, 0, −1/2), √2 from each archived PATA-EC;
+// - (70, 60, 80): (0, −1/2, 1/2), √(1/4 + 1/4) = √(1/2) from each.
+// Whichever child gets which profile, admission walks them most novel first.
+TEST(Reproduction, PataEcRankingFollowsHowTheAgentsRankOnTheChildren) {
+  const std::vector<std::vector<double>> profiles = {{30, 20, 10}, {400, 290, 10}, {70, 60, 80}};
+  const std::vector<double> novelties = {0, std::sqrt(2.0), std::sqrt(0.5)};
+  for (size_t rotation = 0; rotation < 3; ++rotation) {
+    PataEcRun run(3, 3);
+    std::vector<RolloutTask> children;  // the MC batch
+    ScriptedEvaluator ev([&](int call, size_t, const RolloutTask& t) {
+      if (call == 0) {
+        children.push_back(t);
+        return scored(100);
+      }
+      if (call != 1) return scored(t.perturbation ? 0.0 : 100.0);
+      const size_t a = run.agent(t);
+      for (size_t c = 0; c < children.size(); ++c)
+        if (same_env(t.env, children[c].env)) return scored(profiles[(c + rotation) % 3].at(a));
+      return scored(60.0 + 10.0 * static_cast<double>(a));  // an archived environment
+    });
+    const IterationReport r = run_iteration(run.state, ev);
+    SCOPED_TRACE("rotation " + std::to_string(rotation));
+    ASSERT_EQ(children.size(), 3u);
+    for (size_t c = 0; c < 3; ++c)  // distinct children
+      ASSERT_FALSE(children[c].env.encoding.same_genes(children[(c + 1) % 3].env.encoding))
+          << children[c].env.encoding.name;
+    // admitted most novel first: profile 1, then 2, then 0
+    ASSERT_EQ(run.state.pairs.size(), 6u);
+    const auto created = events_named(r, "pair_created");
+    ASSERT_EQ(created.size(), 3u);
+    const std::vector<size_t> order = {1, 2, 0};
+    for (size_t k = 0; k < 3; ++k) {
+      const size_t child = (order[k] + 3 - rotation) % 3;  // the child that got profile order[k]
+      EXPECT_TRUE(same_env(run.state.pairs[3 + k].env, children[child].env)) << k;
+      EXPECT_NEAR(created[k]["novelty"].get<double>(), novelties[order[k]], 1e-12) << k;
+    }
+  }
 }
 
 TEST(Reproduction, AdmissionNeedsTheBestStartToPassTheCriterionAndStopsAtTheCap) {

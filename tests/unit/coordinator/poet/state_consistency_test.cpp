@@ -68,6 +68,8 @@ pb::RunConfig random_config(RandomStream& r) {
     c.mutable_direct_path()->set_advance_threshold(-50 + 150 * r.uniform01());
     c.mutable_direct_path()->set_budget_es_steps(r.uniform_int(1, 15));
   }
+  // drawn last, so the draws above (and the configs they made before this field existed) are unchanged
+  p->set_novelty(r.uniform01() < 0.5 ? pb::ENCODING_DISTANCE : pb::PATA_EC);
   return c;
 }
 
@@ -108,13 +110,15 @@ TEST(StateConsistency, EveryStateTheEngineWritesReadsBack) {
     }
     seen[pb::RunConfig::Mode_Name(config.mode())] += 1;
     if (state.pairs.size() > 1) seen["children admitted"] += 1;
+    if (state.pairs.size() > 1 && config.poet().novelty() == pb::PATA_EC) seen["PATA-EC children admitted"] += 1;
     if (state.active_indices().size() < state.pairs.size()) seen["pairs retired"] += 1;
     if (state.counters.transfer_successes > 0) seen["transfers accepted"] += 1;
     if (state.finished) seen["control finished"] += 1;
     if (state.stages.size() > 1) seen["curriculum advanced"] += 1;
   }
-  for (const char* what : {"POET", "POET_WITHOUT_TRANSFER", "ES_ALONE", "DIRECT_PATH", "children admitted",
-                           "pairs retired", "transfers accepted", "control finished", "curriculum advanced"})
+  for (const char* what :
+       {"POET", "POET_WITHOUT_TRANSFER", "ES_ALONE", "DIRECT_PATH", "children admitted", "PATA-EC children admitted",
+        "pairs retired", "transfers accepted", "control finished", "curriculum advanced"})
     EXPECT_GE(seen[what], 3) << "too few runs with " << what;
 }
 

@@ -28,9 +28,13 @@ TEST(EventJson, EveryKindWritesItsFieldsInTheLogsOrder) {
             R"("proposal":true,"score":30.5,"novelty":0.125})");
 
   EXPECT_EQ(line(8, ReproductionEvent{}), R"({"iteration":8,"event":"reproduction","eligible":0})");
-  EXPECT_EQ(line(8, ReproductionEvent{2, 8, 1, 3, 1}),
+  EXPECT_EQ(line(8, ReproductionEvent{2, 8, 1, 3, 1, std::nullopt}),
             R"({"iteration":8,"event":"reproduction","eligible":2,"tried":8,"duplicates":1,"passed_mc":3,)"
             R"("admitted":1})");
+  // with PATA-EC novelty, what the characterisations cost: (3 archived + 3 passing) environments × 3 agents
+  EXPECT_EQ(line(8, ReproductionEvent{2, 8, 1, 3, 1, 18}),
+            R"({"iteration":8,"event":"reproduction","eligible":2,"tried":8,"duplicates":1,"passed_mc":3,)"
+            R"("admitted":1,"pata_ec_evaluations":18})");
 
   EXPECT_EQ(line(8, PairRetiredEvent{0, "flat", true}),
             R"({"iteration":8,"event":"pair_retired","pair":0,"env":"flat","solved":true})");
