@@ -220,6 +220,7 @@ const cards = [...document.querySelectorAll('[data-pair-id]')];
 const canvas = document.getElementById('replay-canvas');
 return {
   iteration: text('iteration'), workers: text('workers-count'), runDir: text('run-dir'), state: text('state'),
+  annecs: text('annecs'),
   workerRows: document.querySelectorAll('#workers-table [data-worker-id]').length,
   banner: banner && getComputedStyle(banner).display !== 'none' ? banner.textContent : null,
   cards: cards.map((c) => ({id: c.dataset.pairId, active: c.dataset.active,
@@ -315,6 +316,8 @@ def check_live(args, root, processes):
         if seen != sorted(seen):
             raise Failed(f"the iteration shown went backwards: {seen}")
         log(f"iterations shown: {seen}")
+        wait_for("ANNECS in both definitions",
+                 lambda: re.fullmatch(r"\d+ / \d+", page(browser)["annecs"] or ""), 30)
 
         wait_for("the tree and score pictures", lambda: page(browser)["tree"] > 0 and page(browser)["scores"] > 0, 60)
         wait_for("a course picture and a score curve on an active card",

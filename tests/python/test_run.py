@@ -65,6 +65,12 @@ def test_run_equals_poet_reports_numbers_and_writes_nothing(run_dir):
     assert levels.loc["easy", "created"] == report["levels"][0]["created"]
     assert levels["admitted"].sum() == sum(level["admitted"] for level in report["levels"])
 
+    annecs = run.annecs
+    assert list(annecs.index) == list(range(run.next_iteration))
+    assert annecs["at_admission"].iloc[-1] == report["annecs"]["at_admission"]["value"]
+    lines = (run_dir / "annecs.csv").read_text().splitlines()
+    assert lines[0] == "iteration,annecs_at_admission,annecs_at_archiving"
+    assert lines[1:] == [f"{t},{row.at_admission},{row.at_archiving}" for t, row in annecs.iterrows()]
     events = run.events
     assert set(events["event"]) >= {"pair_created", "reproduction", "transfer_round"}
     assert events["iteration"].max() < run.next_iteration
