@@ -114,6 +114,7 @@ IterationReport run_iteration(RunState& state, Evaluator& evaluator) {
   if (mode == RunMode::kPoet) transfer(ctx);
   if (mode == RunMode::kDirectPath) advance_curriculum(ctx);
 
+  report.annecs = annecs_at(state, report.iteration);
   state.next_iteration += 1;
   report.rollouts = state.counters.rollouts - rollouts_before;
   return report;

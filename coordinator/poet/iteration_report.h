@@ -1,12 +1,13 @@
 #pragma once
 // What one iteration produced for the run directory: its events (pair created or retired, transfers, solves,
-// curriculum stages; as values, run_event.h) and one statistics row per pair that took an ES step. Deterministic: no
-// wall-clock times, so a resumed run writes the same bytes as an uninterrupted one.
+// curriculum stages; as values, run_event.h), one statistics row per pair that took an ES step, and ANNECS at its
+// end. Deterministic: no wall-clock times, so a resumed run writes the same bytes as an uninterrupted one.
 
 #include <cstdint>
 #include <string>
 #include <vector>
 
+#include "poet/annecs.h"
 #include "poet/run_event.h"
 
 namespace poet {
@@ -37,6 +38,7 @@ struct IterationReport {
   std::vector<RunEvent> events;  // in the order they happened
   std::vector<PairStatsRow> stats;
   int64_t rollouts = 0;  // rollouts this iteration ran (for the progress display)
+  Annecs annecs;         // both counts at the end of the iteration (annecs.csv)
 };
 
 }  // namespace poet

@@ -5,6 +5,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "envgen/env_distance.h"
 #include "es/centered_ranks.h"
 
 namespace poet {
@@ -17,7 +18,6 @@ PataEc pata_ec(std::span<const double> scores, double low, double high) {
 
 double pata_ec_novelty(const PataEc& candidate, std::span<const PataEc> archive, int k) {
   if (k < 1) throw std::invalid_argument("pata_ec_novelty: k must be >= 1");
-  if (archive.empty()) return 0.0;
   std::vector<double> distances;
   distances.reserve(archive.size());
   for (const PataEc& entry : archive) {
@@ -28,12 +28,7 @@ double pata_ec_novelty(const PataEc& candidate, std::span<const PataEc> archive,
     for (size_t i = 0; i < entry.size(); ++i) sum += (entry[i] - candidate[i]) * (entry[i] - candidate[i]);
     distances.push_back(std::sqrt(sum));
   }
-  // summing the nearest in ascending order makes the result independent of the archive's order
-  std::sort(distances.begin(), distances.end());
-  const size_t n = std::min(distances.size(), static_cast<size_t>(k));
-  double sum = 0.0;
-  for (size_t i = 0; i < n; ++i) sum += distances[i];
-  return sum / static_cast<double>(n);
+  return mean_of_nearest(std::move(distances), k);
 }
 
 }  // namespace poet

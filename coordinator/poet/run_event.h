@@ -72,13 +72,15 @@ struct TransferEvent {
   double previous_score = 0;
 };
 
-// What a transfer round cost: the proposals it paid for out of the N(N−1) candidates, and what it accepted.
+// What a transfer round cost: the proposals it paid for out of the N(N−1) candidates, the rollouts it ran, and
+// what it accepted.
 struct TransferRoundEvent {
   bool full_test = true;
   size_t pairs = 0;
   size_t candidates = 0;
   size_t proposals = 0;
   int64_t accepted = 0;
+  int64_t rollouts = 0;  // every episode of the round: direct evaluations, proposal ES steps and their evaluations
 };
 
 // The direct path: a stage solved, or the next stage begun (its index, environment and distance to the target).

@@ -41,6 +41,8 @@ void transfer(IterationContext& ctx) {
                              ctx.settings.es.perturbations);
   };
 
+  const int64_t rollouts_before = ctx.state.counters.rollouts;
+
   // direct evaluations (with the full test, the proposals' ES rollouts in the same batch)
   RolloutBatch first = ctx.batch();
   std::vector<std::vector<Candidate>> direct(active.size()), proposals(active.size());
@@ -125,7 +127,8 @@ void transfer(IterationContext& ctx) {
   }
   // what the round cost: with the threshold test, the proposals it paid for out of the N(N−1) of the full test
   ctx.event(TransferRoundEvent{full, active.size(), active.size() * (active.size() - 1), proposal_count,
-                               ctx.state.counters.transfer_successes - successes_before});
+                               ctx.state.counters.transfer_successes - successes_before,
+                               ctx.state.counters.rollouts - rollouts_before});
 }
 
 }  // namespace poet

@@ -8,7 +8,7 @@
 
 namespace poet {
 
-enum class PictureKind { kScores, kLevels, kTree, kRose, kCourse, kFilmstrip, kWalk, kLineage };
+enum class PictureKind { kScores, kLevels, kAnnecs, kTree, kRose, kCourse, kFilmstrip, kWalk, kLineage };
 enum class PictureEncoding { kPng, kSvg, kGif };
 
 struct PictureRequest {
@@ -22,7 +22,7 @@ std::optional<PictureKind> picture_kind(std::string_view name);
 // "png", "svg", "gif" → the encoding; nullopt for another.
 std::optional<PictureEncoding> picture_encoding(std::string_view extension);
 bool needs_pair(PictureKind kind);
-// The kinds' names, for messages: "scores, levels, tree, rose, course, filmstrip, walk, lineage".
+// The kinds' names, for messages: "scores, levels, annecs, tree, rose, course, filmstrip, walk, lineage".
 std::string picture_kind_names();
 // Why a request's kind cannot come in its encoding ("the walk is a GIF (.gif)"), or nullopt.
 std::optional<std::string> encoding_problem(const PictureRequest& request);

@@ -126,8 +126,14 @@ nlohmann::ordered_json report_json(const RunSnapshot& run, const RunMetrics& m, 
                       {"accepted", m.transfer_successes},
                       {"accepted_list", std::move(accepted)}};
   out["goal_switching"] = goal_switching_json(run, m);
-  out["annecs"] = {{"at_admission", {{"value", m.annecs_at_admission}, {"definition", kAnnecsAtAdmission}}},
-                   {"at_archiving", {{"value", m.annecs_at_archiving}, {"definition", kAnnecsAtArchiving}}}};
+  nlohmann::ordered_json annecs_series = nlohmann::ordered_json::array();
+  for (size_t t = 0; t < m.annecs_over_time.size(); ++t)
+    annecs_series.push_back({{"iteration", t},
+                             {"at_admission", m.annecs_over_time[t].at_admission},
+                             {"at_archiving", m.annecs_over_time[t].at_archiving}});
+  out["annecs"] = {{"at_admission", {{"value", m.annecs.at_admission}, {"definition", kAnnecsAtAdmission}}},
+                   {"at_archiving", {{"value", m.annecs.at_archiving}, {"definition", kAnnecsAtArchiving}}},
+                   {"over_time", std::move(annecs_series)}};
   nlohmann::ordered_json cov = {{"seed", coverage.seed},
                                 {"samples_per_level", coverage.per_level},
                                 {"solved_at_challenging_or_above", coverage.solved.size()}};

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <functional>
 #include <map>
+#include <utility>
 
 #include "chart.h"
 
@@ -15,6 +16,17 @@ constexpr std::array<Rgb, kLevels> kLevelColours = {
 
 std::string short_name(const std::string& name, size_t max = 22) {
   return name.size() <= max ? name : name.substr(0, max - 1) + "…";
+}
+
+// A chart of how many environments there were at each iteration, from zero.
+Chart counts_over_iterations(std::string title) {
+  Chart chart;
+  chart.title = std::move(title);
+  chart.x_label = "iteration";
+  chart.y_label = "environments";
+  chart.y_min = 0;
+  chart.integer_x = true;
+  return chart;
 }
 
 }  // namespace
@@ -49,12 +61,7 @@ Expected<std::string> render_score_plot(PictureFormat format, const RunSnapshot&
 }
 
 Expected<std::string> render_level_plot(PictureFormat format, const RunMetrics& metrics) {
-  Chart chart;
-  chart.title = "Environments per difficulty level (cumulative)";
-  chart.x_label = "iteration";
-  chart.y_label = "environments";
-  chart.y_min = 0;
-  chart.integer_x = true;
+  Chart chart = counts_over_iterations("Environments per difficulty level (cumulative)");
   struct Kind {
     const char* name;
     std::function<int64_t(const LevelCounts&, size_t)> count;
@@ -81,6 +88,19 @@ Expected<std::string> render_level_plot(PictureFormat format, const RunMetrics& 
     }
   }
   return render_picture(format, 1000, 480, [&](cairo_t* cr) { draw_chart(cr, 0, 0, 1000, 480, chart); });
+}
+
+Expected<std::string> render_annecs_plot(PictureFormat format, const RunMetrics& metrics) {
+  Chart chart = counts_over_iterations(
+      "ANNECS: at admission (children solved, counted when solved) and at archiving (retired once solved)");
+  ChartSeries admission{"at admission", {}, kLevelColours[1], ChartSeries::Line::kSolid, true, 2.4};
+  ChartSeries archiving{"at archiving", {}, kLevelColours[2], ChartSeries::Line::kDashed, true, 2.0};
+  for (size_t t = 0; t < metrics.annecs_over_time.size(); ++t) {
+    admission.points.emplace_back(static_cast<double>(t), metrics.annecs_over_time[t].at_admission);
+    archiving.points.emplace_back(static_cast<double>(t), metrics.annecs_over_time[t].at_archiving);
+  }
+  chart.series = {std::move(admission), std::move(archiving)};
+  return render_picture(format, 1000, 420, [&](cairo_t* cr) { draw_chart(cr, 0, 0, 1000, 420, chart); });
 }
 
 Expected<std::string> render_tree_plot(PictureFormat format, const RunSnapshot& run, const RunMetrics& metrics) {

@@ -143,8 +143,6 @@ RunMetrics compute_run_metrics(const RunSnapshot& run, const std::optional<EnvEn
       }
       m.solve_times.push_back({p.id, static_cast<int>(level), p.created_iteration, p.first_solved_iteration});
     }
-    if (p.parent_id != kNone && p.solved()) m.annecs_at_admission += 1;
-    if (!p.active() && p.solved()) m.annecs_at_archiving += 1;
   }
   LevelCounts running;
   for (int t = 0; t < m.iterations_done; ++t) {
@@ -165,6 +163,8 @@ RunMetrics compute_run_metrics(const RunSnapshot& run, const std::optional<EnvEn
       if (s.level == level) iterations.push_back(s.solved - s.created);
     m.solve_summary[static_cast<size_t>(level)] = summarise(iterations);
   }
+  m.annecs_over_time = annecs_over_time(state);
+  m.annecs = annecs_at(state, m.iterations_done - 1);
   m.transfer_attempts = state.counters.transfer_attempts;
   m.transfer_successes = state.counters.transfer_successes;
 

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "envgen/env_distance.h"
+#include "poet/annecs.h"
 #include "report/run_snapshot.h"
 
 namespace poet {
@@ -85,16 +86,10 @@ struct RunMetrics {
   std::array<LevelFirsts, kLevels> firsts{};
   int64_t transfer_attempts = 0, transfer_successes = 0;
   std::vector<AcceptedTransfer> accepted_transfers;
-  int64_t annecs_at_admission = 0, annecs_at_archiving = 0;
+  Annecs annecs;                         // at the end of the run (poet/annecs.h)
+  std::vector<Annecs> annecs_over_time;  // one per iteration 0 .. iterations_done − 1, as annecs.csv holds them
   std::optional<TargetDistance> closest_to_target;
 };
-
-inline constexpr char kAnnecsAtAdmission[] =
-    "environments admitted by reproduction (they passed the minimal criterion when created) and solved since, "
-    "by any agent; counted when solved";
-inline constexpr char kAnnecsAtArchiving[] =
-    "environments retired from the active population (archived) that had been solved by then; counted at "
-    "retirement";
 
 // The metrics of a run. target: the environment to measure closest-to-target against; without one, a control
 // run's own target (ES alone, direct path), and none for POET.

@@ -15,8 +15,9 @@
 namespace poet {
 namespace {
 
-constexpr std::array<std::pair<PictureKind, std::string_view>, 8> kKinds = {{{PictureKind::kScores, "scores"},
+constexpr std::array<std::pair<PictureKind, std::string_view>, 9> kKinds = {{{PictureKind::kScores, "scores"},
                                                                              {PictureKind::kLevels, "levels"},
+                                                                             {PictureKind::kAnnecs, "annecs"},
                                                                              {PictureKind::kTree, "tree"},
                                                                              {PictureKind::kRose, "rose"},
                                                                              {PictureKind::kCourse, "course"},
@@ -91,6 +92,8 @@ Expected<std::string> render_run_picture(const RunSnapshot& run, const PictureRe
       return render_score_plot(format, run);
     case PictureKind::kLevels:
       return render_level_plot(format, compute_run_metrics(run));
+    case PictureKind::kAnnecs:
+      return render_annecs_plot(format, compute_run_metrics(run));
     case PictureKind::kTree:
       return render_tree_plot(format, run, compute_run_metrics(run));
     case PictureKind::kRose:

@@ -4,7 +4,7 @@
 // filmstrip or an animated GIF. One code path for `poetctl picture` on a run directory and for the status
 // socket's /pictures/ endpoints on a live run.
 //
-//   scores, levels, tree, rose                    the run            .png or .svg
+//   scores, levels, annecs, tree, rose            the run            .png or .svg
 //   course, filmstrip (with a pair id)            a pair's episode   .png or .svg
 //   walk (with a pair id)                         a pair's episode   .gif
 //   lineage (with a pair id)                      the courses of the pair's line of ancestors, first environment

@@ -49,7 +49,8 @@ Json fields(const TransferEvent& e) {
 Json fields(const TransferRoundEvent& e) {
   return {{"event", "transfer_round"}, {"test", e.full_test ? "full" : "threshold"},
           {"pairs", e.pairs},          {"candidates", e.candidates},
-          {"proposals", e.proposals},  {"accepted", e.accepted}};
+          {"proposals", e.proposals},  {"accepted", e.accepted},
+          {"rollouts", e.rollouts}};
 }
 
 Json fields(const StageEvent& e) {

@@ -14,6 +14,7 @@
 #include "config/run_config.h"
 #include "envgen/env_json.h"
 #include "policy/policy_file.h"
+#include "run/annecs_log.h"
 #include "run/checkpoint.h"
 #include "run/crc32.h"
 #include "run/event_json.h"
@@ -110,6 +111,9 @@ std::vector<std::string> earlier_run_files(const fs::path& dir) {
   const std::uintmax_t stats = fs::file_size(dir / kStatsFile, ec);
   if (!ec && stats > pair_stats_header().size())
     found.push_back(std::string(kStatsFile) + " (" + std::to_string(stats) + " bytes)");
+  const std::uintmax_t annecs = fs::file_size(dir / kAnnecsFile, ec);
+  if (!ec && annecs > annecs_header().size())
+    found.push_back(std::string(kAnnecsFile) + " (" + std::to_string(annecs) + " bytes)");
   for (const char* sub : {kEnvsDir, kPoliciesDir})
     if (const size_t n = files_in(dir / sub); n > 0)
       found.push_back(std::string(sub) + "/ (" + std::to_string(n) + " files)");
@@ -174,6 +178,7 @@ RunDirectory::RunDirectory(RunDirectory&& other) noexcept
       config_(std::move(other.config_)),
       events_fd_(std::exchange(other.events_fd_, -1)),
       stats_fd_(std::exchange(other.stats_fd_, -1)),
+      annecs_fd_(std::exchange(other.annecs_fd_, -1)),
       events_crc_(other.events_crc_),
       stats_crc_(other.stats_crc_),
       repairs_(std::move(other.repairs_)),
@@ -189,6 +194,7 @@ RunDirectory& RunDirectory::operator=(RunDirectory&& other) noexcept {
   config_ = std::move(other.config_);
   events_fd_ = std::exchange(other.events_fd_, -1);
   stats_fd_ = std::exchange(other.stats_fd_, -1);
+  annecs_fd_ = std::exchange(other.annecs_fd_, -1);
   events_crc_ = other.events_crc_;
   stats_crc_ = other.stats_crc_;
   repairs_ = std::move(other.repairs_);
@@ -203,7 +209,8 @@ RunDirectory::~RunDirectory() { close_logs(); }
 void RunDirectory::close_logs() {
   if (events_fd_ >= 0) ::close(events_fd_);
   if (stats_fd_ >= 0) ::close(stats_fd_);
-  events_fd_ = stats_fd_ = -1;
+  if (annecs_fd_ >= 0) ::close(annecs_fd_);
+  events_fd_ = stats_fd_ = annecs_fd_ = -1;
 }
 
 Expected<RunDirectory> RunDirectory::create(const fs::path& dir, const pb::RunConfig& config) {
@@ -241,6 +248,11 @@ Expected<RunDirectory> RunDirectory::create(const fs::path& dir, const pb::RunCo
   if (const int err = write_all(run.stats_fd_, pair_stats_header()))
     return Unexpected{(dir / kStatsFile).string() + ": " + errno_text(err)};
   run.stats_crc_ = crc32_extend(0, pair_stats_header());
+  Expected<int> annecs = open_log(dir / kAnnecsFile, O_CREAT | O_TRUNC);
+  if (!annecs) return Unexpected{annecs.error()};
+  run.annecs_fd_ = *annecs;
+  if (const int err = write_all(run.annecs_fd_, annecs_header()))
+    return Unexpected{(dir / kAnnecsFile).string() + ": " + errno_text(err)};
   sync_directory(dir);
   return run;
 }
@@ -308,6 +320,13 @@ Expected<std::pair<RunDirectory, RunState>> RunDirectory::resume(const fs::path&
                            ": written again from the checkpoint");
   }
 
+  // annecs.csv, the state's lines (a crash after the checkpoint may have left later ones)
+  if (const std::string annecs_lines = annecs_text(*state); !same_content(dir / kAnnecsFile, annecs_lines))
+    if (auto error = write_named(dir / kAnnecsFile, annecs_lines)) return Unexpected{*error};
+  Expected<int> annecs = open_log(dir / kAnnecsFile, 0);
+  if (!annecs) return Unexpected{annecs.error()};
+  run.annecs_fd_ = *annecs;
+
   // the pair files, up to the checkpoint's state (a crash after the checkpoint's write may have left them behind)
   if (auto error = run.write_pair_files(*state, 0, /*only_changed=*/true)) return Unexpected{*error};
   run.pairs_with_env_files_ = state->pairs.size();
@@ -327,6 +346,8 @@ void RunDirectory::append(const IterationReport& report) {
     append_error_ = (dir_ / kEventsFile).string() + ": " + errno_text(err);
   } else if (const int err2 = write_all(stats_fd_, stats)) {
     append_error_ = (dir_ / kStatsFile).string() + ": " + errno_text(err2);
+  } else if (const int err3 = write_all(annecs_fd_, annecs_line(report.iteration, report.annecs))) {
+    append_error_ = (dir_ / kAnnecsFile).string() + ": " + errno_text(err3);
   } else {
     events_crc_ = crc32_extend(events_crc_, events);
     stats_crc_ = crc32_extend(stats_crc_, stats);
@@ -377,6 +398,8 @@ std::optional<std::string> RunDirectory::save(const RunState& state) {
     if (!size) return size.error();
     sizes[i] = *size;
   }
+  // annecs.csv is not counted by the checkpoint (resume recomputes it), only made durable with it
+  if (const int err = fsync_retrying(annecs_fd_)) return (dir_ / kAnnecsFile).string() + ": fsync: " + errno_text(err);
 
   const uint32_t crcs[2] = {events_crc_, stats_crc_};
   const std::string bytes = encode_checkpoint_file(checkpoint_with_logs(config_, state, sizes, crcs));

@@ -6,6 +6,7 @@
 //                           fsync of the directory)
 //   events.jsonl            one JSON object per line: every event of every iteration
 //   pair_stats.csv          a header, then one row per ES step (PairStatsRow)
+//   annecs.csv              a header, then both ANNECS counts at the end of each iteration (run/annecs_log.h)
 //   envs/pair-<id>.env.json          each pair's environment, written once when the pair first appears
 //   policies/pair-<id>.json          its current θ with its latest score   } rewritten at each checkpoint while
 //   policies/pair-<id>.best.json     its best θ with its best score        } active, and once after it retires
@@ -15,7 +16,8 @@
 // the logs hold exactly the iterations the restored state has seen and a resumed run writes the same bytes as an
 // uninterrupted one, and refuses logs whose bytes differ from those the checkpoint has seen. The logs are the
 // run's history and cannot be rebuilt (only recomputed, by running the config again); config.textproto, envs/ and
-// policies/ are derived from the checkpoint and resume writes them again when they are missing or differ. The pair
+// policies/ are derived from the checkpoint and resume writes them again when they are missing or differ; so is
+// annecs.csv, whose lines are a function of the state (written again, it holds the state's iterations only). The pair
 // files are written after the checkpoint, so they never run ahead of it (a failure or crash between the two leaves them
 // behind), and resume brings them up to the checkpoint's state. Errors come back as messages naming the file; nothing
 // throws except std::bad_alloc. Not thread-safe: one owner (the coordinator's main loop), and one RunDirectory per
@@ -64,9 +66,9 @@ class RunDirectory {
 
   // Takes the lock, reads and checks checkpoint.pb (read_checkpoint_file, from_checkpoint), restores the state,
   // truncates the logs to the sizes the checkpoint records and checks their CRC-32, removes temporary files an
-  // interrupted write left, checks that files can be written, and rewrites config.textproto and the pair files
-  // where they differ from the state's (repairs() says which of the first). A directory another process owns, or
-  // a missing, corrupt or inconsistent run is an error.
+  // interrupted write left, checks that files can be written, and rewrites config.textproto, annecs.csv and the
+  // pair files where they differ from the state's (repairs() says which of the first). A directory another process
+  // owns, or a missing, corrupt or inconsistent run is an error.
   static Expected<std::pair<RunDirectory, RunState>> resume(const std::filesystem::path& dir);
 
   RunDirectory(RunDirectory&& other) noexcept;
@@ -75,8 +77,8 @@ class RunDirectory {
   RunDirectory& operator=(const RunDirectory&) = delete;
   ~RunDirectory();
 
-  // Appends the report's events and stats rows to the logs (written through, no user-space buffer). A write
-  // error is kept and returned by the next save(), which then writes no checkpoint: the last one stays valid.
+  // Appends the report's events, stats rows and ANNECS line to their files (written through, no user-space buffer). A
+  // write error is kept and returned by the next save(), which then writes no checkpoint: the last one stays valid.
   void append(const IterationReport& report);
 
   // Makes the logs durable (fsync), writes the checkpoint of state with the logs' sizes, then the environment
@@ -104,6 +106,7 @@ class RunDirectory {
   pb::RunConfig config_;
   int events_fd_ = -1;  // opened O_APPEND
   int stats_fd_ = -1;
+  int annecs_fd_ = -1;       // derived from the state: no size or CRC in the checkpoint
   uint32_t events_crc_ = 0;  // CRC-32 of each log's bytes so far
   uint32_t stats_crc_ = 0;
   std::vector<std::string> repairs_;

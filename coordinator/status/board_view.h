@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "poet/annecs.h"
 #include "poet/run_state.h"
 
 namespace poet {
@@ -57,6 +58,7 @@ struct PublishedRun {
   int iterations = 0;
   bool finished = false;
   RunCounters counters;
+  Annecs annecs;  // both definitions, as of the last iteration done
   int last_checkpoint_iteration = 0;
   std::vector<PairInfo> pairs;
 };

@@ -56,6 +56,12 @@ std::string prometheus_text(const BoardView& v) {
   sample("poet_rollouts_total", run.counters.rollouts);
   family("poet_env_steps_total", "counter", "Environment steps since the run began.");
   sample("poet_env_steps_total", run.counters.env_steps);
+  family("poet_annecs", "gauge",
+         "ANNECS (accumulated number of novel environments created and solved) as of the last iteration done, by "
+         "definition. at_admission: environments admitted by reproduction and solved since, counted when solved. "
+         "at_archiving: environments retired that had been solved by then, counted at retirement.");
+  sample("poet_annecs{definition=\"at_admission\"}", run.annecs.at_admission);
+  sample("poet_annecs{definition=\"at_archiving\"}", run.annecs.at_archiving);
 
   const DispatchSnapshot no_dispatch;
   const DispatchSnapshot& dispatch = v.dispatch ? *v.dispatch : no_dispatch;

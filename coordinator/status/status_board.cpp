@@ -53,6 +53,7 @@ void StatusBoard::publish_run(const RunState& state, int last_checkpoint_iterati
   snapshot->iterations = state.settings.iterations;
   snapshot->finished = run_complete(state);
   snapshot->counters = state.counters;
+  snapshot->annecs = annecs_at(state, state.next_iteration - 1);
   snapshot->last_checkpoint_iteration = last_checkpoint_iteration;
   snapshot->pairs.reserve(state.pairs.size());
   for (const Pair& p : state.pairs) {

@@ -72,6 +72,8 @@ status::Status status_message(const BoardView& v, const std::filesystem::path& r
     s.set_env_steps(run.counters.env_steps);
     s.set_transfer_attempts(run.counters.transfer_attempts);
     s.set_transfer_successes(run.counters.transfer_successes);
+    s.set_annecs_at_admission(run.annecs.at_admission);
+    s.set_annecs_at_archiving(run.annecs.at_archiving);
     s.set_last_checkpoint_iteration(run.last_checkpoint_iteration);
   }
   if (v.dispatch) {

@@ -16,7 +16,7 @@ namespace {
 
 constexpr char kEndpoints[] =
     "/, /status, /pairs, /pairs/{id}, /pairs/{id}/episode, /archive, /workers, /events?since=N, /metrics, /healthz, "
-    "/pictures/{scores,levels,tree,rose}.{png,svg}, /pictures/pairs/{id}/{course,filmstrip,lineage}.{png,svg}, "
+    "/pictures/{scores,levels,annecs,tree,rose}.{png,svg}, /pictures/pairs/{id}/{course,filmstrip,lineage}.{png,svg}, "
     "/pictures/pairs/{id}/walk.gif";
 constexpr int64_t kMaxSince = int64_t{1} << 50;  // far beyond any events file; keeps since + limit exact
 

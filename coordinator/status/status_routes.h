@@ -6,7 +6,7 @@
 //   GET /status /pairs /pairs/{id} /pairs/{id}/episode /archive /workers /events?since=N[&limit=M] /healthz
 //                                                               application/json
 //   GET /metrics                                                Prometheus text format 0.0.4
-//   GET /pictures/{scores,levels,tree,rose}.{png,svg}           the run's plots (report_plots.h)
+//   GET /pictures/{scores,levels,annecs,tree,rose}.{png,svg}    the run's plots (report_plots.h)
 //   GET /pictures/pairs/{id}/{course,filmstrip}.{png,svg}, /pictures/pairs/{id}/walk.gif   a pair's episode
 //
 // HEAD is GET without the body. Another method on one of these paths is 405 with Allow: GET, HEAD; any other

@@ -127,6 +127,7 @@ void print_status(const status::Status& s) {
   std::printf("pairs       %d created, %d active, %d solved\n", s.pairs_created(), s.pairs_active(), s.pairs_solved());
   std::printf("transfers   %lld accepted of %lld attempted\n", static_cast<long long>(s.transfer_successes()),
               static_cast<long long>(s.transfer_attempts()));
+  std::printf("ANNECS      %d at admission, %d at archiving\n", s.annecs_at_admission(), s.annecs_at_archiving());
   std::printf("workers     %d, %lld jobs queued, %lld in flight\n", s.workers(),
               static_cast<long long>(s.queue_depth()), static_cast<long long>(s.in_flight_jobs()));
   std::printf("rollouts    %lld (%s/s)\n", static_cast<long long>(s.rollouts()), fixed(s.rollouts_per_s(), 1).c_str());

@@ -124,11 +124,14 @@ int main(int argc, char** argv) {
   int picture_pair = -1;
   auto* picture = app.add_subcommand(
       "picture",
-      "A picture of the run: scores, levels, tree, rose (.png/.svg) or a pair's course, filmstrip, lineage "
+      "A picture of the run: scores, levels, annecs, tree, rose (.png/.svg) or a pair's course, filmstrip, lineage "
       "(.png/.svg) or walk (.gif); from the live coordinator, or from a run directory's files with --run-dir");
-  picture->add_option("kind", picture_kind_name, "scores, levels, tree, rose, course, filmstrip, lineage or walk")->required();
+  picture
+      ->add_option("kind", picture_kind_name, "scores, levels, annecs, tree, rose, course, filmstrip, lineage or walk")
+      ->required();
   picture->add_option("out", picture_out, "The file to write: .png, .svg or .gif")->required();
-  picture->add_option("--pair", picture_pair, "The pair (course, filmstrip, lineage, walk)")->check(CLI::Range(0, 999'999'999));
+  picture->add_option("--pair", picture_pair, "The pair (course, filmstrip, lineage, walk)")
+      ->check(CLI::Range(0, 999'999'999));
   picture->add_option("--run-dir", picture_run_dir, "Draw from this run directory's files instead (never changed)");
   if (const std::optional<int> code = parse_command_line(app, argc, argv)) return *code;
   if (keygen->parsed()) return make_keys(key_dir, key_name, authorize);

@@ -144,8 +144,8 @@ void print_table(const RunSnapshot& run, const RunMetrics& m, const Coverage& co
                 largest->proposal ? "proposal" : "direct", largest->iteration, largest->previous_score, largest->score);
   std::printf("\n");
   print_goal_switching(run, m);
-  std::printf("ANNECS at admission: %lld — %s\n", static_cast<long long>(m.annecs_at_admission), kAnnecsAtAdmission);
-  std::printf("ANNECS at archiving: %lld — %s\n\n", static_cast<long long>(m.annecs_at_archiving), kAnnecsAtArchiving);
+  std::printf("ANNECS at admission: %d — %s\n", m.annecs.at_admission, kAnnecsAtAdmission);
+  std::printf("ANNECS at archiving: %d — %s\n\n", m.annecs.at_archiving, kAnnecsAtArchiving);
 
   std::printf(
       "Coverage (seed %llu, %d samples per level; sum of normalised distances to the nearest environment "
@@ -219,8 +219,8 @@ int main(int argc, char** argv) {
   app.add_option("--run-dir", run_dir, "Run directory (finished, live or resumed)")->required();
   app.add_option("--json", json_path, "Write the metrics as JSON to this file ('-' for stdout, instead of the table)");
   app.add_option("--plots", plots_dir,
-                 "Write scores.png, levels.png, tree.png and lineage.png (the courses along the last lineage the "
-                 "table shows) into this directory");
+                 "Write scores.png, levels.png, annecs.png, tree.png and lineage.png (the courses along the last "
+                 "lineage the table shows) into this directory");
   app.add_option("--target", target_path,
                  "Environment file (envs/*.env.json form): report the solved environment closest to it (default: a "
                  "control run's own target)");
@@ -265,6 +265,7 @@ int main(int argc, char** argv) {
     const std::pair<const char*, Expected<std::string>> plots[] = {
         {"scores.png", render_score_plot(PictureFormat::kPng, *run)},
         {"levels.png", render_level_plot(PictureFormat::kPng, metrics)},
+        {"annecs.png", render_annecs_plot(PictureFormat::kPng, metrics)},
         {"tree.png", render_tree_plot(PictureFormat::kPng, *run, metrics)},
         {"lineage.png", render_run_picture(*run, {PictureKind::kLineage, PictureEncoding::kPng, deepest_pair(*run)})}};
     for (const auto& [name, bytes] : plots) {

@@ -177,7 +177,7 @@ class Run:
     """A run directory, read-only: live or finished, it takes no lock and writes nothing. A live run is read as
     of its last checkpoint, as poet-report reads it.
 
-    pairs, events, pair_stats and levels are pandas DataFrames (pandas is imported when one is asked for);
+    pairs, events, pair_stats, levels and annecs are pandas DataFrames (pandas is imported when one is asked for);
     report is poet-report's JSON document as a dict; encoding(pair) and theta(pair) give a pair's environment
     (the environment file's dict) and its θ; config is the run's config in protobuf text format. ValueError, with
     the report's message, for a directory that is not a readable run.
@@ -251,3 +251,12 @@ class Run:
                 row[f"{first}_iteration"] = level[first]["iteration"] if level[first] else None
             rows.append(row)
         return pd.DataFrame(rows).set_index("level")
+
+    @property
+    def annecs(self):
+        """ANNECS at the end of each iteration in both of its peers' definitions, at_admission and at_archiving
+        (report["annecs"] states each): a row per iteration, as the run's annecs.csv holds them."""
+        import pandas as pd
+
+        frame = pd.DataFrame(self.report["annecs"]["over_time"], columns=["iteration", "at_admission", "at_archiving"])
+        return frame.set_index("iteration")

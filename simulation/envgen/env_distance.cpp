@@ -47,19 +47,22 @@ double normalized_distance(const EnvEncoding& a, const EnvEncoding& b) {
 
 double normalized_distance(const EnvVector& a, const EnvVector& b) { return distance(a, b, true); }
 
-double novelty(const EnvEncoding& candidate, std::span<const EnvEncoding> archive, int k, bool normalized) {
+double mean_of_nearest(std::vector<double> distances, int k) {
   if (k < 1) throw std::invalid_argument("novelty: k must be >= 1");
-  if (archive.empty()) return 0.0;
-  std::vector<double> distances;
-  distances.reserve(archive.size());
-  const EnvVector c = env_vector(candidate);
-  for (const EnvEncoding& e : archive) distances.push_back(distance(c, env_vector(e), normalized));
-  // summing the nearest in ascending order makes the result independent of the archive's order
+  if (distances.empty()) return 0.0;
   std::sort(distances.begin(), distances.end());
   const size_t n = std::min(distances.size(), static_cast<size_t>(k));
   double sum = 0.0;
   for (size_t i = 0; i < n; ++i) sum += distances[i];
   return sum / static_cast<double>(n);
+}
+
+double novelty(const EnvEncoding& candidate, std::span<const EnvEncoding> archive, int k, bool normalized) {
+  std::vector<double> distances;
+  distances.reserve(archive.size());
+  const EnvVector c = env_vector(candidate);
+  for (const EnvEncoding& e : archive) distances.push_back(distance(c, env_vector(e), normalized));
+  return mean_of_nearest(std::move(distances), k);
 }
 
 Difficulty difficulty(const EnvVector& e) {

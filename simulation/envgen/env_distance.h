@@ -6,6 +6,7 @@
 #include <array>
 #include <span>
 #include <string_view>
+#include <vector>
 
 #include "envgen/env_encoding.h"
 
@@ -22,6 +23,11 @@ double euclidean_distance(const EnvEncoding& a, const EnvEncoding& b);
 
 // ‖(e(A) − e(B)) / e(Max)‖₂ / √5: 1 between flat and (8, [8, 8], [3, 3]).
 double normalized_distance(const EnvEncoding& a, const EnvEncoding& b);
+
+// The mean of the k smallest distances (of all when there are fewer than k; 0 for none), summed in ascending order so
+// that the order they come in does not matter: the novelty of a candidate from its distances to an archive, for any
+// measure of distance. Throws std::invalid_argument when k < 1.
+double mean_of_nearest(std::vector<double> distances, int k);
 
 // The mean distance from candidate to its k nearest archive entries (plain Euclidean, or normalized_distance
 // when asked); the mean over all of them when the archive has fewer than k, and 0 for an empty archive (nothing

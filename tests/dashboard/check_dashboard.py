@@ -9,8 +9,9 @@ protocol, spoken here with Python's standard library, so the test needs no netwo
               tree and score pictures load, the replay canvas draws the walker; then the coordinator is killed
               with SIGKILL and the page shows its error banner with the last data still there, and when the
               coordinator is started again on the same ports the banner goes and the iteration moves on.
-  escaping    an ES_ALONE run whose target environment and run directory are named with HTML: the page shows
-              the names as text, no script of theirs runs and no element of theirs exists.
+  escaping    an ES_ALONE run whose target environment (a CPPN course) and run directory are named with HTML: the
+              page shows the names as text, no script of theirs runs and no element of theirs exists; the
+              course is drawn and its card says "CPPN terrain".
   screenshot  a full-page PNG of the dashboard of a coordinator already running (--url, --out).
 
 The browser is chromium and chromedriver from PATH (POET_CHROMIUM and POET_CHROMEDRIVER name others).
@@ -58,7 +59,10 @@ seed: 1
 iterations: 100000
 es { perturbations: 4 }
 walker { max_steps: 200 }
-es_alone { target { encoding { name: %s roughness: 0 } seed: 0 } }
+es_alone { target { encoding { name: %s cppn {
+  nodes { id: 0 role: INPUT } nodes { id: 1 role: OUTPUT } nodes { id: 2 activation: SIN bias: 0.1 }
+  connections { from_node: 0 to_node: 1 weight: 0.3 } connections { from_node: 0 to_node: 2 weight: 1 }
+  connections { from_node: 2 to_node: 1 weight: 0.5 } } } seed: 0 } }
 """ % json.dumps(HOSTILE_ENV)  # a JSON string is a valid text-format string here (quotes escaped by \\)
 
 
@@ -220,10 +224,11 @@ const cards = [...document.querySelectorAll('[data-pair-id]')];
 const canvas = document.getElementById('replay-canvas');
 return {
   iteration: text('iteration'), workers: text('workers-count'), runDir: text('run-dir'), state: text('state'),
+  annecs: text('annecs'),
   workerRows: document.querySelectorAll('#workers-table [data-worker-id]').length,
   banner: banner && getComputedStyle(banner).display !== 'none' ? banner.textContent : null,
   cards: cards.map((c) => ({id: c.dataset.pairId, active: c.dataset.active,
-    env: c.querySelector('[data-field=env]').textContent,
+    env: c.querySelector('[data-field=env]').textContent, level: c.querySelector('dl dd').textContent,
     visible: c.getBoundingClientRect().height > 0,
     course: c.querySelector('img[data-field=course]').naturalWidth,
     curve: c.querySelectorAll('[data-field=curve] polyline[data-series=score]').length})),
@@ -315,6 +320,8 @@ def check_live(args, root, processes):
         if seen != sorted(seen):
             raise Failed(f"the iteration shown went backwards: {seen}")
         log(f"iterations shown: {seen}")
+        wait_for("ANNECS in both definitions",
+                 lambda: re.fullmatch(r"\d+ / \d+", page(browser)["annecs"] or ""), 30)
 
         wait_for("the tree and score pictures", lambda: page(browser)["tree"] > 0 and page(browser)["scores"] > 0, 60)
         wait_for("a course picture and a score curve on an active card",
@@ -401,6 +408,8 @@ def check_escaping(args, root, processes):
         state = page(browser)
         if [c["env"] for c in state["cards"]] != [HOSTILE_ENV]:
             raise Failed(f"the pair's card does not show its name as text: {[c['env'] for c in state['cards']]!r}")
+        if state["cards"][0]["level"] != "CPPN terrain":  # its course is a CPPN genome's, drawn like any other
+            raise Failed(f"the CPPN course's card shows level {state['cards'][0]['level']!r}, not 'CPPN terrain'")
         wait_for("the replay to show the name as text", lambda: HOSTILE_ENV in (page(browser)["replayInfo"] or ""), 30)
         if state["runDir"] != run_dir:
             raise Failed(f"the run directory is shown as {state['runDir']!r}, not {run_dir!r}")

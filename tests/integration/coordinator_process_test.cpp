@@ -48,7 +48,7 @@ poet {
 )";
 
 // The files a resumed run must reproduce exactly.
-const char* const kRunFiles[] = {"checkpoint.pb", "events.jsonl", "pair_stats.csv"};
+const char* const kRunFiles[] = {"checkpoint.pb", "events.jsonl", "pair_stats.csv", "annecs.csv"};
 
 std::string read(const fs::path& path) { return poet::testing::read_file(path); }
 

@@ -34,7 +34,7 @@ poet { mutation_interval: 2 transfer_interval: 2 repro_threshold: -1000 mc_low: 
        max_children: 4 max_admitted: 1 active_cap: 3 }
 )";
 
-const char* const kRunFiles[] = {"checkpoint.pb", "events.jsonl", "pair_stats.csv"};
+const char* const kRunFiles[] = {"checkpoint.pb", "events.jsonl", "pair_stats.csv", "annecs.csv"};
 
 inline std::string read(const fs::path& path) { return read_file(path); }
 

@@ -126,13 +126,26 @@ TEST_F(ReportProcessTest, ReportsTheMetricsTableJsonAndPlotsOfAFinishedRunWithou
   EXPECT_GE(j["annecs"]["at_admission"]["value"].get<int>(), 2);
   EXPECT_FALSE(j["annecs"]["at_admission"]["definition"].get<std::string>().empty());
   EXPECT_FALSE(j["annecs"]["at_archiving"]["definition"].get<std::string>().empty());
+  // ANNECS over time: a point per iteration ending at the values, as annecs.csv holds them
+  const nlohmann::json& annecs = j["annecs"]["over_time"];
+  ASSERT_EQ(annecs.size(), 3u);
+  EXPECT_EQ(annecs[2]["at_admission"], j["annecs"]["at_admission"]["value"]);
+  EXPECT_EQ(annecs[2]["at_archiving"], j["annecs"]["at_archiving"]["value"]);
+  EXPECT_EQ(annecs[2]["at_archiving"], 1);  // the solved first pair, retired at iteration 2 past the cap of 4
+  std::string lines = "iteration,annecs_at_admission,annecs_at_archiving\n";
+  for (size_t t = 0; t < annecs.size(); ++t) {
+    EXPECT_EQ(annecs[t]["iteration"], t);
+    if (t > 0) EXPECT_GE(annecs[t]["at_admission"], annecs[t - 1]["at_admission"]);
+    lines += std::to_string(t) + "," + annecs[t]["at_admission"].dump() + "," + annecs[t]["at_archiving"].dump() + "\n";
+  }
+  EXPECT_EQ(read(run / "annecs.csv"), lines);
   EXPECT_TRUE(j["coverage"]["sum"]["challenging"].is_null());  // nothing solved at challenging or above
 
   // coverage sample: a header and 50 samples per level, none with a distance
   const std::string samples = read(root_ / "coverage.csv");
   EXPECT_EQ(std::count(samples.begin(), samples.end(), '\n'), 151);
   EXPECT_TRUE(contains(samples, "very challenging,"));
-  for (const char* plot : {"scores.png", "levels.png", "tree.png", "lineage.png"}) {
+  for (const char* plot : {"scores.png", "levels.png", "annecs.png", "tree.png", "lineage.png"}) {
     const std::string png = read(root_ / "plots" / plot);
     ASSERT_GT(png.size(), 1000u) << plot;
     EXPECT_EQ(png.substr(1, 3), "PNG") << plot;
@@ -287,6 +300,7 @@ TEST_F(ReportProcessTest, PicturesOfEveryKindFromARunDirectoryWithoutChangingIt)
   for (const auto& [kind, file, pair] :
        std::vector<std::tuple<std::string, std::string, std::string>>{{"scores", "scores.png", ""},
                                                                       {"levels", "levels.svg", ""},
+                                                                      {"annecs", "annecs.png", ""},
                                                                       {"tree", "tree.png", ""},
                                                                       {"rose", "rose.svg", ""},
                                                                       {"course", "course.png", "1"},

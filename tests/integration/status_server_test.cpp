@@ -482,6 +482,7 @@ TEST_F(StatusServerTest, PoetctlPrintsTheRun) {
   EXPECT_TRUE(contains(status.out, "3 created, 2 active, 1 solved")) << status.out;
   EXPECT_TRUE(contains(status.out, "state       running")) << status.out;
   EXPECT_TRUE(contains(status.out, "rollouts    1234")) << status.out;
+  EXPECT_TRUE(contains(status.out, "ANNECS      1 at admission, 0 at archiving")) << status.out;
 
   const Outcome pairs = poetctl({"--address", address(), "pairs"}, "pairs");
   EXPECT_EQ(pairs.code, 0) << pairs.err;

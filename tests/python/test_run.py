@@ -65,6 +65,12 @@ def test_run_equals_poet_reports_numbers_and_writes_nothing(run_dir):
     assert levels.loc["easy", "created"] == report["levels"][0]["created"]
     assert levels["admitted"].sum() == sum(level["admitted"] for level in report["levels"])
 
+    annecs = run.annecs
+    assert list(annecs.index) == list(range(run.next_iteration))
+    assert annecs["at_admission"].iloc[-1] == report["annecs"]["at_admission"]["value"]
+    lines = (run_dir / "annecs.csv").read_text().splitlines()
+    assert lines[0] == "iteration,annecs_at_admission,annecs_at_archiving"
+    assert lines[1:] == [f"{t},{row.at_admission},{row.at_archiving}" for t, row in annecs.iterrows()]
     events = run.events
     assert set(events["event"]) >= {"pair_created", "reproduction", "transfer_round"}
     assert events["iteration"].max() < run.next_iteration
@@ -104,3 +110,45 @@ def test_an_unknown_pair_is_a_value_error(run_dir):
     run = poet.Run(run_dir)
     with pytest.raises(ValueError, match="no pair 99"):
         run.theta(99)
+
+
+def test_the_annecs_comparison_plots_runs_within_one_budget(run_dir, tmp_path):
+    script = os.path.join(os.environ.get("POET_SOURCE_DIR", ""), "experiments", "annecs_compare.py")
+    out = tmp_path / "annecs.png"
+    done = subprocess.run([sys.executable, script, "--run", f"a={run_dir}", "--run", f"b={run_dir}",
+                           "--out", str(out)], capture_output=True, text=True, timeout=120,
+                          env={**os.environ, "MPLCONFIGDIR": str(tmp_path)})
+    assert done.returncode == 0, done.stderr
+    assert out.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    rows = [line.split() for line in done.stdout.splitlines() if line.startswith(("a ", "b "))]
+    assert len(rows) == 2 and rows[0][1:] == rows[1][1:]  # the same run twice: the same figures
+    assert int(rows[0][1]) == len(poet.Run(run_dir).annecs)  # every iteration within its own wall time
+    bad = subprocess.run([sys.executable, script, "--run", "no-label", "--out", str(out)], capture_output=True,
+                         text=True, timeout=60, env={**os.environ, "MPLCONFIGDIR": str(tmp_path)})
+    assert bad.returncode == 2 and "LABEL=RUN_DIR" in bad.stderr
+
+
+def test_the_hardest_solved_ranks_a_runs_solved_environments(tmp_path):
+    source = os.environ.get("POET_SOURCE_DIR", "")
+    walker = os.path.join(source, "data", "walkers", "flat-walker.json")
+    config = tmp_path / "cppn.textproto"
+    config.write_text("""mode: POET
+seed: 3
+iterations: 3
+es { perturbations: 2 }
+poet { mutation_interval: 1 transfer_interval: 2 repro_threshold: 200 mc_low: 25 mc_high: 340
+       max_children: 4 max_admitted: 1 active_cap: 4 environments: CPPN_TERRAIN novelty: PATA_EC }
+""")
+    run_dir = tmp_path / "run"
+    subprocess.run([binary("POET_COORDINATOR_BIN"), "--config", str(config), "--run-dir", str(run_dir),
+                    "--start-from", walker, "--threads", "2", "--quiet"], check=True, capture_output=True, timeout=240)
+    script = os.path.join(source, "experiments", "hardest_solved.py")
+    done = subprocess.run([sys.executable, script, str(run_dir), walker, "--seeds", "2"], capture_output=True,
+                          text=True, timeout=120)
+    assert done.returncode == 0, done.stderr
+    rows = [line.split() for line in done.stdout.splitlines()[1:]]
+    solved = poet.Run(run_dir).pairs["solved"].notna().sum()
+    assert len(rows) == solved >= 2  # the first environment and at least one child
+    returns = [float(row[4]) for row in rows]
+    assert returns == sorted(returns)  # hardest first
+    assert all(row[1].startswith("cppn-") for row in rows)

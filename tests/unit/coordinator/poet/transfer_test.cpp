@@ -77,6 +77,10 @@ TEST(Transfer, DirectAndProposalTransfersReplaceWhenStrictlyBetter) {
   EXPECT_EQ(rounds[0]["test"], "full");
   EXPECT_EQ(rounds[0]["proposals"], 2);
   EXPECT_EQ(rounds[0]["accepted"], 2);
+  // per candidate a direct evaluation, a proposal ES step of 2n rollouts and its evaluation: the round's batches
+  const size_t n = static_cast<size_t>(s.settings.es.perturbations);
+  EXPECT_EQ(rounds[0]["rollouts"], 2 * (2 * n + 2));
+  EXPECT_EQ(rounds[0]["rollouts"], ev.batches[2].size() + ev.batches[3].size());
 }
 
 TEST(Transfer, EqualScoresDoNotReplace) {
@@ -184,6 +188,8 @@ TEST(TransferThreshold, OnlySourcesAboveTheThresholdGetAProposalStep) {
   EXPECT_EQ(rounds[0]["candidates"], 2);
   EXPECT_EQ(rounds[0]["proposals"], 1);
   EXPECT_EQ(rounds[0]["accepted"], 1);
+  // two direct evaluations, then one proposal's ES step and evaluation
+  EXPECT_EQ(rounds[0]["rollouts"], 2 + 2 * static_cast<size_t>(s.settings.es.perturbations) + 1);
   // the evaluations of the iteration (and the accepted transfer) joined the recent scores, at most five kept
   EXPECT_EQ(s.pairs[0].recent_scores, (std::vector<double>{90, 130, 95, 100, 100}));
   EXPECT_EQ(s.pairs[1].recent_scores, (std::vector<double>{100, 100, 180}));
@@ -208,6 +214,22 @@ TEST(TransferThreshold, NothingAboveTheThresholdCostsOnlyTheDirectEvaluations) {
   EXPECT_EQ(ev.batches.size(), 3u);
   EXPECT_EQ(s.counters.transfer_attempts, 2);
   EXPECT_EQ(s.counters.transfer_successes, 0);
+}
+
+// The threshold is the best of the last five scores, the iteration's own evaluation included: a best score that
+// has left the window no longer holds a source back. Pair 0's 300 is its sixth-latest once the iteration's 100
+// joins, so its threshold is 100 and a direct 150 passes; pair 1's 300 is still fifth-latest and blocks a 150.
+TEST(TransferThreshold, OnlyTheLastFiveScoresCount) {
+  RunState s = two_pairs_threshold();
+  s.pairs[0].recent_scores = {300, 90, 90, 90, 90};
+  s.pairs[1].recent_scores = {90, 300, 90, 90, 90};
+  ScriptedEvaluator ev = threshold_script(150, 150, 160, 500);
+  run_iteration(s, ev);
+  ASSERT_EQ(ev.batches.size(), 5u);
+  for (const RolloutTask& t : ev.batches[3]) EXPECT_TRUE(on_flat(t));  // only pair 0's candidate is fine-tuned
+  ASSERT_EQ(s.pairs[0].transfers.size(), 1u);
+  EXPECT_EQ(s.pairs[0].latest_score, 160);
+  EXPECT_TRUE(s.pairs[1].transfers.empty());
 }
 
 // The full test keeps no recent scores, so its states (and the golden digests) are those of before the option.

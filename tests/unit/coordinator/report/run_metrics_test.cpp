@@ -151,8 +151,17 @@ TEST(RunMetrics, TransfersAndBothAnnecsDefinitions) {
   ASSERT_EQ(m.accepted_transfers.size(), 1u);
   EXPECT_EQ(m.accepted_transfers[0].target, 1);
   EXPECT_DOUBLE_EQ(m.accepted_transfers[0].score - m.accepted_transfers[0].previous_score, 40);
-  EXPECT_EQ(m.annecs_at_admission, 2);  // children 1 and 2 solved; the first pair is not a child
-  EXPECT_EQ(m.annecs_at_archiving, 1);  // only child 1 retired, solved
+  EXPECT_EQ(m.annecs.at_admission, 2);  // children 1 and 2 solved; the first pair is not a child
+  EXPECT_EQ(m.annecs.at_archiving, 1);  // only child 1 retired, solved
+
+  // over time: child 1 counts at admission from its solve (6), at archiving from its retirement (8); child 2 from 9
+  ASSERT_EQ(m.annecs_over_time.size(), 10u);
+  const std::vector<int> admission = {0, 0, 0, 0, 0, 0, 1, 1, 1, 2}, archiving = {0, 0, 0, 0, 0, 0, 0, 0, 1, 1};
+  for (size_t t = 0; t < 10; ++t) {
+    EXPECT_EQ(m.annecs_over_time[t].at_admission, admission[t]) << t;
+    EXPECT_EQ(m.annecs_over_time[t].at_archiving, archiving[t]) << t;
+  }
+  EXPECT_EQ(m.annecs_over_time.back(), m.annecs);
 }
 
 TEST(RunMetrics, ClosestToTargetAmongSolvedEnvironments) {

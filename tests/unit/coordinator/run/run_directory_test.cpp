@@ -22,6 +22,7 @@
 #include "policy/mlp.h"
 #include "policy/policy_file.h"
 #include "rng.h"
+#include "run/annecs_log.h"
 #include "run/checkpoint.h"
 #include "run/crc32.h"
 #include "run/event_json.h"
@@ -142,6 +143,7 @@ TEST_F(RunDirectoryTest, CreateAndSaveWriteTheFiles) {
   EXPECT_FALSE(fs::exists(dir_ / kCheckpointFile));
   EXPECT_EQ(read(dir_ / kStatsFile), pair_stats_header());
   EXPECT_EQ(read(dir_ / kEventsFile), "");
+  EXPECT_EQ(read(dir_ / kAnnecsFile), annecs_header());
   const Expected<pb::RunConfig> config = parse_run_config(read(dir_ / kConfigFile));
   ASSERT_TRUE(config) << config.error();
   EXPECT_EQ(config->SerializeAsString(), small_config().SerializeAsString());
@@ -198,7 +200,7 @@ TEST_F(RunDirectoryTest, CreateRefusesAnEarlierRunsFilesWithoutTheirCheckpoint) 
   const Expected<RunDirectory> again = RunDirectory::create(dir_, small_config());
   ASSERT_FALSE(again);
   for (const char* what : {"holds files of an earlier run but no checkpoint.pb", "events.jsonl (", "pair_stats.csv (",
-                           "envs/ (2 files)", "move them away"})
+                           "annecs.csv (", "envs/ (2 files)", "move them away"})
     EXPECT_TRUE(contains(again.error(), what)) << again.error();
   EXPECT_EQ(read(dir_ / kEventsFile), events);
   EXPECT_EQ(read(dir_ / kStatsFile), stats);
@@ -283,6 +285,41 @@ TEST_F(RunDirectoryTest, ResumeTruncatesTheLogsToTheLastCheckpoint) {
   const pb::Checkpoint checkpoint = read_checkpoint(dir_ / kCheckpointFile);
   EXPECT_EQ(checkpoint.events_bytes(), static_cast<int64_t>(read(dir_ / kEventsFile).size()));
   EXPECT_EQ(checkpoint.next_iteration(), 3);
+}
+
+// annecs.csv gets a line per appended iteration; resume writes the state's lines again: cut back after a crash,
+// rebuilt when damaged or missing, without a word in the repairs (the lines are the state's, like the pair files).
+TEST_F(RunDirectoryTest, AnnecsLinesFollowTheState) {
+  // pair 0 solved at 0 and retired at 2, its child (pair 1, created at 1) solved at 2
+  RunState state = two_pair_state();
+  state.pairs[0].first_solved_iteration = 0;
+  state.pairs[0].retired_iteration = 2;
+  state.pairs[1].first_solved_iteration = 2;
+  state.next_iteration = 3;
+  const std::string expected = annecs_header() + "0,0,0\n1,0,0\n2,1,1\n";
+  EXPECT_EQ(annecs_text(state), expected);
+  {
+    RunDirectory dir = create_and_save(state);
+    for (int t = 0; t < 3; ++t) {
+      IterationReport report = report_for(state, t);
+      report.annecs = annecs_at(state, t);
+      dir.append(report);
+    }
+    ASSERT_FALSE(dir.save(state));
+    EXPECT_EQ(read(dir_ / kAnnecsFile), expected);
+    IterationReport lost = report_for(state, 3);  // a crash before its checkpoint
+    lost.annecs = {2, 1};
+    dir.append(lost);
+  }
+  EXPECT_EQ(read(dir_ / kAnnecsFile), expected + "3,2,1\n");
+  for (const std::string& damage : {std::string("keep"), std::string("0,0,0\n"), std::string()}) {
+    if (damage != "keep") write(dir_ / kAnnecsFile, damage);
+    if (damage.empty()) fs::remove(dir_ / kAnnecsFile);
+    const auto resumed = RunDirectory::resume(dir_);
+    ASSERT_TRUE(resumed) << resumed.error();
+    EXPECT_TRUE(resumed->first.repairs().empty());
+    EXPECT_EQ(read(dir_ / kAnnecsFile), expected) << "after " << (damage.empty() ? "removal" : damage);
+  }
 }
 
 TEST_F(RunDirectoryTest, StatsRowsRoundTripAndQuote) {

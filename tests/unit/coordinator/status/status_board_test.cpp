@@ -128,6 +128,8 @@ TEST_F(StatusBoardTest, StatusSaysWhatWasPublished) {
                             "env_steps_per_s", "uptime_s",     "last_checkpoint_iteration",
                             "state",           "note"})
     EXPECT_TRUE(s.contains(field)) << field;
+  for (const char* field : {"transfer_attempts", "transfer_successes", "annecs_at_admission", "annecs_at_archiving"})
+    EXPECT_TRUE(s.contains(field)) << field;
 }
 
 TEST_F(StatusBoardTest, PairsAndArchiveListEveryPair) {
@@ -361,7 +363,7 @@ TEST_F(StatusBoardTest, MetricsAreInPrometheusTextFormat) {
   // every line is a HELP, a TYPE or a sample of the family just announced
   const std::regex help(R"(# HELP (poet_[a-z_]+) \S.*)");
   const std::regex type(R"(# TYPE (poet_[a-z_]+) (gauge|counter))");
-  const std::regex sample(R"((poet_[a-z_]+)(\{reason="[a-z_]+"\})? (-?[0-9]+(\.[0-9]+)?))");
+  const std::regex sample(R"((poet_[a-z_]+)(\{(reason|definition)="[a-z_]+"\})? (-?[0-9]+(\.[0-9]+)?))");
   std::istringstream lines(text);
   std::string line, family;
   std::map<std::string, std::string> values;
@@ -377,7 +379,7 @@ TEST_F(StatusBoardTest, MetricsAreInPrometheusTextFormat) {
     } else {
       ASSERT_TRUE(std::regex_match(line, m, sample)) << line;
       EXPECT_EQ(m[1], family) << line;
-      values[m[1].str() + m[2].str()] = m[3];
+      values[m[1].str() + m[2].str()] = m[4];
     }
   }
   EXPECT_EQ(text.back(), '\n');
@@ -393,7 +395,36 @@ TEST_F(StatusBoardTest, MetricsAreInPrometheusTextFormat) {
   EXPECT_EQ(values["poet_dropped_frames_total{reason=\"malformed\"}"], "0");   // every known reason, from the start
   EXPECT_EQ(values["poet_dropped_frames_total{reason=\"bad_result\"}"], "1");  // and any other counted
   EXPECT_EQ(values["poet_skipped_key_files_total"], "2");
+  EXPECT_EQ(values["poet_annecs{definition=\"at_admission\"}"], "1");
+  EXPECT_EQ(values["poet_annecs{definition=\"at_archiving\"}"], "0");
   EXPECT_TRUE(text.find("# TYPE poet_rollouts_total counter\n") != std::string::npos);
+}
+
+// Both ANNECS definitions, named in /status and /metrics: the first pair is not a child, so it counts at archiving
+// (retired at 9, solved by then) but never at admission; pair 1 counts at admission from its solve.
+TEST_F(StatusBoardTest, AnnecsInBothDefinitions) {
+  StatusBoard board(dir_, clock_.function());
+  RunState state = three_pairs();
+  board.publish_run(state, 10);
+  json s = parse(board.status());
+  EXPECT_EQ(s["annecs_at_admission"], 1);
+  EXPECT_EQ(s["annecs_at_archiving"], 0);  // the retired pair was never solved
+
+  state.pairs[0].first_solved_iteration = 2;
+  board.publish_run(state, 10);
+  s = parse(board.status());
+  EXPECT_EQ(s["annecs_at_admission"], 1);
+  EXPECT_EQ(s["annecs_at_archiving"], 1);
+  const std::string text = board.metrics_text();
+  for (const char* line : {"# TYPE poet_annecs gauge\n", "\npoet_annecs{definition=\"at_admission\"} 1\n",
+                           "\npoet_annecs{definition=\"at_archiving\"} 1\n"})
+    EXPECT_NE(text.find(line), std::string::npos) << line;
+  const size_t help = text.find("# HELP poet_annecs ");
+  ASSERT_NE(help, std::string::npos);
+  const std::string help_line = text.substr(help, text.find('\n', help) - help);
+  for (const char* words : {"at_admission: environments admitted by reproduction and solved since",
+                            "at_archiving: environments retired that had been solved by then"})
+    EXPECT_NE(help_line.find(words), std::string::npos) << help_line;
 }
 
 TEST_F(StatusBoardTest, InvalidUtf8InNamesStillGivesValidJson) {
