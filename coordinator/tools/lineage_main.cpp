@@ -52,6 +52,11 @@ int main(int argc, char** argv) {
   }
   const int64_t budget = lineage_es_steps(*state, pair_id);
 
+  if (emit_config && pair->env.encoding.is_cppn()) {
+    std::cerr << "pair " << pair_id << "'s environment is a CPPN course, which has no direct path from flat (the "
+              << "curriculum steps obstacle genes); --es-alone-config gives the ES-alone control on it\n";
+    return 2;
+  }
   if (emit_config || emit_es_alone) {
     // the run's settings (ES, walker, seed) with the pair's environment as the target
     pb::RunConfig config = checkpoint->config();
@@ -59,6 +64,8 @@ int main(int argc, char** argv) {
     config.clear_direct_path();
     config.mutable_poet()->clear_keep_admission_selection();
     config.mutable_poet()->clear_transfer_test();  // a control has no transfers; nothing to keep scores for
+    config.mutable_poet()->clear_environments();   // nor reproduction: the kind of environment and the novelty
+    config.mutable_poet()->clear_novelty();        // measure do not apply
     if (emit_config) {
       config.set_mode(pb::RunConfig::DIRECT_PATH);
       pb::DirectPathConfig* direct = config.mutable_direct_path();

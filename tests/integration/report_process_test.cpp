@@ -386,6 +386,14 @@ TEST_F(ReportProcessTest, ACppnRunIsReadAndDrawnByEveryTool) {
       0)
       << err;
   EXPECT_TRUE(contains(out, "return ")) << out;
+
+  // the controls: ES alone on a CPPN course, but no direct path to one
+  ASSERT_EQ(tool(POET_LINEAGE_BIN, {"--run-dir", run.string(), "--pair", "1", "--es-alone-config"}, &out, &err), 0)
+      << err;
+  EXPECT_TRUE(contains(out, "cppn {")) << out;
+  EXPECT_FALSE(contains(out, "environments:")) << out;
+  EXPECT_EQ(tool(POET_LINEAGE_BIN, {"--run-dir", run.string(), "--pair", "1", "--direct-path-config"}, &out, &err), 2);
+  EXPECT_TRUE(contains(err, "no direct path")) << err;
   EXPECT_TRUE(before == files_of(run)) << "the run directory changed";
 }
 
