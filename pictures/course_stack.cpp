@@ -13,11 +13,13 @@ Expected<std::string> render_course_stack(PictureFormat format, const std::vecto
     return Unexpected{std::to_string(courses.size()) + " courses; at most " + std::to_string(kMaxStackedCourses)};
   if (!(width >= 200 && width <= 4000)) return Unexpected{std::string("width must be in [200, 4000]")};
   double x_max = 0, relief = 1.0;  // metres; at least 1 m of height per band
+  std::vector<double> lowest;      // each course's lowest point: the bottom of its band
   for (const LabelledCourse& c : courses) {
     const auto& g = c.terrain.ground();
     double lo = g.front().y, hi = g.front().y;
     for (const Point& p : g) lo = std::min(lo, p.y), hi = std::max(hi, p.y);
     for (const TerrainBox& b : c.terrain.boxes()) lo = std::min(lo, b.y0), hi = std::max(hi, b.y1);
+    lowest.push_back(lo);
     relief = std::max(relief, hi - lo);
     x_max = std::max(x_max, g.back().x);
   }
@@ -30,17 +32,13 @@ Expected<std::string> render_course_stack(PictureFormat format, const std::vecto
     cairo_set_source_rgb(cr, 1, 1, 1);
     cairo_paint(cr);
     for (size_t i = 0; i < courses.size(); ++i) {
-      const Terrain& t = courses[i].terrain;
-      double lo = t.ground().front().y;
-      for (const Point& p : t.ground()) lo = std::min(lo, p.y);
-      for (const TerrainBox& b : t.boxes()) lo = std::min(lo, b.y0);
       const double top = i * (band_height + label_height);
       cairo_save(cr);
       cairo_rectangle(cr, 0, top + label_height, width, band_height);
       cairo_clip(cr);
       cairo_translate(cr, 0, top + label_height);
-      const Frame f{-1.0, lo + relief + 1.0, scale};
-      draw_course(cr, f, t, band_height);
+      const Frame f{-1.0, lowest[i] + relief + 1.0, scale};
+      draw_course(cr, f, courses[i].terrain, band_height);
       cairo_restore(cr);
       cairo_set_source_rgb(cr, 0.1, 0.1, 0.1);
       draw_text(cr, courses[i].label, 6, top + label_height - 5, 12);

@@ -185,6 +185,9 @@ void check_poet(Checks& c, const pb::PoetConfig& poet, pb::RunConfig::Mode mode)
            "CPPN_TERRAIN with novelty ENCODING_DISTANCE ranks every child alike (a CPPN "
            "course has no obstacle genes); set poet.novelty: PATA_EC or poet.child_ranking: "
            "LOWEST_SCORE_FIRST");
+  // PATA-EC evaluates every θ on every archived environment at each reproduction, for a ranking by novelty only
+  if (poet.novelty() == pb::PATA_EC && poet.child_ranking() == pb::LOWEST_SCORE_FIRST)
+    c.fail("poet.novelty", "PATA_EC pays for evaluations that poet.child_ranking LOWEST_SCORE_FIRST never reads");
   if (poet.novelty_normalized() && poet.novelty() == pb::PATA_EC)
     c.fail("poet.novelty_normalized", "true contradicts poet.novelty PATA_EC (it applies to ENCODING_DISTANCE only)");
 }

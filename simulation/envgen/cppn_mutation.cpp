@@ -10,8 +10,9 @@ namespace {
 
 double clamp_param(double v) { return std::clamp(v, -kCppnParamLimit, kCppnParamLimit); }
 
-void add_node(CppnGenome& g, RandomStream& stream) {
-  if (g.connections.empty()) return;
+// Each structural mutation returns whether it changed the genome (nothing to split or delete: no draw, no change).
+bool add_node(CppnGenome& g, RandomStream& stream) {
+  if (g.connections.empty()) return false;
   const auto split = g.connections.begin() + stream.uniform_int(0, static_cast<int64_t>(g.connections.size()));
   const CppnConnection old = *split;
   g.connections.erase(split);
@@ -22,16 +23,18 @@ void add_node(CppnGenome& g, RandomStream& stream) {
   g.connections.push_back({old.from, id, 1.0});
   g.connections.push_back({id, old.to, old.weight});
   canonicalize(g);
+  return true;
 }
 
-void delete_node(CppnGenome& g, RandomStream& stream) {
+bool delete_node(CppnGenome& g, RandomStream& stream) {
   std::vector<int> hidden;
   for (const CppnNode& n : g.nodes)
     if (n.role == CppnRole::kHidden) hidden.push_back(n.id);
-  if (hidden.empty()) return;
+  if (hidden.empty()) return false;
   const int id = hidden[static_cast<size_t>(stream.uniform_int(0, static_cast<int64_t>(hidden.size())))];
   std::erase_if(g.nodes, [&](const CppnNode& n) { return n.id == id; });
   std::erase_if(g.connections, [&](const CppnConnection& c) { return c.from == id || c.to == id; });
+  return true;
 }
 
 void perturb(double& v, RandomStream& stream) {
@@ -45,13 +48,9 @@ CppnGenome draw_cppn_child(const CppnGenome& parent, RandomStream& stream, CppnS
   const double r = stream.uniform01();
   CppnStructuralMutation kind = CppnStructuralMutation::kNone;
   if (r < kCppnAddNodeProbability) {
-    kind = child.connections.empty() ? kind : CppnStructuralMutation::kAddNode;
-    add_node(child, stream);
+    if (add_node(child, stream)) kind = CppnStructuralMutation::kAddNode;
   } else if (r < kCppnAddNodeProbability + kCppnDeleteNodeProbability) {
-    const bool any_hidden = std::any_of(child.nodes.begin(), child.nodes.end(),
-                                        [](const CppnNode& n) { return n.role == CppnRole::kHidden; });
-    kind = any_hidden ? CppnStructuralMutation::kDeleteNode : kind;
-    delete_node(child, stream);
+    if (delete_node(child, stream)) kind = CppnStructuralMutation::kDeleteNode;
   }
   for (CppnConnection& c : child.connections) perturb(c.weight, stream);
   for (CppnNode& n : child.nodes)
@@ -74,8 +73,8 @@ CppnGenome mutate_cppn(const CppnGenome& parent, RandomStream& stream) {
   for (int draw = 0; draw < kCppnMaxDraws; ++draw) {
     CppnGenome child = draw_cppn_child(parent, stream);
     if (child == parent || !has_input_output_path(child)) continue;
-    if (!normalize_cppn_rise(child, stream)) continue;
-    if (child != parent && !validate_cppn_course(child)) return child;
+    // the normalisation changes only the scale, so the child still differs from its parent
+    if (normalize_cppn_rise(child, stream) && !validate_cppn_course(child)) return child;
   }
   return parent;
 }

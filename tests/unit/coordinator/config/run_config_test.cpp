@@ -642,6 +642,8 @@ TEST(RunConfig, PoetModesNeedAMutableGeneType) {
   EXPECT_TRUE(parse_run_config("poet { mutation { roughness: false pits: false stumps: false stairs: true } }"));
   EXPECT_TRUE(parse_run_config(std::string("poet { environments: CPPN_TERRAIN novelty: PATA_EC ") + (none + 7)));
   EXPECT_TRUE(error_of("poet { environments: CPPN_TERRAIN }").starts_with("poet.environments: CPPN_TERRAIN with"));
+  EXPECT_EQ(error_of("poet { novelty: PATA_EC child_ranking: LOWEST_SCORE_FIRST }"),
+            "poet.novelty: PATA_EC pays for evaluations that poet.child_ranking LOWEST_SCORE_FIRST never reads");
 }
 
 TEST(RunConfig, CppnTargetsForEsAloneButNotTheDirectPath) {

@@ -69,7 +69,11 @@ pb::RunConfig random_config(RandomStream& r) {
     c.mutable_direct_path()->set_budget_es_steps(r.uniform_int(1, 15));
   }
   // drawn last, so the draws above (and the configs they made before this field existed) are unchanged
-  p->set_novelty(r.uniform01() < 0.5 ? pb::ENCODING_DISTANCE : pb::PATA_EC);
+  // PATA-EC ranks by novelty (the config refuses it beside LOWEST_SCORE_FIRST, which would not read it)
+  if (r.uniform01() >= 0.5) {
+    p->set_novelty(pb::PATA_EC);
+    p->set_child_ranking(pb::NOVELTY);
+  }
   return c;
 }
 

@@ -87,7 +87,8 @@ TEST(CppnMutation, StatisticsOfTenThousandChildrenMatchTheRates) {
 
 TEST(CppnMutation, AnAddedNodeSplitsAConnection) {
   const CppnGenome parent = cppn_seed_genome(0.8, 0.0);
-  for (int i = 0;; ++i) {
+  bool split = false;
+  for (int i = 0; i < 1000 && !split; ++i) {
     RandomStream stream(stream_key(1, "split", {static_cast<uint64_t>(i)}));
     CppnStructuralMutation made;
     const CppnGenome child = draw_cppn_child(parent, stream, &made);
@@ -100,8 +101,9 @@ TEST(CppnMutation, AnAddedNodeSplitsAConnection) {
     EXPECT_EQ(child.connections[1].from, 2);
     EXPECT_EQ(child.connections[1].to, 1);
     EXPECT_NEAR(child.connections[1].weight, 0.8, 0.6);
-    break;
+    split = true;
   }
+  EXPECT_TRUE(split) << "no node added in 1000 draws at probability 0.1";
 }
 
 TEST(CppnMutation, ParametersStayClamped) {
