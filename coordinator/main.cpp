@@ -2,6 +2,7 @@
 // process or on poet-worker processes over ZeroMQ.
 //   poet-coordinator --config FILE --run-dir DIR [--threads N] [--iterations N] [--start-from POLICY]   a new run
 //   poet-coordinator --run-dir DIR --resume [--iterations N]                       continue it (N may extend it)
+//   poet-coordinator --run-dir DIR --resume --from-pack FILE      restore a packed run (poetctl pack) into DIR, go on
 //   ... [--local-workers N] [--listen tcp://HOST:PORT [--curve-keys DIR]] [--status-address HOST:PORT]
 //       [--health-address HOST:PORT]
 // The state is checkpointed every checkpoint_interval iterations and at the end. SIGINT/SIGTERM abandon the
@@ -42,6 +43,7 @@
 #include "run/event_json.h"
 #include "run/progress_display.h"
 #include "run/run_directory.h"
+#include "run/run_pack.h"
 #include "run/wall_times.h"
 #include "status/status_server.h"
 #include "stop_signals.h"
@@ -60,6 +62,7 @@ struct Options {
   int threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
   std::optional<int> iterations;
   bool resume = false;
+  std::string from_pack;  // a run pack restored into the (new or empty) run directory before the resume
   bool quiet = false;
   std::string log_level = "info";
   std::string listen;     // workers connect here; empty: rollouts on threads of this process
@@ -297,6 +300,15 @@ int run(const Options& options, StopSignals& signals) {
   // opened, so that a port in use changes no file
   std::optional<Rollouts> rollouts = make_rollouts(options, signals, board);
   if (!rollouts) return kExitUsage;
+  if (!options.from_pack.empty()) {
+    const Expected<PackSummary> restored = restore_run_pack(options.from_pack, options.run_dir);
+    if (!restored) {
+      spdlog::error("--from-pack {}", restored.error());
+      return kExitUsage;
+    }
+    spdlog::info("restored the run packed in {} into {} (its state at iteration {})", options.from_pack,
+                 options.run_dir, restored->next_iteration);
+  }
   std::optional<std::pair<RunDirectory, RunState>> opened = options.resume ? resume_run(options) : start_run(options);
   if (!opened) return kExitUsage;
   auto& [dir, state] = *opened;
@@ -431,7 +443,11 @@ int main(int argc, char** argv) {
   auto* iterations_option =
       app.add_option("--iterations", iterations, "Override the iteration limit (on resume it may extend it)")
           ->check(CLI::Range(0, INT_MAX));
-  app.add_flag("--resume", options.resume, "Continue the run in --run-dir")->excludes(config);
+  auto* resume = app.add_flag("--resume", options.resume, "Continue the run in --run-dir")->excludes(config);
+  app.add_option("--from-pack", options.from_pack,
+                 "With --resume: first restore the run packed in this file (`poetctl pack`) into --run-dir, which must "
+                 "not exist or be empty")
+      ->needs(resume);
   app.add_option("--start-from", options.start_from,
                  "A new run's first pair starts from this policy ([[θ...], score] as written in policies/) instead of "
                  "random parameters")

@@ -31,6 +31,7 @@ struct PairStatsRow {
   // the run's counters when this row's evaluation was done (the x axes of a learning curve)
   int64_t run_rollouts = 0;
   int64_t run_env_steps = 0;
+  int64_t pair_env_steps = 0;  // the pair's es_env_steps after this step
 };
 
 struct IterationReport {

@@ -48,4 +48,18 @@ int64_t lineage_es_steps(const RunState& state, int pair_id) {
   return steps;
 }
 
+std::optional<int64_t> lineage_env_steps(const RunState& state, int pair_id, const PairEnvStepsAt& env_steps_after) {
+  int64_t steps = 0;
+  for (const auto& [id, until] : lineage_horizons(state, pair_id)) {
+    const Pair* pair = state.find(id);
+    if (!pair) continue;
+    const int last = std::min(until, last_step(state, *pair));
+    if (last < pair->created_iteration) continue;  // no ES step of its counts
+    const std::optional<int64_t> at = env_steps_after(id, last);
+    if (!at) return std::nullopt;
+    steps += *at;
+  }
+  return steps;
+}
+
 }  // namespace poet

@@ -64,6 +64,7 @@ void optimise(IterationContext& ctx) {
   for (size_t a = 0; a < active.size(); ++a) {
     Pair& p = ctx.state.pairs[active[a]];
     const Evaluation e = evals.evaluation(eval_handles[a]);
+    p.es_env_steps += steps.env_steps(handles[a]) + evals.env_steps(eval_handles[a]);
     record_evaluation(ctx, p, p.theta, e);
     PairStatsRow& row = rows[a];
     row.score = e.score;
@@ -74,6 +75,7 @@ void optimise(IterationContext& ctx) {
     row.es_steps = p.es_steps;
     row.run_rollouts = ctx.state.counters.rollouts;
     row.run_env_steps = ctx.state.counters.env_steps;
+    row.pair_env_steps = p.es_env_steps;
   }
   ctx.report.stats = std::move(rows);
 }

@@ -178,4 +178,11 @@ Evaluation RolloutBatch::evaluation(size_t handle) const {
   return e;
 }
 
+int64_t RolloutBatch::env_steps(size_t handle) const {
+  const Slot& slot = slots_.at(handle);
+  int64_t steps = 0;
+  for (size_t i = 0; i < slot.count; ++i) steps += results_.at(slot.offset + i).steps;
+  return steps;
+}
+
 }  // namespace poet

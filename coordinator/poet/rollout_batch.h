@@ -68,6 +68,8 @@ class RolloutBatch {
   // One ES step's outcome, computed now: the gradient rebuilds every ε (some 10 ms for 256 perturbations).
   EsOutcome es_outcome(size_t handle, const EsSettings& settings) const;
   Evaluation evaluation(size_t handle) const;
+  // The environment steps of a request's rollouts (an ES step's 2n, an evaluation's episodes).
+  int64_t env_steps(size_t handle) const;
   size_t size() const { return tasks_.size(); }
 
  private:

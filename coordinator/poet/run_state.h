@@ -48,6 +48,9 @@ struct Pair {
   int first_solved_iteration = kNone;  // sticky; frozen once retired
   int retired_iteration = kNone;       // kNone while active
   int64_t es_steps = 0;
+  // The environment steps of its own ES steps: their perturbed rollouts and the evaluation after each (not
+  // what it cost as a transfer target or source). A lineage's environment steps are summed from these.
+  int64_t es_env_steps = 0;
   std::vector<TransferRecord> transfers;
   int64_t transfer_attempts = 0;  // transfer rounds this pair took part in as a target
   // The scores of its last kRecentScores evaluations, oldest first: the threshold of the threshold transfer test,

@@ -40,6 +40,8 @@ Expected<StatsRow> StatsColumns::row(std::string_view line) const {
     return bad("run_rollouts");
   if (const std::string* steps = field("run_env_steps"); steps && !parse_field(*steps, row.run_env_steps))
     return bad("run_env_steps");
+  if (const std::string* steps = field("pair_env_steps"); steps && !parse_field(*steps, row.pair_env_steps))
+    return bad("pair_env_steps");
   return row;
 }
 

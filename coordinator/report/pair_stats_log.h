@@ -14,8 +14,8 @@
 
 namespace poet {
 
-// One row of pair_stats.csv, the columns the analysis reads. run_rollouts and run_env_steps are -1 in runs
-// written before those columns existed.
+// One row of pair_stats.csv, the columns the analysis reads. run_rollouts, run_env_steps and pair_env_steps
+// are -1 in runs written before those columns existed.
 struct StatsRow {
   int iteration = 0;
   int pair = 0;
@@ -26,6 +26,7 @@ struct StatsRow {
   int64_t es_steps = 0;
   int64_t run_rollouts = -1;
   int64_t run_env_steps = -1;
+  int64_t pair_env_steps = -1;  // the pair's environment steps in its own ES steps so far
 };
 
 // Where the columns are, from the header line. Columns are found by name, so rows of runs written before a

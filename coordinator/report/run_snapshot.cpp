@@ -1,36 +1,18 @@
 #include "report/run_snapshot.h"
 
-#include <fstream>
 #include <optional>
 
 #include "config/run_config.h"
 #include "report/events_log.h"
 #include "run/checkpoint.h"
 #include "run/checkpoint_file.h"
-#include "run/crc32.h"
+#include "run/log_prefix.h"
 #include "run/run_directory.h"
 #include "run/run_lock.h"
 
 namespace poet {
 namespace fs = std::filesystem;
 namespace {
-
-// The first `size` bytes of a log, or an error when the file is missing or shorter (the checkpoint was written
-// after the logs were made durable, so a shorter log was damaged after the fact) or, when the checkpoint has their
-// CRC-32 (`crc`), they differ from what it saw.
-Expected<std::string> read_log_prefix(const fs::path& path, int64_t size, std::optional<uint32_t> crc) {
-  std::error_code ec;
-  const std::uintmax_t present = fs::file_size(path, ec);
-  if (ec) return Unexpected{path.string() + ": cannot read (" + ec.message() + "); the run directory is incomplete"};
-  if (size < 0 || present < static_cast<std::uintmax_t>(size))
-    return Unexpected{path.string() + ": " + std::to_string(present) + " bytes, but the checkpoint records " +
-                      std::to_string(size) + " (the file was truncated or damaged)"};
-  std::ifstream in(path, std::ios::binary);
-  std::string bytes(static_cast<size_t>(size), '\0');
-  if (!in.read(bytes.data(), size)) return Unexpected{path.string() + ": cannot read"};
-  if (crc && crc32_extend(0, bytes) != *crc) return Unexpected{log_changed_error(path, size)};
-  return bytes;
-}
 
 // wall_times.csv's lines of the iterations the checkpoint has seen.
 void load_wall_times(RunSnapshot& snapshot) {
@@ -80,7 +62,8 @@ Expected<RunSnapshot> read_run_snapshot(const fs::path& dir) {
   RunSnapshot snapshot;
   snapshot.dir = dir;
   snapshot.state = std::move(*state);
-  snapshot.config_text = run_config_text(checkpoint->config());
+  snapshot.config = checkpoint->config();
+  snapshot.config_text = run_config_text(snapshot.config);
   snapshot.live = RunLock::held_by_another_process(dir);
 
   const fs::path events_path = dir / kEventsFile;

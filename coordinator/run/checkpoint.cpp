@@ -58,6 +58,7 @@ pb::PairState to_proto(const Pair& pair) {
   out.set_first_solved_iteration(pair.first_solved_iteration);
   out.set_retired_iteration(pair.retired_iteration);
   out.set_es_steps(pair.es_steps);
+  out.set_es_env_steps(pair.es_env_steps);
   for (const TransferRecord& record : pair.transfers) {
     pb::TransferRecord* r = out.add_transfers();
     r->set_iteration(record.iteration);
@@ -172,6 +173,7 @@ Expected<Pair> read_pair(const std::string& field, const pb::PairState& message,
   if (!error)
     error = check_iteration_or_none(field + ".retired_iteration", message.retired_iteration(), next_iteration);
   if (!error) error = check_at_least(field + ".es_steps", message.es_steps(), 0);
+  if (!error) error = check_at_least(field + ".es_env_steps", message.es_env_steps(), 0);
   if (!error) error = check_at_least(field + ".transfer_attempts", message.transfer_attempts(), 0);
   if (!error && static_cast<size_t>(message.recent_scores_size()) > kRecentScores)
     error = field + ".recent_scores: " + number_text(int64_t{message.recent_scores_size()}) + " scores, at most " +
@@ -208,6 +210,7 @@ Expected<Pair> read_pair(const std::string& field, const pb::PairState& message,
   pair.first_solved_iteration = message.first_solved_iteration();
   pair.retired_iteration = message.retired_iteration();
   pair.es_steps = message.es_steps();
+  pair.es_env_steps = message.es_env_steps();
   pair.transfer_attempts = message.transfer_attempts();
   pair.recent_scores = values(message.recent_scores());
   return pair;

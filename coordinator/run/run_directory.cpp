@@ -155,7 +155,7 @@ std::string log_changed_error(const fs::path& path, int64_t size) {
 
 std::string pair_stats_header() {
   return "iteration,pair,env,score,finished,eval_steps,best_score,solved,es_steps,lr,sigma,perturbation_mean,"
-         "perturbation_max,grad_norm,theta_norm,run_rollouts,run_env_steps\n";
+         "perturbation_max,grad_norm,theta_norm,run_rollouts,run_env_steps,pair_env_steps\n";
 }
 
 std::string pair_stats_row(const PairStatsRow& row) {
@@ -166,7 +166,8 @@ std::string pair_stats_row(const PairStatsRow& row) {
   line += "," + number_text(row.lr) + "," + number_text(row.sigma) + "," + number_text(row.perturbation_mean);
   line +=
       "," + number_text(row.perturbation_max) + "," + number_text(row.grad_norm) + "," + number_text(row.theta_norm);
-  line += "," + std::to_string(row.run_rollouts) + "," + std::to_string(row.run_env_steps) + "\n";
+  line += "," + std::to_string(row.run_rollouts) + "," + std::to_string(row.run_env_steps) + "," +
+          std::to_string(row.pair_env_steps) + "\n";
   return line;
 }
 

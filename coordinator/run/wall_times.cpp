@@ -21,6 +21,12 @@ std::string line_text(int iteration, double seconds) {
 
 }  // namespace
 
+std::string wall_times_text(const std::vector<WallTime>& lines) {
+  std::string text = kWallTimesHeader;
+  for (const WallTime& w : lines) text += line_text(w.iteration, w.seconds);
+  return text;
+}
+
 Expected<std::vector<WallTime>> parse_wall_times(std::string_view text) {
   std::vector<WallTime> out;
   size_t line_number = 0;
@@ -77,8 +83,7 @@ WallTimes WallTimes::open(const std::filesystem::path& dir, int next_iteration, 
       *warning = path.string() + ": " + lines.error() + "; the run's earlier wall times are lost, its clock restarts";
     }
   }
-  std::string text = kWallTimesHeader;
-  for (const WallTime& w : kept) text += line_text(w.iteration, w.seconds);
+  const std::string text = wall_times_text(kept);
   const double carried = kept.empty() ? 0.0 : kept.back().seconds;
   if (auto error = write_file_atomically(path, text)) {
     // appending after lines the checkpoint did not keep would leave the file out of order: record nothing

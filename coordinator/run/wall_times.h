@@ -30,6 +30,9 @@ struct WallTime {
 // not decrease; an error names the line and says what is wrong.
 Expected<std::vector<WallTime>> parse_wall_times(std::string_view text);
 
+// The file's text for these lines (the header, then a line each, as the writer writes them).
+std::string wall_times_text(const std::vector<WallTime>& lines);
+
 // Reads a wall_times.csv: its whole lines (a last line without its newline is one being written, or cut by a
 // crash, and is left out), parsed. Errors say what is wrong, without the path.
 Expected<std::vector<WallTime>> read_wall_times(const std::filesystem::path& path);

@@ -1,7 +1,8 @@
 // poet-lineage: a pair's lineage in a run directory (parent, first θ, accepted transfers, solve) and the
 // direct-path control's budget for its environment; with --direct-path-config, a runnable config for that
 // control (the run's settings, mode DIRECT_PATH, the pair's environment as the target, the budget); with
-// --es-alone-config, the ES-alone control with the same budget in ES steps.
+// --es-alone-config, the ES-alone control with the same budget in ES steps. It prints the environment steps of
+// that budget too, from pair_stats.csv (runs of earlier builds did not record a pair's).
 //   poet-lineage --run-dir DIR --pair ID [--direct-path-config | --es-alone-config]
 
 #include <CLI/CLI.hpp>
@@ -9,12 +10,13 @@
 #include <climits>
 #include <cstdio>
 #include <iostream>
+#include <map>
+#include <utility>
 
 #include "config/run_config.h"
 #include "envgen/env_proto.h"
 #include "poet/lineage.h"
-#include "run/checkpoint.h"
-#include "run/run_directory.h"
+#include "report/run_snapshot.h"
 #include "tool_flags.h"
 
 int main(int argc, char** argv) {
@@ -33,18 +35,13 @@ int main(int argc, char** argv) {
   add_fingerprint_flag(app);
   if (auto code = parse_command_line(app, argc, argv)) return *code;
 
-  // read the checkpoint without touching the run's files (resume would truncate its logs, and take the lock)
-  const std::string path = run_dir + "/" + std::string(kCheckpointFile);
-  const Expected<pb::Checkpoint> checkpoint = read_checkpoint_file(path);
-  if (!checkpoint) {
-    std::cerr << checkpoint.error() << "\n";
+  // read without touching the run's files (resume would truncate its logs, and take the lock)
+  const Expected<RunSnapshot> run = read_run_snapshot(run_dir);
+  if (!run) {
+    std::cerr << run.error() << "\n";
     return 2;
   }
-  Expected<RunState> state = from_checkpoint(*checkpoint);
-  if (!state) {
-    std::cerr << path << ": " << state.error() << "\n";
-    return 2;
-  }
+  const RunState* state = &run->state;
   const Pair* pair = state->find(pair_id);
   if (!pair) {
     std::cerr << "no pair " << pair_id << " in " << run_dir << "\n";
@@ -59,7 +56,7 @@ int main(int argc, char** argv) {
   }
   if (emit_config || emit_es_alone) {
     // the run's settings (ES, walker, seed) with the pair's environment as the target
-    pb::RunConfig config = checkpoint->config();
+    pb::RunConfig config = run->config;
     config.clear_es_alone();
     config.clear_direct_path();
     config.mutable_poet()->clear_keep_admission_selection();
@@ -93,5 +90,18 @@ int main(int argc, char** argv) {
   std::printf("contributors (pair: last counted iteration):");
   for (const auto& [id, until] : lineage_horizons(*state, pair_id)) std::printf(" %d:%d", id, until);
   std::printf("\ndirect-path budget: %lld ES steps\n", static_cast<long long>(budget));
+  std::map<std::pair<int, int>, int64_t> recorded;  // (pair, iteration) -> the pair's env steps after that step
+  for (const StatsRow& row : run->stats)
+    if (row.pair_env_steps >= 0) recorded[{row.pair, row.iteration}] = row.pair_env_steps;
+  const std::optional<int64_t> env_steps =
+      lineage_env_steps(*state, pair_id, [&](int id, int iteration) -> std::optional<int64_t> {
+        const auto found = recorded.find({id, iteration});
+        if (found == recorded.end()) return std::nullopt;
+        return found->second;
+      });
+  if (env_steps)
+    std::printf("environment steps of those ES steps: %lld\n", static_cast<long long>(*env_steps));
+  else
+    std::printf("environment steps of those ES steps: not recorded (a run of a build before pair_env_steps)\n");
   return 0;
 }

@@ -3,6 +3,7 @@
 //           [--limit M] | metrics
 //   poetctl keygen DIR coordinator|worker [--authorize]
 //   poetctl picture KIND OUT [--pair ID] [--run-dir DIR]   a picture of the live run, or of a run directory's files
+//   poetctl pack RUN_DIR FILE | unpack FILE DIR           a run as one file, to move it between machines
 // Prints a table for people, or with --json the server's JSON as it came (/metrics is always its text). The
 // address is --address, else $POET_STATUS, else 127.0.0.1:8580. Exit codes: 0 done, 1 the coordinator cannot be
 // reached or answered with an error (the message names the address), 2 bad command line or address.
@@ -17,6 +18,7 @@
 
 #include "poetctl_exit.h"
 #include "poetctl_keygen.h"
+#include "poetctl_pack.h"
 #include "poetctl_pictures.h"
 #include "status.pb.h"
 #include "status_client/status_defaults.h"
@@ -133,8 +135,21 @@ int main(int argc, char** argv) {
   picture->add_option("--pair", picture_pair, "The pair (course, filmstrip, lineage, walk)")
       ->check(CLI::Range(0, 999'999'999));
   picture->add_option("--run-dir", picture_run_dir, "Draw from this run directory's files instead (never changed)");
+  std::string pack_dir, pack_file;
+  auto* pack = app.add_subcommand(
+      "pack", "Write RUN_DIR's run (its last checkpoint and the logs it has seen; the run may be going on) into one "
+              "file, to go on elsewhere with poet-coordinator --resume --from-pack (no socket involved)");
+  pack->add_option("run_dir", pack_dir, "The run directory")->required();
+  pack->add_option("file", pack_file, "The pack to write (replaced if it exists)")->required();
+  auto* unpack = app.add_subcommand(
+      "unpack", "Restore a pack into DIR (new or empty) without running it: read it with poet-report, or go on with "
+                "poet-coordinator --run-dir DIR --resume");
+  unpack->add_option("file", pack_file, "The pack")->required();
+  unpack->add_option("dir", pack_dir, "The run directory to make")->required();
   if (const std::optional<int> code = parse_command_line(app, argc, argv)) return *code;
   if (keygen->parsed()) return make_keys(key_dir, key_name, authorize);
+  if (pack->parsed()) return pack_run(pack_dir, pack_file);
+  if (unpack->parsed()) return unpack_run(pack_file, pack_dir);
   std::optional<PictureRequest> picture_request_made;
   if (picture->parsed()) {
     Expected<PictureRequest> request = picture_request(picture_kind_name, picture_out, picture_pair);

@@ -1,8 +1,8 @@
 // Tests the poet-coordinator process end to end: a run interrupted by a limit, by SIGINT or by SIGKILL and then
 // resumed writes byte for byte the files of an uninterrupted run; a stop abandons the iteration in flight at once;
 // one process owns a run directory; bad input (configs, corrupt checkpoints) exits with a clear error, and a
-// diverging run stops saying that a resume would repeat it. Tests that interrupt a run assert that the signal
-// arrived before the run's end.
+// diverging run stops saying that a resume would repeat it; a run packed and restored elsewhere goes on exactly.
+// Tests that interrupt a run assert that the signal arrived before the run's end.
 
 #include <gtest/gtest.h>
 #include <sys/stat.h>
@@ -22,6 +22,7 @@
 #include "policy/policy_file.h"
 #include "rng.h"
 #include "run/checkpoint_file.h"
+#include "run/run_pack.h"
 #include "scratch_dir.h"
 
 namespace {
@@ -197,6 +198,56 @@ TEST_F(CoordinatorProcessTest, SigkillLosesNothingOfTheCheckpointAndLeavesNoLock
       run({"--run-dir", c.string(), "--resume", "--threads", "1", "--quiet", "--iterations", "6"}, "C2");
   ASSERT_EQ(resumed.code, 0) << resumed.err;
   expect_same_run_files(a, c);
+}
+
+// A run packed while it goes on (poetctl pack), stopped, and restored elsewhere with --from-pack ends with the files
+// of a run that never moved; a damaged pack and a destination that holds a run are refused, changing nothing.
+TEST_F(CoordinatorProcessTest, APackedRunGoesOnElsewhereAsIfItNeverMoved) {
+  const fs::path a = reference_run();
+  const fs::path b = root_ / "B";
+  const fs::path pack = root_ / "B.pack";
+  const pid_t pid = start_endless_run(b, 2, "B1", config_);
+  ASSERT_GT(pid, 0);
+  const pid_t packer = children_.start({POETCTL_BIN, "pack", b.string(), pack.string()}, root_ / "pack");
+  const std::optional<int> packed = children_.wait(packer, 60s);
+  ASSERT_EQ(packed, 0) << read(root_ / "pack.err");
+  EXPECT_TRUE(contains(read(root_ / "pack.out"), "verified")) << read(root_ / "pack.out");
+  ASSERT_EQ(::kill(pid, SIGINT), 0);
+  ASSERT_EQ(wait(pid, "B1").code, 130);
+  const poet::Expected<poet::PackSummary> summary = poet::decode_pack(read(pack));
+  ASSERT_TRUE(summary) << summary.error();
+  ASSERT_GE(summary->next_iteration, 2);
+  ASSERT_LT(summary->next_iteration, 6) << "packed after the reference run's end: nothing left to compare";
+
+  // restored into a directory that does not exist yet, under a parent that does not either
+  const fs::path c = root_ / "elsewhere" / "C";
+  const Outcome moved = run({"--run-dir", c.string(), "--resume", "--from-pack", pack.string(), "--threads", "1",
+                             "--quiet", "--iterations", "6"},
+                            "C");
+  ASSERT_EQ(moved.code, 0) << moved.err;
+  EXPECT_TRUE(contains(moved.err, "restored the run packed in")) << moved.err;
+  expect_same_run_files(a, c);
+  for (const char* file : {"config.textproto", "envs/pair-1.env.json", "policies/pair-0.best.json"})
+    EXPECT_EQ(read(a / file), read(c / file)) << file;
+
+  // into a directory that holds a run: refused, the run untouched
+  const std::string before = read(c / "checkpoint.pb");
+  const Outcome over = run({"--run-dir", c.string(), "--resume", "--from-pack", pack.string(), "--quiet"}, "over");
+  EXPECT_EQ(over.code, 2) << over.err;
+  EXPECT_TRUE(contains(over.err, "never overwritten")) << over.err;
+  EXPECT_EQ(read(c / "checkpoint.pb"), before);
+  // a damaged pack: refused with the reason, nothing made
+  std::string damaged = read(pack);
+  damaged[damaged.size() / 2] ^= 0x20;
+  std::ofstream(pack, std::ios::binary | std::ios::trunc) << damaged;
+  const Outcome bad = run({"--run-dir", (root_ / "D").string(), "--resume", "--from-pack", pack.string()}, "bad");
+  EXPECT_EQ(bad.code, 2) << bad.err;
+  EXPECT_TRUE(contains(bad.err, "CRC-32 mismatch")) << bad.err;
+  EXPECT_FALSE(fs::exists(root_ / "D"));
+  // --from-pack is a resume's
+  const Outcome without_resume =
+      run({"--config", config_.string(), "--run-dir", (root_ / "E").string(), "--from-pack", pack.string()}, "E");
+  EXPECT_EQ(without_resume.code, 2) << without_resume.err;
 }
 
 // The iteration in flight is abandoned at once, not finished: iteration 0 of this run takes some 25 s on two

@@ -66,7 +66,7 @@ TEST(RunConfig, EveryPresetParsesAndValidates) {
   }
   for (const char* expected :
        {"paper.textproto", "quick.textproto", "small.textproto", "challenging.textproto", "es_alone.textproto",
-        "direct_path.textproto", "no_transfer.textproto", "enhanced.textproto"})
+        "direct_path.textproto", "no_transfer.textproto", "enhanced.textproto", "deep.textproto"})
     EXPECT_NE(std::find(names.begin(), names.end(), expected), names.end()) << expected << " missing";
 }
 
@@ -196,6 +196,25 @@ TEST(RunConfig, EnhancedPresetIsEnhancedPoet) {
   for (auto field : {&pb::PoetConfig::mutation_interval, &pb::PoetConfig::transfer_interval,
                      &pb::PoetConfig::max_children, &pb::PoetConfig::max_admitted, &pb::PoetConfig::active_cap})
     EXPECT_EQ((c.poet().*field)(), (challenging.poet().*field)());
+}
+
+// The deep preset is the challenging one but for the two changes it names: a longer life (active cap) and
+// normalised novelty; the paper's criteria stay.
+TEST(RunConfig, DeepPresetDiffersFromChallengingOnlyWhereItSays) {
+  pb::RunConfig c = load_preset("deep.textproto");
+  pb::RunConfig challenging = load_preset("challenging.textproto");
+  EXPECT_EQ(c.poet().active_cap(), 8);
+  EXPECT_TRUE(c.poet().novelty_normalized());
+  EXPECT_EQ(c.poet().repro_threshold(), 200);
+  EXPECT_EQ(c.poet().mc_low(), 50);
+  EXPECT_EQ(c.poet().mc_high(), 300);
+  EXPECT_EQ(c.poet().solved_score(), 230);
+  for (pb::RunConfig* config : {&c, &challenging}) {
+    config->clear_iterations();
+    config->mutable_poet()->clear_active_cap();
+    config->mutable_poet()->clear_novelty_normalized();
+  }
+  EXPECT_EQ(c.SerializeAsString(), challenging.SerializeAsString());
 }
 
 TEST(RunConfig, ControlPresetsHaveTheirModes) {

@@ -47,6 +47,9 @@ TEST(EsAlone, OptimisesOnePairOnTheTargetAndNeverReproducesOrTransfers) {
   EXPECT_EQ(ev.batches.size(), 6u);  // an ES step and an evaluation per iteration, nothing else
   EXPECT_EQ(s.pairs.size(), 1u);
   EXPECT_EQ(s.pairs[0].es_steps, 3);
+  // the pair's environment steps are every rollout's of the run: its ES steps and their evaluations
+  EXPECT_EQ(s.pairs[0].es_env_steps, s.counters.env_steps);
+  EXPECT_GT(s.pairs[0].es_env_steps, 0);
 }
 
 TEST(PoetWithoutTransfer, ChildrenStartFromTheirParentAndNoTransferRuns) {

@@ -27,9 +27,9 @@ namespace {
 
 // Update only for an intended change of behaviour, with the reason in the commit message.
 constexpr uint64_t kRolloutsDigest = 0x7d7a3dd85d8d55a2;
-constexpr uint64_t kCheckpointDigest = 0x4bdcea0404d83a03;
-constexpr uint64_t kCppnCheckpointDigest = 0x1985d789e499ff19;
-constexpr uint64_t kPataEcCheckpointDigest = 0x70ad558146e8a0c6;
+constexpr uint64_t kCheckpointDigest = 0x041b7747d2f06cf7;
+constexpr uint64_t kCppnCheckpointDigest = 0xd1c494b396b6e5cc;
+constexpr uint64_t kPataEcCheckpointDigest = 0xf088d10d6b7f4e02;
 
 // FNV-1a: a fixed, documented function of the bytes, whatever the platform's std::hash does.
 uint64_t fnv1a(std::string_view bytes) {

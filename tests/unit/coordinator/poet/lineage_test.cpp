@@ -4,6 +4,9 @@
 
 #include <gtest/gtest.h>
 
+#include <utility>
+#include <vector>
+
 namespace poet {
 namespace {
 
@@ -39,6 +42,30 @@ TEST(Lineage, BudgetCountsEachContributorsStepsOnce) {
   EXPECT_EQ(lineage_es_steps(history(), 1), 31 + 20 + 11);
   // the first pair alone, unsolved: every iteration so far
   EXPECT_EQ(lineage_es_steps(history(), 0), 50);
+}
+
+TEST(Lineage, EnvironmentStepsAreEachContributorsAtItsHorizon) {
+  // a pair's steps after iteration t: 1000 per ES step since its creation, plus its id (to tell them apart)
+  const RunState s = history();
+  std::vector<std::pair<int, int>> asked;
+  const PairEnvStepsAt recorded = [&](int pair, int iteration) -> std::optional<int64_t> {
+    asked.emplace_back(pair, iteration);
+    return 1000 * (iteration - s.find(pair)->created_iteration + 1) + pair;
+  };
+  EXPECT_EQ(lineage_env_steps(s, 1, recorded), (31'000 + 1) + (20'000 + 0) + (11'000 + 2));
+  EXPECT_EQ(asked, (std::vector<std::pair<int, int>>{{0, 19}, {1, 40}, {2, 30}}));
+  // one contributor without the record: not known
+  const PairEnvStepsAt missing = [&](int pair, int iteration) -> std::optional<int64_t> {
+    if (pair == 2) return std::nullopt;
+    return recorded(pair, iteration);
+  };
+  EXPECT_FALSE(lineage_env_steps(s, 1, missing).has_value());
+  // a contributor retired before its horizon: its last step
+  RunState r = history();
+  r.pairs[0].retired_iteration = 15;
+  asked.clear();
+  EXPECT_EQ(lineage_env_steps(r, 1, recorded), (31'000 + 1) + (15'000 + 0) + (11'000 + 2));
+  EXPECT_EQ(asked.front(), (std::pair<int, int>{0, 14}));
 }
 
 TEST(Lineage, RetiredContributorsStopAtTheirRetirement) {

@@ -336,11 +336,12 @@ TEST_F(RunDirectoryTest, StatsRowsRoundTripAndQuote) {
   row.sigma = -0.0;
   row.run_rollouts = 1234;
   row.run_env_steps = 9'876'543'210;
+  row.pair_env_steps = 1'234'567'890;
   EXPECT_EQ(pair_stats_row(row),
             "3,2,\"a,\"\"b\"\"\",0.1,true,97,0.3333333333333333,false,4,0.009999000000000001,-0,0,0,0,0,"
-            "1234,9876543210\n");
+            "1234,9876543210,1234567890\n");
   const std::string header = pair_stats_header();
-  EXPECT_EQ(std::count(header.begin(), header.end(), ','), 16);
+  EXPECT_EQ(std::count(header.begin(), header.end(), ','), 17);
 }
 
 TEST_F(RunDirectoryTest, RetiredPairPoliciesAreWrittenOnceMore) {

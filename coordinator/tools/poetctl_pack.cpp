@@ -1,0 +1,44 @@
+#include "poetctl_pack.h"
+
+#include <cstdio>
+#include <string>
+
+#include "poetctl_exit.h"
+#include "run/run_pack.h"
+
+namespace poet {
+namespace {
+
+void print_contents(const PackSummary& pack) {
+  for (const PackEntry& e : pack.entries) std::printf("  %-16s %12zu bytes\n", e.name.c_str(), e.content.size());
+}
+
+}  // namespace
+
+int pack_run(const std::filesystem::path& run_dir, const std::filesystem::path& file) {
+  const Expected<PackSummary> pack = write_run_pack(run_dir, file);
+  if (!pack) {
+    std::fprintf(stderr, "poetctl pack: %s\n", pack.error().c_str());
+    return kExitUnreachable;
+  }
+  std::printf("packed %s at iteration %d into %s (%llu bytes, read back and verified):\n", run_dir.c_str(),
+              pack->next_iteration, file.c_str(), static_cast<unsigned long long>(pack->pack_bytes));
+  print_contents(*pack);
+  std::printf("go on elsewhere with: poet-coordinator --run-dir DIR --resume --from-pack %s\n",
+              file.filename().c_str());
+  return 0;
+}
+
+int unpack_run(const std::filesystem::path& file, const std::filesystem::path& dir) {
+  const Expected<PackSummary> pack = restore_run_pack(file, dir);
+  if (!pack) {
+    std::fprintf(stderr, "poetctl unpack: %s\n", pack.error().c_str());
+    return kExitUnreachable;
+  }
+  std::printf("restored %s into %s at iteration %d:\n", file.c_str(), dir.c_str(), pack->next_iteration);
+  print_contents(*pack);
+  std::printf("go on with: poet-coordinator --run-dir %s --resume\n", dir.c_str());
+  return 0;
+}
+
+}  // namespace poet
