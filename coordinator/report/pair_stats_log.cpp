@@ -1,6 +1,9 @@
 #include "report/pair_stats_log.h"
 
 #include <fstream>
+#include <memory>
+#include <optional>
+#include <utility>
 
 #include "csv_fields.h"
 #include "report/log_lines.h"
@@ -43,6 +46,17 @@ Expected<StatsRow> StatsColumns::row(std::string_view line) const {
   if (const std::string* steps = field("pair_env_steps"); steps && !parse_field(*steps, row.pair_env_steps))
     return bad("pair_env_steps");
   return row;
+}
+
+PairEnvStepsAt pair_env_steps_at(const std::vector<StatsRow>& rows) {
+  auto recorded = std::make_shared<std::map<std::pair<int, int>, int64_t>>();
+  for (const StatsRow& row : rows)
+    if (row.pair_env_steps >= 0) (*recorded)[{row.pair, row.iteration}] = row.pair_env_steps;
+  return [recorded](int pair, int iteration) -> std::optional<int64_t> {
+    const auto found = recorded->find({pair, iteration});
+    if (found == recorded->end()) return std::nullopt;
+    return found->second;
+  };
 }
 
 Expected<std::vector<StatsRow>> parse_stats(const std::filesystem::path& path, std::string_view bytes) {

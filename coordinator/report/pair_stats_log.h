@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "expected.h"
+#include "poet/lineage.h"
 
 namespace poet {
 
@@ -45,6 +46,10 @@ class StatsColumns {
 
 // bytes: the file up to a checkpoint's size. Every row must read; errors name path and the line's number.
 Expected<std::vector<StatsRow>> parse_stats(const std::filesystem::path& path, std::string_view bytes);
+
+// The pairs' environment steps after each ES step (pair_env_steps) as lineage_env_steps asks for them; nothing
+// for a row without them (a run of a build before they were recorded).
+PairEnvStepsAt pair_env_steps_at(const std::vector<StatsRow>& rows);
 
 // A live pair_stats.csv read on from where the last call stopped (whole lines only; a file cut back is read
 // again from its start). Not thread-safe: its owner locks.

@@ -1,6 +1,7 @@
 #include "report/report_plots.h"
 
 #include <algorithm>
+#include <cstdio>
 #include <cmath>
 #include <functional>
 #include <map>
@@ -209,6 +210,64 @@ Expected<std::string> render_tree_plot(PictureFormat format, const RunSnapshot& 
   });
 }
 
+namespace {
+
+// One rose of the paper's Figure 3: the five encoding values on spokes scaled to §1.4's maxima (8, 8, 8, 3, 3),
+// with each environment a closed polygon, drawn in order (the last on top).
+struct RosePolygon {
+  EnvVector e{};
+  Rgb colour;
+  double fill_alpha = 0.35;
+};
+
+void draw_rose(cairo_t* cr, double cx, double cy, double radius, const std::vector<RosePolygon>& polygons,
+               double label_size) {
+  static const char* const kAxes[5] = {"roughness", "gap lo", "gap hi", "stump lo", "stump hi"};
+  const auto corner = [&](size_t axis, double fraction) {
+    const double angle = -M_PI / 2 + 2 * M_PI * static_cast<double>(axis) / 5;
+    return std::pair{cx + std::cos(angle) * radius * fraction, cy + std::sin(angle) * radius * fraction};
+  };
+  // rings and spokes
+  cairo_set_line_width(cr, 0.8);
+  cairo_set_source_rgb(cr, 0.85, 0.85, 0.85);
+  for (double ring : {0.25, 0.5, 0.75, 1.0}) {
+    for (size_t a = 0; a <= 5; ++a) {
+      const auto [x, y] = corner(a % 5, ring);
+      a == 0 ? cairo_move_to(cr, x, y) : cairo_line_to(cr, x, y);
+    }
+    cairo_stroke(cr);
+  }
+  for (size_t a = 0; a < 5; ++a) {
+    const auto [x, y] = corner(a, 1.0);
+    cairo_move_to(cr, cx, cy);
+    cairo_line_to(cr, x, y);
+    cairo_stroke(cr);
+    const auto [lx, ly] = corner(a, 1.28);
+    cairo_set_source_rgb(cr, 0.45, 0.45, 0.45);
+    draw_text(cr, kAxes[a], lx, ly + 3, label_size, 0.5);
+    cairo_set_source_rgb(cr, 0.85, 0.85, 0.85);
+  }
+  for (const RosePolygon& polygon : polygons) {
+    for (size_t a = 0; a <= 5; ++a) {
+      const auto [x, y] = corner(a % 5, std::clamp(polygon.e[a % 5] / kEnvVectorMax[a % 5], 0.0, 1.0));
+      a == 0 ? cairo_move_to(cr, x, y) : cairo_line_to(cr, x, y);
+    }
+    set_colour(cr, polygon.colour, polygon.fill_alpha);
+    cairo_fill_preserve(cr);
+    set_colour(cr, polygon.colour);
+    cairo_set_line_width(cr, 1.5);
+    cairo_stroke(cr);
+  }
+}
+
+std::string vector_text(const EnvVector& e) {
+  char text[96];
+  std::snprintf(text, sizeof text, "r %.1f, gaps %.1f–%.1f, stumps %.1f–%.1f", e[0], e[1], e[2], e[3], e[4]);
+  return text;
+}
+
+}  // namespace
+
 Expected<std::string> render_rose_plot(PictureFormat format, const RunSnapshot& run) {
   const RunState& state = run.state;
   const int n = static_cast<int>(state.pairs.size());
@@ -216,7 +275,6 @@ Expected<std::string> render_rose_plot(PictureFormat format, const RunSnapshot& 
   const int rows = std::max(1, (n + columns - 1) / columns);
   const double cell = 180, top = 40;
   const double width = columns * cell, height = top + rows * cell;
-  static const char* const kAxes[5] = {"roughness", "gap lo", "gap hi", "stump lo", "stump hi"};
   return render_picture(format, width, height, [&](cairo_t* cr) {
     cairo_set_source_rgb(cr, 0.1, 0.1, 0.1);
     draw_text(cr, "Environment parameters per pair (axes scaled to the maxima 8, 8, 8, 3, 3; green: solved)", width / 2,
@@ -224,47 +282,47 @@ Expected<std::string> render_rose_plot(PictureFormat format, const RunSnapshot& 
     for (int i = 0; i < n; ++i) {
       const Pair& p = state.pairs[static_cast<size_t>(i)];
       const double cx = (i % columns + 0.5) * cell, cy = top + (i / columns + 0.5) * cell - 4;
-      const double radius = cell * 0.32;
-      const auto corner = [&](size_t axis, double fraction) {
-        const double angle = -M_PI / 2 + 2 * M_PI * static_cast<double>(axis) / 5;
-        return std::pair{cx + std::cos(angle) * radius * fraction, cy + std::sin(angle) * radius * fraction};
-      };
-      // rings and spokes
-      cairo_set_line_width(cr, 0.8);
-      cairo_set_source_rgb(cr, 0.85, 0.85, 0.85);
-      for (double ring : {0.25, 0.5, 0.75, 1.0}) {
-        for (size_t a = 0; a <= 5; ++a) {
-          const auto [x, y] = corner(a % 5, ring);
-          a == 0 ? cairo_move_to(cr, x, y) : cairo_line_to(cr, x, y);
-        }
-        cairo_stroke(cr);
-      }
-      for (size_t a = 0; a < 5; ++a) {
-        const auto [x, y] = corner(a, 1.0);
-        cairo_move_to(cr, cx, cy);
-        cairo_line_to(cr, x, y);
-        cairo_stroke(cr);
-        const auto [lx, ly] = corner(a, 1.28);
-        cairo_set_source_rgb(cr, 0.45, 0.45, 0.45);
-        draw_text(cr, kAxes[a], lx, ly + 3, 8.5, 0.5);
-        cairo_set_source_rgb(cr, 0.85, 0.85, 0.85);
-      }
-      // the environment's 5-vector
-      const EnvVector e = env_vector(p.env.encoding);
-      for (size_t a = 0; a <= 5; ++a) {
-        const auto [x, y] = corner(a % 5, std::clamp(e[a % 5] / kEnvVectorMax[a % 5], 0.0, 1.0));
-        a == 0 ? cairo_move_to(cr, x, y) : cairo_line_to(cr, x, y);
-      }
       const Rgb colour = p.solved() ? Rgb{0.2, 0.65, 0.25} : Rgb{0.55, 0.55, 0.55};
-      set_colour(cr, colour, 0.35);
-      cairo_fill_preserve(cr);
-      set_colour(cr, colour);
-      cairo_set_line_width(cr, 1.5);
-      cairo_stroke(cr);
+      draw_rose(cr, cx, cy, cell * 0.32, {{env_vector(p.env.encoding), colour}}, 8.5);
       cairo_set_source_rgb(cr, 0.15, 0.15, 0.15);
       draw_text(
           cr, "#" + std::to_string(p.id) + " " + short_name(p.env.encoding.name, 20) + (p.active() ? "" : " (retired)"),
           cx, cy + cell * 0.47, 9.5, 0.5, true);
+    }
+  });
+}
+
+Expected<std::string> render_controls_rose(PictureFormat format, const ControlsRose& rose) {
+  const double width = 720, height = 470, cx = 215, cy = 250, radius = 150;
+  const Rgb red{0.84, 0.15, 0.16}, blue{0.12, 0.47, 0.71};
+  return render_picture(format, width, height, [&](cairo_t* cr) {
+    cairo_set_source_rgb(cr, 0.1, 0.1, 0.1);
+    draw_text(cr, rose.title, width / 2, 24, 13, 0.5, true);
+    std::vector<RosePolygon> polygons;
+    for (const ControlStage& c : rose.controls)
+      if (c.closest_solved) polygons.push_back({*c.closest_solved, blue, 0.12});
+    polygons.push_back({rose.poet, red, 0.18});  // on top: the environment POET created and solved
+    draw_rose(cr, cx, cy, radius, polygons, 10);
+    // the legend: POET's environment, then each control with its closest solved stage and distance
+    double y = 70;
+    const auto line = [&](Rgb colour, const std::string& head, const std::string& detail) {
+      set_colour(cr, colour);
+      cairo_rectangle(cr, 430, y - 9, 12, 12);
+      cairo_fill(cr);
+      cairo_set_source_rgb(cr, 0.15, 0.15, 0.15);
+      draw_text(cr, head, 450, y + 1, 10.5, 0, true);
+      draw_text(cr, detail, 450, y + 15, 9.5);
+      y += 38;
+    };
+    line(red, "POET: " + short_name(rose.poet_label, 34), vector_text(rose.poet));
+    for (const ControlStage& c : rose.controls) {
+      char distance[48];
+      if (c.distance)
+        std::snprintf(distance, sizeof distance, "distance %.3f", *c.distance);
+      else
+        std::snprintf(distance, sizeof distance, "nothing solved");
+      line(c.closest_solved ? blue : Rgb{0.7, 0.7, 0.7}, short_name(c.label, 40),
+           std::string(distance) + (c.closest_solved ? ": " + vector_text(*c.closest_solved) : ""));
     }
   });
 }

@@ -4,9 +4,12 @@
 // definitions (poet/annecs.h), a named line each; the environment tree — each
 // pair a row from its creation to its retirement (green once solved), parent → child links, and accepted
 // transfers as arrows from source to target at their iteration; and the paper's rose plots, one per pair, of its
-// environment's parameters. Each returns the bytes or an error message.
+// environment's parameters; and Figure 3's rose for one target: POET's environment in red, the closest-to-target
+// environment each control run solved in blue. Each returns the bytes or an error message.
 
+#include <optional>
 #include <string>
+#include <vector>
 
 #include "canvas.h"
 #include "expected.h"
@@ -20,5 +23,19 @@ Expected<std::string> render_level_plot(PictureFormat format, const RunMetrics& 
 Expected<std::string> render_annecs_plot(PictureFormat format, const RunMetrics& metrics);
 Expected<std::string> render_tree_plot(PictureFormat format, const RunSnapshot& run, const RunMetrics& metrics);
 Expected<std::string> render_rose_plot(PictureFormat format, const RunSnapshot& run);
+
+// A control run's closest-to-target solved environment (none when it solved nothing) and its normalised distance.
+struct ControlStage {
+  std::string label;
+  std::optional<EnvVector> closest_solved;
+  std::optional<double> distance;
+};
+struct ControlsRose {
+  std::string title;
+  std::string poet_label;  // the environment's name
+  EnvVector poet{};
+  std::vector<ControlStage> controls;
+};
+Expected<std::string> render_controls_rose(PictureFormat format, const ControlsRose& rose);
 
 }  // namespace poet

@@ -57,6 +57,7 @@ TargetDistance closest_to(const RunState& state, const EnvEncoding& target) {
     if (!out.distance || d < *out.distance) {
       out.distance = d;
       out.closest_env = solved.name;
+      out.closest = env_vector(solved);
     }
   };
   // the direct path's one pair keeps its first solve across stages while its environment moves on: there the

@@ -74,6 +74,7 @@ struct TargetDistance {
   EnvVector target{};
   std::optional<double> distance;  // normalised (§1.4); nullopt when nothing was solved
   std::string closest_env;         // the solved environment nearest the target
+  EnvVector closest{};             // its 5-vector
 };
 
 struct RunMetrics {

@@ -3,15 +3,13 @@
 // control (the run's settings, mode DIRECT_PATH, the pair's environment as the target, the budget); with
 // --es-alone-config, the ES-alone control with the same budget in ES steps. It prints the environment steps of
 // that budget too, from pair_stats.csv (runs of earlier builds did not record a pair's).
-//   poet-lineage --run-dir DIR --pair ID [--direct-path-config | --es-alone-config]
+//   poet-lineage --run-dir DIR --pair ID [--direct-path-config | --es-alone-config [--seed N]]
 
 #include <CLI/CLI.hpp>
 #include <algorithm>
 #include <climits>
 #include <cstdio>
 #include <iostream>
-#include <map>
-#include <utility>
 
 #include "config/run_config.h"
 #include "envgen/env_proto.h"
@@ -32,6 +30,10 @@ int main(int argc, char** argv) {
   app.add_flag("--es-alone-config", emit_es_alone,
                "Print an ES_ALONE run config for this pair's environment with the same budget in ES steps")
       ->excludes(direct_flag);
+  uint64_t seed = 0;
+  auto* seed_option = app.add_option("--seed", seed,
+                                     "The control's seed (its ES noise and, for the direct path, its stage draws; "
+                                     "default: the run's), for independent runs of one control");
   add_fingerprint_flag(app);
   if (auto code = parse_command_line(app, argc, argv)) return *code;
 
@@ -57,6 +59,7 @@ int main(int argc, char** argv) {
   if (emit_config || emit_es_alone) {
     // the run's settings (ES, walker, seed) with the pair's environment as the target
     pb::RunConfig config = run->config;
+    if (seed_option->count() > 0) config.set_seed(seed);
     config.clear_es_alone();
     config.clear_direct_path();
     config.mutable_poet()->clear_keep_admission_selection();
@@ -90,15 +93,7 @@ int main(int argc, char** argv) {
   std::printf("contributors (pair: last counted iteration):");
   for (const auto& [id, until] : lineage_horizons(*state, pair_id)) std::printf(" %d:%d", id, until);
   std::printf("\ndirect-path budget: %lld ES steps\n", static_cast<long long>(budget));
-  std::map<std::pair<int, int>, int64_t> recorded;  // (pair, iteration) -> the pair's env steps after that step
-  for (const StatsRow& row : run->stats)
-    if (row.pair_env_steps >= 0) recorded[{row.pair, row.iteration}] = row.pair_env_steps;
-  const std::optional<int64_t> env_steps =
-      lineage_env_steps(*state, pair_id, [&](int id, int iteration) -> std::optional<int64_t> {
-        const auto found = recorded.find({id, iteration});
-        if (found == recorded.end()) return std::nullopt;
-        return found->second;
-      });
+  const std::optional<int64_t> env_steps = lineage_env_steps(*state, pair_id, pair_env_steps_at(run->stats));
   if (env_steps)
     std::printf("environment steps of those ES steps: %lld\n", static_cast<long long>(*env_steps));
   else

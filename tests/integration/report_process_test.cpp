@@ -159,8 +159,9 @@ TEST_F(ReportProcessTest, ReportsTheMetricsTableJsonAndPlotsOfAFinishedRunWithou
   EXPECT_EQ(nlohmann::json::parse(json_out), j);
 }
 
-// The controls of a POET-solved environment (experiments/controls.sh): poet-lineage writes the ES-alone and direct-path
-// configs with the lineage's budget, and both run to their end as written.
+// The controls of a POET-solved environment (experiments/controls.sh, figure3.sh): poet-lineage writes the ES-alone and
+// direct-path configs with the lineage's budget (and a seed of their own), both run to their end as written, and
+// poet-controls sets them beside the lineage, in ES steps and environment steps, and draws the rose.
 TEST_F(ReportProcessTest, LineageWritesRunnableControlConfigsWithTheLineagesBudget) {
   const fs::path run = walker_run();
   std::string text, err;
@@ -169,10 +170,16 @@ TEST_F(ReportProcessTest, LineageWritesRunnableControlConfigsWithTheLineagesBudg
   ASSERT_NE(at, std::string::npos) << text;
   const int budget = std::stoi(text.substr(at + 20));
   ASSERT_GT(budget, 0);
+  const size_t steps_at = text.find("environment steps of those ES steps: ");
+  ASSERT_NE(steps_at, std::string::npos) << text;
+  const int64_t lineage_env_steps = std::stoll(text.substr(steps_at + 37));
+  ASSERT_GT(lineage_env_steps, 0) << text;
 
   for (const char* flag : {"--es-alone-config", "--direct-path-config"}) {
-    ASSERT_EQ(tool(POET_LINEAGE_BIN, {"--run-dir", run.string(), "--pair", "1", flag}, &text, &err), 0) << err;
+    ASSERT_EQ(tool(POET_LINEAGE_BIN, {"--run-dir", run.string(), "--pair", "1", flag, "--seed", "9"}, &text, &err), 0)
+        << err;
     const bool es_alone = std::string(flag) == "--es-alone-config";
+    EXPECT_TRUE(contains(text, "seed: 9")) << text;
     EXPECT_TRUE(contains(text, es_alone ? "mode: ES_ALONE" : "mode: DIRECT_PATH")) << text;
     EXPECT_TRUE(contains(
         text, es_alone ? "iterations: " + std::to_string(budget) : "budget_es_steps: " + std::to_string(budget)))
@@ -206,6 +213,40 @@ TEST_F(ReportProcessTest, LineageWritesRunnableControlConfigsWithTheLineagesBudg
   EXPECT_NE(tool(POET_LINEAGE_BIN,
                  {"--run-dir", run.string(), "--pair", "1", "--es-alone-config", "--direct-path-config"}, &text, &err),
             0);
+
+  // Figure 3's table and rose
+  const fs::path rose = root_ / "rose.png";
+  ASSERT_EQ(tool(POET_CONTROLS_BIN,
+                 {"--run-dir", run.string(), "--pair", "1", (root_ / "--es-alone-config").string(),
+                  (root_ / "--direct-path-config").string(), "--json", "-", "--rose", rose.string()},
+                 &text, &err),
+            0)
+      << err;
+  const nlohmann::json j = nlohmann::json::parse(text);
+  EXPECT_EQ(j["poet"]["lineage_es_steps"].get<int>(), budget);
+  EXPECT_EQ(j["poet"]["lineage_env_steps"].get<int64_t>(), lineage_env_steps);
+  ASSERT_EQ(j["controls"].size(), 2u);
+  EXPECT_EQ(j["controls"][0]["mode"], "ES alone");
+  EXPECT_EQ(j["controls"][1]["mode"], "direct path");
+  for (const auto& control : j["controls"]) {
+    EXPECT_EQ(control["seed"].get<int>(), 9);
+    EXPECT_LE(control["es_steps"].get<int>(), budget);
+    EXPECT_GT(control["env_steps"].get<int64_t>(), 0);
+    // a solved control's closest environment is at distance 0 exactly when it solved the target
+    if (!control["normalized_distance"].is_null())
+      EXPECT_EQ(control["normalized_distance"].get<double>() == 0, !control["solved_at_es_step"].is_null()) << control;
+  }
+  EXPECT_EQ(read(rose).substr(1, 3), "PNG");
+  // the table for people; a control of another environment is refused
+  ASSERT_EQ(tool(POET_CONTROLS_BIN, {"--run-dir", run.string(), "--pair", "1", (root_ / "--es-alone-config").string()},
+                 &text, &err),
+            0)
+      << err;
+  EXPECT_TRUE(contains(text, "| ES alone | 9 | ")) << text;
+  EXPECT_NE(tool(POET_CONTROLS_BIN, {"--run-dir", run.string(), "--pair", "0", (root_ / "--es-alone-config").string()},
+                 &text, &err),
+            0);
+  EXPECT_TRUE(contains(err, "its target is not the pair's environment")) << err;
 }
 
 TEST_F(ReportProcessTest, ReportsALiveRunAsOfItsLastCheckpoint) {
