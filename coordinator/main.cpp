@@ -41,6 +41,7 @@
 #include "poet/engine.h"
 #include "policy/policy_file.h"
 #include "run/event_json.h"
+#include "run/phase_timer.h"
 #include "run/progress_display.h"
 #include "run/run_directory.h"
 #include "run/run_pack.h"
@@ -364,6 +365,7 @@ int run(const Options& options, StopSignals& signals) {
   }
   ProgressDisplay progress(!options.quiet);
   auto elapsed = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count(); };
+  PhaseTimer phase_timer(elapsed);
   const int interval = state.settings.checkpoint_interval;
   int saved_iteration = state.next_iteration;
   auto save = [&]() {
@@ -374,7 +376,8 @@ int run(const Options& options, StopSignals& signals) {
     }
     saved_iteration = state.next_iteration;
     // the times are the run's record of its machine, not its state: a failed write is reported, not fatal
-    if (auto error = wall_times.record(state.next_iteration - 1, elapsed())) spdlog::warn("{}", *error);
+    if (auto error = wall_times.record(state.next_iteration - 1, elapsed(), phase_timer.take()))
+      spdlog::warn("{}", *error);
     return true;
   };
 
@@ -382,7 +385,7 @@ int run(const Options& options, StopSignals& signals) {
   while (!run_complete(state) && !signals.stop_requested()) {
     IterationReport report;
     try {
-      report = run_iteration(state, evaluator);
+      report = run_iteration(state, evaluator, &phase_timer);
     } catch (const EvaluationStopped&) {
       // the iteration in flight is abandoned; the state in memory is part-way through it and is not saved
       progress.finish();

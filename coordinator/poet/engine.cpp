@@ -102,11 +102,12 @@ RunState initial_state(const RunSettings& settings, std::optional<std::vector<do
 
 bool run_complete(const RunState& state) { return state.finished || state.next_iteration >= state.settings.iterations; }
 
-IterationReport run_iteration(RunState& state, Evaluator& evaluator) {
+IterationReport run_iteration(RunState& state, Evaluator& evaluator, PhaseObserver* phases) {
   IterationReport report;
   report.iteration = state.next_iteration;
   const int64_t rollouts_before = state.counters.rollouts;
   IterationContext ctx = iteration_context(state, evaluator, report);
+  ctx.phases = phases;
 
   const RunMode mode = state.settings.mode;
   if (mode == RunMode::kPoet || mode == RunMode::kPoetWithoutTransfer) reproduce(ctx);
@@ -114,6 +115,7 @@ IterationReport run_iteration(RunState& state, Evaluator& evaluator) {
   if (mode == RunMode::kPoet) transfer(ctx);
   if (mode == RunMode::kDirectPath) advance_curriculum(ctx);
 
+  if (phases) phases->iteration_ends();
   report.annecs = annecs_at(state, report.iteration);
   state.next_iteration += 1;
   report.rollouts = state.counters.rollouts - rollouts_before;

@@ -9,6 +9,7 @@
 
 #include "evaluator/evaluator.h"
 #include "poet/iteration_report.h"
+#include "poet/phase_observer.h"
 #include "poet/run_state.h"
 
 namespace poet {
@@ -32,7 +33,8 @@ bool run_complete(const RunState& state);
 
 // Runs iteration state.next_iteration (reproduce, optimise, transfer, or the control's steps) and advances
 // next_iteration. Throws RunDiverged, or what the evaluator throws (EvaluationStopped after a stop request); the
-// state is then unspecified, and the run continues from its last checkpoint.
-IterationReport run_iteration(RunState& state, Evaluator& evaluator);
+// state is then unspecified, and the run continues from its last checkpoint. `phases`, when given, is told as each
+// phase begins and when the iteration ends (the same calls with any evaluator).
+IterationReport run_iteration(RunState& state, Evaluator& evaluator, PhaseObserver* phases = nullptr);
 
 }  // namespace poet

@@ -8,6 +8,7 @@
 #include "es/es_settings.h"
 #include "evaluator/evaluator.h"
 #include "poet/iteration_report.h"
+#include "poet/phase_observer.h"
 #include "poet/rollout_batch.h"
 #include "poet/run_state.h"
 
@@ -19,11 +20,15 @@ struct IterationContext {
   IterationReport& report;
   const RunSettings& settings;
   int t = 0;  // this iteration
+  PhaseObserver* phases = nullptr;  // told when each phase begins, if anyone listens
 
   // The key of the stream for (run seed, purpose, ids): every random number of a run is drawn by address.
   uint64_t key(std::string_view purpose, std::initializer_list<uint64_t> ids) const;
   void event(RunEvent e) { report.events.push_back(std::move(e)); }
   RolloutBatch batch() const { return RolloutBatch(settings.episodes); }
+  void phase(IterationPhase p) const {
+    if (phases) phases->phase_begins(p);
+  }
 };
 
 // The context of iteration state.next_iteration, with the state's settings.

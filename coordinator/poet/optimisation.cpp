@@ -28,6 +28,7 @@ void optimise(IterationContext& ctx) {
     const uint64_t key = ctx.key("noise", {static_cast<uint64_t>(p.id), static_cast<uint64_t>(ctx.t)});
     handles.push_back(steps.add_es_step({share(p.theta), p.env, p.optimizer.sigma, key}, n));
   }
+  ctx.phase(IterationPhase::kEsSteps);
   steps.run(ctx.evaluator, ctx.state.counters, ctx.settings.es);
 
   // the updates: Adam on the gradient, then the decays (σ was used before its decay)
@@ -59,6 +60,7 @@ void optimise(IterationContext& ctx) {
     const uint64_t key = ctx.key("eval", {static_cast<uint64_t>(p.id), static_cast<uint64_t>(ctx.t)});
     eval_handles.push_back(evals.add_evaluation(share(p.theta), p.env, key));
   }
+  ctx.phase(IterationPhase::kEvaluations);
   evals.run(ctx.evaluator, ctx.state.counters);
 
   for (size_t a = 0; a < active.size(); ++a) {

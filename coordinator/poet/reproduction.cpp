@@ -169,6 +169,7 @@ void admit(IterationContext& ctx, const Child& child, Start start) {
 void reproduce(IterationContext& ctx) {
   const PoetSettings& poet = ctx.settings.poet;
   if (ctx.t == 0 || ctx.t % poet.mutation_interval != 0) return;
+  ctx.phase(IterationPhase::kReproduction);
   RunState& state = ctx.state;
   const auto u = [](auto v) { return static_cast<uint64_t>(v); };
 

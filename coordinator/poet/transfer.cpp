@@ -33,6 +33,7 @@ void transfer(IterationContext& ctx) {
   const int interval = ctx.settings.poet.transfer_interval;
   const std::vector<size_t> active = ctx.state.active_indices();
   if (ctx.t % interval != 0 || active.size() < 2) return;
+  ctx.phase(IterationPhase::kTransfer);
   const bool full = ctx.settings.poet.transfer_test == TransferTest::kFull;
   const auto u = [](auto v) { return static_cast<uint64_t>(v); };
   const auto step_of = [&](RolloutBatch& batch, const Pair& target, const Candidate& source) {

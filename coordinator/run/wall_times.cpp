@@ -6,30 +6,41 @@
 #include <cerrno>
 #include <charconv>
 #include <cmath>
+#include <string_view>
 #include <system_error>
+#include <vector>
 
 #include "text_file.h"
 
 namespace poet {
 namespace {
 
-std::string line_text(int iteration, double seconds) {
-  char buffer[64];
-  const int n = std::snprintf(buffer, sizeof buffer, "%d,%.3f\n", iteration, seconds);
+std::string line_text(const WallTime& w) {
+  char buffer[160];
+  const int n = w.phases ? std::snprintf(buffer, sizeof buffer, "%d,%.3f,%.3f,%.3f,%.3f,%.3f\n", w.iteration, w.seconds,
+                                         (*w.phases)[0], (*w.phases)[1], (*w.phases)[2], (*w.phases)[3])
+                         : std::snprintf(buffer, sizeof buffer, "%d,%.3f\n", w.iteration, w.seconds);
   return std::string(buffer, static_cast<size_t>(n));
+}
+
+// A finite, non-negative number filling the field.
+bool parse_seconds(std::string_view field, double& out) {
+  const auto [end, ec] = std::from_chars(field.data(), field.data() + field.size(), out);
+  return ec == std::errc() && end == field.data() + field.size() && std::isfinite(out) && out >= 0;
 }
 
 }  // namespace
 
 std::string wall_times_text(const std::vector<WallTime>& lines) {
   std::string text = kWallTimesHeader;
-  for (const WallTime& w : lines) text += line_text(w.iteration, w.seconds);
+  for (const WallTime& w : lines) text += line_text(w);
   return text;
 }
 
 Expected<std::vector<WallTime>> parse_wall_times(std::string_view text) {
   std::vector<WallTime> out;
   size_t line_number = 0;
+  bool with_phases = false;
   while (!text.empty()) {
     const size_t end = text.find('\n');
     if (end == std::string_view::npos) return Unexpected{"line " + std::to_string(line_number + 1) + " is cut short"};
@@ -38,20 +49,33 @@ Expected<std::vector<WallTime>> parse_wall_times(std::string_view text) {
     line_number += 1;
     const std::string where = "line " + std::to_string(line_number);
     if (line_number == 1) {
-      if (std::string(line) + "\n" != kWallTimesHeader)
-        return Unexpected{where + ": expected the header " + std::string(kWallTimesHeader, 16)};
+      const std::string header = std::string(line) + "\n";
+      if (header != kWallTimesHeader && header != kWallTimesHeaderWithoutPhases)
+        return Unexpected{where + ": expected the header " + std::string(kWallTimesHeader, sizeof kWallTimesHeader - 2)};
+      with_phases = header == kWallTimesHeader;
       continue;
     }
-    const size_t comma = line.find(',');
-    if (comma == std::string_view::npos) return Unexpected{where + ": expected iteration,wall_s"};
+    std::vector<std::string_view> fields;
+    for (size_t at = 0;;) {
+      const size_t comma = line.find(',', at);
+      fields.push_back(line.substr(at, comma == std::string_view::npos ? std::string_view::npos : comma - at));
+      if (comma == std::string_view::npos) break;
+      at = comma + 1;
+    }
+    if (fields.size() != 2 && !(with_phases && fields.size() == 6))
+      return Unexpected{where + ": expected " +
+                        (with_phases ? "iteration,wall_s or every phase's seconds too" : "iteration,wall_s")};
     WallTime w;
-    const char* first = line.data();
-    const auto [it_end, it_ec] = std::from_chars(first, first + comma, w.iteration);
-    const auto [s_end, s_ec] = std::from_chars(first + comma + 1, first + line.size(), w.seconds);
-    if (it_ec != std::errc() || it_end != first + comma || w.iteration < 0)
+    const auto [it_end, it_ec] = std::from_chars(fields[0].data(), fields[0].data() + fields[0].size(), w.iteration);
+    if (it_ec != std::errc() || it_end != fields[0].data() + fields[0].size() || w.iteration < 0)
       return Unexpected{where + ": the iteration is not a non-negative integer"};
-    if (s_ec != std::errc() || s_end != first + line.size() || !std::isfinite(w.seconds) || w.seconds < 0)
-      return Unexpected{where + ": wall_s is not a finite, non-negative number"};
+    if (!parse_seconds(fields[1], w.seconds)) return Unexpected{where + ": wall_s is not a finite, non-negative number"};
+    if (fields.size() == 6) {
+      w.phases.emplace();
+      for (size_t p = 0; p < 4; ++p)
+        if (!parse_seconds(fields[2 + p], (*w.phases)[p]))
+          return Unexpected{where + ": field " + std::to_string(3 + p) + " is not a finite, non-negative number"};
+    }
     if (!out.empty() && w.iteration <= out.back().iteration)
       return Unexpected{where + ": iteration " + std::to_string(w.iteration) + " does not follow " +
                         std::to_string(out.back().iteration)};
@@ -93,11 +117,11 @@ WallTimes WallTimes::open(const std::filesystem::path& dir, int next_iteration, 
   return WallTimes(path, carried);
 }
 
-std::optional<std::string> WallTimes::record(int iteration, double seconds) {
+std::optional<std::string> WallTimes::record(int iteration, double seconds, const PhaseSeconds& phases) {
   if (path_.empty()) return std::nullopt;  // open() could not rewrite the file and said so
   const int fd = ::open(path_.c_str(), O_WRONLY | O_APPEND | O_CLOEXEC);
   if (fd < 0) return path_.string() + ": cannot open: " + std::generic_category().message(errno);
-  const int err = write_all(fd, line_text(iteration, carried_ + seconds));
+  const int err = write_all(fd, line_text({iteration, carried_ + seconds, phases}));
   ::close(fd);
   if (err != 0) return path_.string() + ": cannot write: " + std::generic_category().message(err);
   return std::nullopt;

@@ -1,10 +1,14 @@
 #pragma once
-// wall_times.csv: how long a run has taken on its machine, for "when was X reached" (poet-report). A header, then
-// one line per saved iteration, "iteration,wall_s": the seconds the run's coordinator processes had been running
-// when that iteration's checkpoint was written, summed over them (a resume continues the clock from the last line
-// the checkpoint has seen). Machine-dependent and outside the run's determinism: nothing in it is read back into
+// wall_times.csv: how long a run has taken on its machine, for "when was X reached" (poet-report) and where the
+// time goes. A header, then one line per saved iteration, "iteration,wall_s,reproduction_s,es_steps_s,
+// evaluations_s,transfer_s": the seconds the run's coordinator processes had been running when that iteration's
+// checkpoint was written, summed over them (a resume continues the clock from the last line the checkpoint has
+// seen), then the seconds each phase of an iteration (poet/phase_observer.h) took since the line before. A file of
+// an earlier build (header "iteration,wall_s", two fields a line) reads as before; a resume writes it again with the
+// full header, its old lines keeping their two fields. Machine-dependent and outside the run's determinism: nothing in it is read back into
 // the state, so a lost or damaged file costs only the times.
 
+#include <array>
 #include <cstdint>
 #include <filesystem>
 #include <optional>
@@ -17,13 +21,19 @@
 namespace poet {
 
 inline constexpr char kWallTimesFile[] = "wall_times.csv";
-inline constexpr char kWallTimesHeader[] = "iteration,wall_s\n";
+inline constexpr char kWallTimesHeader[] =
+    "iteration,wall_s,reproduction_s,es_steps_s,evaluations_s,transfer_s\n";
+inline constexpr char kWallTimesHeaderWithoutPhases[] = "iteration,wall_s\n";
 // A line is a few bytes; this is some ten million iterations.
 inline constexpr std::uintmax_t kMaxWallTimesBytes = std::uintmax_t{256} << 20;
+
+// The seconds of each phase, in IterationPhase's order: reproduction, ES steps, evaluations, transfer.
+using PhaseSeconds = std::array<double, 4>;
 
 struct WallTime {
   int iteration = 0;
   double seconds = 0;
+  std::optional<PhaseSeconds> phases;  // nothing on lines of builds that did not time them
 };
 
 // The lines of a wall_times.csv, in order. Iterations must increase and times must be finite, non-negative and
@@ -47,9 +57,9 @@ class WallTimes {
   // file cannot be rewritten, the warning says so and nothing is recorded.
   static WallTimes open(const std::filesystem::path& dir, int next_iteration, std::string* warning);
 
-  // Appends "iteration,carried + seconds", seconds being this process's running time. An error names the file.
-  // Nothing when open() could not rewrite the file.
-  std::optional<std::string> record(int iteration, double seconds);
+  // Appends "iteration,carried + seconds,phases...", seconds being this process's running time and phases the
+  // seconds of each phase since the last line. An error names the file. Nothing when open() could not rewrite it.
+  std::optional<std::string> record(int iteration, double seconds, const PhaseSeconds& phases);
 
   // The run's time before this process.
   double carried() const { return carried_; }

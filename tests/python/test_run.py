@@ -152,3 +152,19 @@ poet { mutation_interval: 1 transfer_interval: 2 repro_threshold: 200 mc_low: 25
     returns = [float(row[4]) for row in rows]
     assert returns == sorted(returns)  # hardest first
     assert all(row[1].startswith("cppn-") for row in rows)
+
+
+def test_the_time_per_stage_splits_the_wall_time_by_phase(run_dir):
+    script = os.path.join(os.environ.get("POET_SOURCE_DIR", ""), "experiments", "time_per_stage.py")
+    done = subprocess.run([sys.executable, script, str(run_dir), "--stage-iterations", "4"], capture_output=True,
+                          text=True, timeout=120)
+    assert done.returncode == 0, done.stderr
+    rows = [line.split("|")[1:-1] for line in done.stdout.splitlines() if line.startswith("| ") and "–" in line]
+    assert [row[0].strip() for row in rows] == ["0–3", "4–7"]
+    for row in rows:
+        assert row[7].strip() == "4 of 4"  # every iteration of this build's run has its phases timed
+        shares = [float(cell.strip().rstrip(" %")) for cell in row[8:13]]
+        assert shares[1] > 0 and 95 <= sum(shares) <= 105  # ES steps took time; the shares make the whole
+    bad = subprocess.run([sys.executable, script, str(run_dir), "--stage-iterations", "0"], capture_output=True,
+                         text=True, timeout=60)
+    assert bad.returncode == 2 and "at least 1" in bad.stderr

@@ -38,9 +38,13 @@ TEST_F(WallTimesTest, ANewRunStartsTheClockAtZero) {
   WallTimes w = WallTimes::open(dir_, 0, &warning);
   EXPECT_EQ(warning, "");
   EXPECT_EQ(w.carried(), 0);
-  EXPECT_FALSE(w.record(0, 1.5));
-  EXPECT_FALSE(w.record(1, 3.25));
-  EXPECT_EQ(text(), "iteration,wall_s\n0,1.500\n1,3.250\n");
+  EXPECT_FALSE(w.record(0, 1.5, {0, 1.0, 0.25, 0}));
+  EXPECT_FALSE(w.record(1, 3.25, {0.125, 1.0, 0.25, 0.5}));
+  EXPECT_EQ(text(), "iteration,wall_s,reproduction_s,es_steps_s,evaluations_s,transfer_s\n0,1.500,0.000,1.000,0.250,0.000\n1,3.250,0.125,1.000,0.250,0.500\n");
+  const Expected<std::vector<WallTime>> lines = parse_wall_times(text());
+  ASSERT_TRUE(lines) << lines.error();
+  ASSERT_TRUE((*lines)[1].phases);
+  EXPECT_EQ(*(*lines)[1].phases, (PhaseSeconds{0.125, 1.0, 0.25, 0.5}));
 }
 
 TEST_F(WallTimesTest, AResumeKeepsTheCheckpointsLinesAndContinuesTheClock) {
@@ -49,13 +53,15 @@ TEST_F(WallTimesTest, AResumeKeepsTheCheckpointsLinesAndContinuesTheClock) {
   WallTimes w = WallTimes::open(dir_, 2, &warning);  // the checkpoint has seen iterations 0 and 1
   EXPECT_EQ(warning, "");
   EXPECT_EQ(w.carried(), 2.0);
-  EXPECT_FALSE(w.record(2, 0.5));
-  EXPECT_EQ(text(), "iteration,wall_s\n0,1.000\n1,2.000\n2,2.500\n");
+  EXPECT_FALSE(w.record(2, 0.5, {0, 0.25, 0.125, 0}));
+  // an earlier build's file: its lines keep their two fields under the full header
+  EXPECT_EQ(text(), "iteration,wall_s,reproduction_s,es_steps_s,evaluations_s,transfer_s\n0,1.000\n1,2.000\n2,2.500,0.000,0.250,0.125,0.000\n");
   const Expected<std::vector<WallTime>> lines = parse_wall_times(text());
   ASSERT_TRUE(lines) << lines.error();
   ASSERT_EQ(lines->size(), 3u);
   EXPECT_EQ((*lines)[2].iteration, 2);
   EXPECT_DOUBLE_EQ((*lines)[2].seconds, 2.5);
+  EXPECT_FALSE((*lines)[1].phases);
 }
 
 // A crash in the middle of an append leaves a line without its newline: it is dropped, the whole lines kept.
@@ -65,7 +71,7 @@ TEST_F(WallTimesTest, ALineCutByACrashIsDropped) {
   WallTimes w = WallTimes::open(dir_, 5, &warning);
   EXPECT_EQ(warning, "");
   EXPECT_EQ(w.carried(), 1.0);
-  EXPECT_EQ(text(), "iteration,wall_s\n0,1.000\n");
+  EXPECT_EQ(text(), "iteration,wall_s,reproduction_s,es_steps_s,evaluations_s,transfer_s\n0,1.000\n");
 }
 
 TEST_F(WallTimesTest, ADamagedFileIsNamedAndTheClockRestarts) {
@@ -75,7 +81,7 @@ TEST_F(WallTimesTest, ADamagedFileIsNamedAndTheClockRestarts) {
   EXPECT_NE(warning.find(kWallTimesFile), std::string::npos) << warning;
   EXPECT_NE(warning.find("line 3"), std::string::npos) << warning;
   EXPECT_EQ(w.carried(), 0);
-  EXPECT_EQ(text(), "iteration,wall_s\n");
+  EXPECT_EQ(text(), "iteration,wall_s,reproduction_s,es_steps_s,evaluations_s,transfer_s\n");
 }
 
 TEST(ParseWallTimes, RefusesWhatTheWriterNeverWrites) {
@@ -90,6 +96,10 @@ TEST(ParseWallTimes, RefusesWhatTheWriterNeverWrites) {
       {"iteration,wall_s\n0,-2\n", "non-negative"},
       {"iteration,wall_s\n1,1.0\n1,2.0\n", "does not follow"},
       {"iteration,wall_s\n1,3.0\n2,2.0\n", "goes back"},
+      {"iteration,wall_s\n1,3.0,0,0,0,0\n", "expected iteration,wall_s"},  // phases under the old header
+      {"iteration,wall_s,reproduction_s,es_steps_s,evaluations_s,transfer_s\n1,3.0,0,0,0\n", "or every phase's seconds"},
+      {"iteration,wall_s,reproduction_s,es_steps_s,evaluations_s,transfer_s\n1,3.0,0,0,-1,0\n", "field 5"},
+      {"iteration,wall_s,reproduction_s,es_steps_s,evaluations_s,transfer_s\n1,3.0,0,0,0,nan\n", "field 6"},
   };
   for (const auto& [text, expected] : cases) {
     const Expected<std::vector<WallTime>> lines = parse_wall_times(text);
