@@ -134,6 +134,16 @@ nlohmann::ordered_json report_json(const RunSnapshot& run, const RunMetrics& m, 
   out["annecs"] = {{"at_admission", {{"value", m.annecs.at_admission}, {"definition", kAnnecsAtAdmission}}},
                    {"at_archiving", {{"value", m.annecs.at_archiving}, {"definition", kAnnecsAtArchiving}}},
                    {"over_time", std::move(annecs_series)}};
+  nlohmann::ordered_json frontier = nlohmann::ordered_json::array();
+  for (const FrontierPoint& f : m.frontier_over_time) {
+    nlohmann::ordered_json point = {{"iteration", f.iteration}};
+    for (size_t k = 0; k < kFrontierMeasures.size(); ++k) {
+      point["solved"][kFrontierMeasures[k]] = f.solved[k];
+      point["admitted"][kFrontierMeasures[k]] = f.admitted[k];
+    }
+    frontier.push_back(std::move(point));
+  }
+  out["frontier"] = std::move(frontier);
   nlohmann::ordered_json cov = {{"seed", coverage.seed},
                                 {"samples_per_level", coverage.per_level},
                                 {"solved_at_challenging_or_above", coverage.solved.size()}};

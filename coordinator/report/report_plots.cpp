@@ -91,6 +91,39 @@ Expected<std::string> render_level_plot(PictureFormat format, const RunMetrics& 
   return render_picture(format, 1000, 480, [&](cairo_t* cr) { draw_chart(cr, 0, 0, 1000, 480, chart); });
 }
 
+Expected<std::string> render_frontier_plot(PictureFormat format, const RunMetrics& metrics) {
+  Chart chart;
+  chart.title = "Obstacle frontier: hardest solved (solid), admitted (dashed); roughness / 4.5, gap / 6.0, stump / 2.4";
+  chart.x_label = "iteration";
+  chart.y_label = "value / threshold";
+  chart.y_min = 0;
+  chart.integer_x = true;
+  chart.reference_line = {{1.0, "Table 1's condition"}};
+  const struct {
+    const char* label;
+    double threshold;
+    Rgb colour;
+  } measures[3] = {{"roughness", kChallengingRoughness, kLevelColours[1]},
+                   {"gap top", kChallengingGap, kLevelColours[2]},
+                   {"stump top", kChallengingStumpHeight, kLevelColours[3]}};
+  double highest = 1.0;
+  for (size_t k = 0; k < 3; ++k) {
+    ChartSeries solved{std::string(measures[k].label) + ", solved", {}, measures[k].colour, ChartSeries::Line::kSolid,
+                       true, 2.4};
+    ChartSeries admitted{std::string(measures[k].label) + ", admitted", {}, measures[k].colour,
+                         ChartSeries::Line::kDashed, true, 1.2};
+    for (const FrontierPoint& f : metrics.frontier_over_time) {
+      solved.points.emplace_back(f.iteration, f.solved[k] / measures[k].threshold);
+      admitted.points.emplace_back(f.iteration, f.admitted[k] / measures[k].threshold);
+      highest = std::max(highest, f.admitted[k] / measures[k].threshold);
+    }
+    chart.series.push_back(std::move(solved));
+    chart.series.push_back(std::move(admitted));
+  }
+  chart.y_max = highest * 1.1;  // the condition's line inside the frame
+  return render_picture(format, 1000, 460, [&](cairo_t* cr) { draw_chart(cr, 0, 0, 1000, 460, chart); });
+}
+
 Expected<std::string> render_annecs_plot(PictureFormat format, const RunMetrics& metrics) {
   Chart chart = counts_over_iterations(
       "ANNECS: at admission (children solved, counted when solved) and at archiving (retired once solved)");

@@ -1,6 +1,6 @@
 #pragma once
 // The pictures of a run, drawn with cairo as PNG or SVG bytes: each pair's evaluation score over iterations;
-// environments created, admitted and solved per difficulty level over iterations; ANNECS over iterations in both
+// environments created, admitted and solved per difficulty level over iterations; the obstacle frontier over iterations; ANNECS over iterations in both
 // definitions (poet/annecs.h), a named line each; the environment tree — each
 // pair a row from its creation to its retirement (green once solved), parent → child links, and accepted
 // transfers as arrows from source to target at their iteration; and the paper's rose plots, one per pair, of its
@@ -21,6 +21,9 @@ namespace poet {
 Expected<std::string> render_score_plot(PictureFormat format, const RunSnapshot& run);
 Expected<std::string> render_level_plot(PictureFormat format, const RunMetrics& metrics);
 Expected<std::string> render_annecs_plot(PictureFormat format, const RunMetrics& metrics);
+// Each of Table 1's measures (roughness, gap top, stump top), the hardest solved and admitted by each iteration,
+// divided by its threshold, so that 1 is the condition.
+Expected<std::string> render_frontier_plot(PictureFormat format, const RunMetrics& metrics);
 Expected<std::string> render_tree_plot(PictureFormat format, const RunSnapshot& run, const RunMetrics& metrics);
 Expected<std::string> render_rose_plot(PictureFormat format, const RunSnapshot& run);
 

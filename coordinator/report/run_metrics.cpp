@@ -98,6 +98,25 @@ void keep_first(std::optional<Milestone>& slot, int iteration, const CostByItera
 
 }  // namespace
 
+std::vector<FrontierPoint> frontier_over_time(const RunState& state) {
+  // each pair raises the admitted frontier at its creation and the solved one at its first solve
+  std::vector<FrontierPoint> out(static_cast<size_t>(std::max(0, state.next_iteration)));
+  for (size_t t = 0; t < out.size(); ++t) out[t].iteration = static_cast<int>(t);
+  const auto raise = [&](std::array<double, 3> FrontierPoint::*which, int from, const EnvVector& e) {
+    if (from < 0) return;
+    for (size_t t = static_cast<size_t>(from); t < out.size(); ++t) {
+      std::array<double, 3>& f = out[t].*which;
+      f = {std::max(f[0], e[0]), std::max(f[1], e[2]), std::max(f[2], e[4])};
+    }
+  };
+  for (const Pair& p : state.pairs) {
+    const EnvVector e = env_vector(p.env.encoding);
+    raise(&FrontierPoint::admitted, p.created_iteration, e);
+    if (p.solved()) raise(&FrontierPoint::solved, p.first_solved_iteration, e);
+  }
+  return out;
+}
+
 RunMetrics compute_run_metrics(const RunSnapshot& run, const std::optional<EnvEncoding>& target) {
   const RunState& state = run.state;
   RunMetrics m;
@@ -164,6 +183,7 @@ RunMetrics compute_run_metrics(const RunSnapshot& run, const std::optional<EnvEn
       if (s.level == level) iterations.push_back(s.solved - s.created);
     m.solve_summary[static_cast<size_t>(level)] = summarise(iterations);
   }
+  m.frontier_over_time = frontier_over_time(state);
   m.annecs_over_time = annecs_over_time(state);
   m.annecs = annecs_at(state, m.iterations_done - 1);
   m.transfer_attempts = state.counters.transfer_attempts;

@@ -77,6 +77,16 @@ struct TargetDistance {
   EnvVector closest{};             // its 5-vector
 };
 
+// The obstacle frontier at the end of an iteration: for each of Table 1's measures (spec §1.4) — roughness, the top
+// of the gap range, the top of the stump range — the largest value among the environments solved by then, and
+// among those admitted by then. Obstacle courses only (a CPPN course's 5-vector is all zeros).
+struct FrontierPoint {
+  int iteration = 0;
+  std::array<double, 3> solved{};    // roughness, gap hi, stump hi
+  std::array<double, 3> admitted{};  // the same
+};
+inline constexpr std::array<const char*, 3> kFrontierMeasures = {"roughness", "gap_hi", "stump_hi"};
+
 struct RunMetrics {
   int iterations_done = 0;  // the checkpoint's next iteration
   LevelCounts total;
@@ -90,6 +100,7 @@ struct RunMetrics {
   Annecs annecs;                         // at the end of the run (poet/annecs.h)
   std::vector<Annecs> annecs_over_time;  // one per iteration 0 .. iterations_done − 1, as annecs.csv holds them
   std::optional<TargetDistance> closest_to_target;
+  std::vector<FrontierPoint> frontier_over_time;  // one per iteration 0 .. iterations_done − 1
 };
 
 // The metrics of a run. target: the environment to measure closest-to-target against; without one, a control

@@ -146,6 +146,13 @@ void print_table(const RunSnapshot& run, const RunMetrics& m, const Coverage& co
   print_goal_switching(run, m);
   std::printf("ANNECS at admission: %d — %s\n", m.annecs.at_admission, kAnnecsAtAdmission);
   std::printf("ANNECS at archiving: %d — %s\n\n", m.annecs.at_archiving, kAnnecsAtArchiving);
+  if (!m.frontier_over_time.empty()) {
+    const FrontierPoint& f = m.frontier_over_time.back();
+    std::printf("Obstacle frontier (the hardest value solved; admitted in brackets; Table 1's conditions: roughness "
+                "≥ 4.5, gap top ≥ 6.0, stump top ≥ 2.4)\n  roughness %.1f (%.1f), gap top %.1f (%.1f), stump top "
+                "%.1f (%.1f)\n\n",
+                f.solved[0], f.admitted[0], f.solved[1], f.admitted[1], f.solved[2], f.admitted[2]);
+  }
 
   std::printf(
       "Coverage (seed %llu, %d samples per level; sum of normalised distances to the nearest environment "
@@ -219,7 +226,7 @@ int main(int argc, char** argv) {
   app.add_option("--run-dir", run_dir, "Run directory (finished, live or resumed)")->required();
   app.add_option("--json", json_path, "Write the metrics as JSON to this file ('-' for stdout, instead of the table)");
   app.add_option("--plots", plots_dir,
-                 "Write scores.png, levels.png, annecs.png, tree.png and lineage.png (the courses along the last "
+                 "Write scores.png, levels.png, annecs.png, frontier.png, tree.png and lineage.png (the courses along the last "
                  "lineage the table shows) into this directory");
   app.add_option("--target", target_path,
                  "Environment file (envs/*.env.json form): report the solved environment closest to it (default: a "
@@ -266,6 +273,7 @@ int main(int argc, char** argv) {
         {"scores.png", render_score_plot(PictureFormat::kPng, *run)},
         {"levels.png", render_level_plot(PictureFormat::kPng, metrics)},
         {"annecs.png", render_annecs_plot(PictureFormat::kPng, metrics)},
+        {"frontier.png", render_frontier_plot(PictureFormat::kPng, metrics)},
         {"tree.png", render_tree_plot(PictureFormat::kPng, *run, metrics)},
         {"lineage.png", render_run_picture(*run, {PictureKind::kLineage, PictureEncoding::kPng, deepest_pair(*run)})}};
     for (const auto& [name, bytes] : plots) {

@@ -126,6 +126,11 @@ TEST_F(ReportProcessTest, ReportsTheMetricsTableJsonAndPlotsOfAFinishedRunWithou
   EXPECT_GE(j["annecs"]["at_admission"]["value"].get<int>(), 2);
   EXPECT_FALSE(j["annecs"]["at_admission"]["definition"].get<std::string>().empty());
   EXPECT_FALSE(j["annecs"]["at_archiving"]["definition"].get<std::string>().empty());
+  // the frontier: a point per iteration, never going back
+  const nlohmann::json& frontier = j["frontier"];
+  ASSERT_EQ(frontier.size(), 3u);
+  for (const char* measure : {"roughness", "gap_hi", "stump_hi"})
+    EXPECT_LE(frontier[0]["solved"][measure].get<double>(), frontier[2]["solved"][measure].get<double>()) << measure;
   // ANNECS over time: a point per iteration ending at the values, as annecs.csv holds them
   const nlohmann::json& annecs = j["annecs"]["over_time"];
   ASSERT_EQ(annecs.size(), 3u);
@@ -145,7 +150,7 @@ TEST_F(ReportProcessTest, ReportsTheMetricsTableJsonAndPlotsOfAFinishedRunWithou
   const std::string samples = read(root_ / "coverage.csv");
   EXPECT_EQ(std::count(samples.begin(), samples.end(), '\n'), 151);
   EXPECT_TRUE(contains(samples, "very challenging,"));
-  for (const char* plot : {"scores.png", "levels.png", "annecs.png", "tree.png", "lineage.png"}) {
+  for (const char* plot : {"scores.png", "levels.png", "annecs.png", "frontier.png", "tree.png", "lineage.png"}) {
     const std::string png = read(root_ / "plots" / plot);
     ASSERT_GT(png.size(), 1000u) << plot;
     EXPECT_EQ(png.substr(1, 3), "PNG") << plot;

@@ -63,6 +63,21 @@ RunSnapshot sample_run() {
   return run;
 }
 
+TEST(RunMetrics, TheFrontierIsTheHardestSolvedAndAdmittedByEachIteration) {
+  const RunMetrics m = compute_run_metrics(sample_run());
+  ASSERT_EQ(m.frontier_over_time.size(), 10u);
+  using Measures = std::array<double, 3>;  // roughness, gap top, stump top
+  EXPECT_EQ(m.frontier_over_time[3].solved, (Measures{0, 0, 0}));
+  EXPECT_EQ(m.frontier_over_time[4].admitted, (Measures{0.4, 0.8, 0.4}));
+  EXPECT_EQ(m.frontier_over_time[5].solved, (Measures{0, 0, 0}));  // the easy child is solved at 6
+  EXPECT_EQ(m.frontier_over_time[6].solved, (Measures{0.4, 0.8, 0.4}));
+  EXPECT_EQ(m.frontier_over_time[7].admitted, (Measures{5.0, 0.8, 0.4}));
+  // retiring changes nothing; the very challenging pair is admitted at 8, never solved; the rough one solved at 9
+  EXPECT_EQ(m.frontier_over_time[8].admitted, (Measures{5.0, 6.4, 2.6}));
+  EXPECT_EQ(m.frontier_over_time[8].solved, (Measures{0.4, 0.8, 0.4}));
+  EXPECT_EQ(m.frontier_over_time[9].solved, (Measures{5.0, 0.8, 0.4}));
+}
+
 TEST(RunMetrics, CountsPerLevelAndOverTime) {
   const RunMetrics m = compute_run_metrics(sample_run());
   EXPECT_EQ(m.iterations_done, 10);
