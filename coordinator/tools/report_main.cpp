@@ -2,9 +2,12 @@
 // finished, live or resumed run and never changes it: it reads the last checkpoint and the log lines that
 // checkpoint has seen, so a run being written is reported as of its last checkpoint.
 //   poet-report --run-dir DIR [--json FILE|-] [--plots DIR] [--target ENV.json] [--coverage-samples FILE]
+//               [--until-iteration T | --until-env-steps N]   the run as it stood then (report/run_cut.h)
 
 #include <CLI/CLI.hpp>
 #include <cerrno>
+#include <climits>
+#include <cstdint>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -13,6 +16,7 @@
 #include <iostream>
 #include <map>
 #include <nlohmann/json.hpp>
+#include <optional>
 
 #include "envgen/env_json.h"
 #include "report/coverage.h"
@@ -20,6 +24,7 @@
 #include "report/report_json.h"
 #include "report/report_plots.h"
 #include "report/run_metrics.h"
+#include "report/run_cut.h"
 #include "report/run_pictures.h"
 #include "report/run_snapshot.h"
 #include "tool_flags.h"
@@ -235,6 +240,17 @@ int main(int argc, char** argv) {
   app.add_option("--coverage-seed", coverage_seed, "Seed of the coverage sample");
   app.add_option("--coverage-per-level", per_level, "Coverage samples per difficulty level (paper: 1000)")
       ->check(CLI::Range(1, 1000000));
+  int until_iteration = 0;
+  int64_t until_env_steps = 0;
+  auto* until_option = app.add_option("--until-iteration", until_iteration,
+                                      "Report the run as it stood at the end of this iteration (to compare runs at "
+                                      "equal budgets)")
+                           ->check(CLI::Range(0, INT_MAX));
+  app.add_option("--until-env-steps", until_env_steps,
+                 "Report the run as it stood at the last iteration within this many environment steps (counted by "
+                 "that iteration's ES steps and evaluations)")
+      ->check(CLI::Range(int64_t{0}, INT64_MAX))
+      ->excludes(until_option);
   add_fingerprint_flag(app);
   if (auto code = parse_command_line(app, argc, argv)) return *code;
 
@@ -257,6 +273,25 @@ int main(int argc, char** argv) {
   if (!run) {
     std::cerr << "poet-report: " << run.error() << "\n";
     return 2;
+  }
+  if (app.count("--until-env-steps") > 0) {
+    const std::optional<int> last = last_iteration_within(*run, until_env_steps);
+    if (!last) {
+      std::cerr << "poet-report: --until-env-steps " << until_env_steps << ": "
+                << (run->stats.empty() || run->stats.front().run_env_steps >= 0
+                        ? "the run's first iteration took more"
+                        : "this run's pair_stats.csv does not record its environment steps")
+                << "\n";
+      return 2;
+    }
+    until_iteration = *last;
+  }
+  if (app.count("--until-iteration") > 0 || app.count("--until-env-steps") > 0) {
+    until_iteration = std::min(until_iteration, run->state.next_iteration - 1);
+    *run = cut_run(std::move(*run), until_iteration);
+    if (json_path.empty())
+      std::printf("(cut at the end of iteration %d: %lld environment steps by its ES steps and evaluations)\n",
+                  until_iteration, static_cast<long long>(run->state.counters.env_steps));
   }
   const RunMetrics metrics = compute_run_metrics(*run, target);
   const Coverage coverage = compute_coverage(run->state, coverage_seed, per_level);

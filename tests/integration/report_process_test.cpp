@@ -164,6 +164,34 @@ TEST_F(ReportProcessTest, ReportsTheMetricsTableJsonAndPlotsOfAFinishedRunWithou
   EXPECT_EQ(nlohmann::json::parse(json_out), j);
 }
 
+// --until-iteration and --until-env-steps report the run as it stood earlier (report/run_cut.h checks the numbers).
+TEST_F(ReportProcessTest, ARunIsReportedAsItStoodAtABudget) {
+  const fs::path run = threads_run();
+  std::string full, err;
+  ASSERT_EQ(report({"--run-dir", run.string(), "--json", "-", "--coverage-per-level", "5"}, &full, &err), 0) << err;
+  const nlohmann::json j = nlohmann::json::parse(full);
+  const int done = j["iterations_done"].get<int>();
+  ASSERT_GE(done, 3);
+  std::string cut;
+  ASSERT_EQ(report({"--run-dir", run.string(), "--json", "-", "--coverage-per-level", "5", "--until-iteration", "1"},
+                   &cut, &err),
+            0)
+      << err;
+  EXPECT_EQ(nlohmann::json::parse(cut)["iterations_done"], 2);
+  // a budget of the whole run's steps cuts nothing; one below iteration 0's is refused
+  std::string same;
+  ASSERT_EQ(report({"--run-dir", run.string(), "--json", "-", "--coverage-per-level", "5", "--until-env-steps",
+                    std::to_string(j["env_steps"].get<int64_t>())},
+                   &same, &err),
+            0)
+      << err;
+  EXPECT_EQ(nlohmann::json::parse(same)["iterations_done"], done);
+  std::string table;
+  EXPECT_EQ(report({"--run-dir", run.string(), "--until-env-steps", "1"}, &table, &err), 2);
+  EXPECT_TRUE(contains(err, "the run's first iteration took more")) << err;
+  EXPECT_EQ(report({"--run-dir", run.string(), "--until-env-steps", "5", "--until-iteration", "1"}, &table, &err), 2);
+}
+
 // The controls of a POET-solved environment (experiments/controls.sh, figure3.sh): poet-lineage writes the ES-alone and
 // direct-path configs with the lineage's budget (and a seed of their own), both run to their end as written, and
 // poet-controls sets them beside the lineage, in ES steps and environment steps, and draws the rose.

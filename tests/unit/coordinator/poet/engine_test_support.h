@@ -7,7 +7,9 @@
 #include "envgen/named_courses.h"
 #include "poet/engine.h"
 #include "policy/mlp.h"
+#include "evaluator/local_evaluator.h"
 #include "run/event_json.h"
+#include "run/run_directory.h"
 
 namespace poet::testing {
 
@@ -102,6 +104,32 @@ inline std::vector<nlohmann::ordered_json> events_named(const IterationReport& r
   for (const auto& e : events_json(r))
     if (e["event"] == name) out.push_back(e);
   return out;
+}
+
+// Runs config in dir to the end of iteration until − 1, as the coordinator does (a checkpoint after each
+// iteration): from its start, or from the checkpoint dir holds. Returns an error message, or nothing.
+inline std::optional<std::string> run_in_directory(const std::filesystem::path& dir, const pb::RunConfig& config,
+                                                   int until) {
+  std::optional<RunDirectory> run;
+  RunState state;
+  if (std::filesystem::exists(dir / kCheckpointFile)) {
+    Expected<std::pair<RunDirectory, RunState>> resumed = RunDirectory::resume(dir);
+    if (!resumed) return resumed.error();
+    run.emplace(std::move(resumed->first));
+    state = std::move(resumed->second);
+  } else {
+    Expected<RunDirectory> created = RunDirectory::create(dir, config);
+    if (!created) return created.error();
+    run.emplace(std::move(*created));
+    state = initial_state(run_settings(config));
+    if (auto error = run->save(state)) return error;
+  }
+  LocalEvaluator evaluator(2);
+  while (state.next_iteration < until && !run_complete(state)) {
+    run->append(run_iteration(state, evaluator));
+    if (auto error = run->save(state)) return error;
+  }
+  return std::nullopt;
 }
 
 }  // namespace poet::testing

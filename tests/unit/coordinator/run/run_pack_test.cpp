@@ -56,25 +56,8 @@ class RunPackTest : public ::testing::Test {
   void run_to(const fs::path& dir, int until) {
     pb::RunConfig config = testing::small_real_run();
     config.set_iterations(kIterations);
-    std::optional<RunDirectory> run;
-    RunState state;
-    if (fs::exists(dir / kCheckpointFile)) {
-      Expected<std::pair<RunDirectory, RunState>> resumed = RunDirectory::resume(dir);
-      ASSERT_TRUE(resumed) << resumed.error();
-      run.emplace(std::move(resumed->first));
-      state = std::move(resumed->second);
-    } else {
-      Expected<RunDirectory> created = RunDirectory::create(dir, config);
-      ASSERT_TRUE(created) << created.error();
-      run.emplace(std::move(*created));
-      state = initial_state(run_settings(config));
-      ASSERT_FALSE(run->save(state));
-    }
-    LocalEvaluator evaluator(2);
-    while (state.next_iteration < until) {
-      run->append(run_iteration(state, evaluator));
-      ASSERT_FALSE(run->save(state));
-    }
+    const std::optional<std::string> error = testing::run_in_directory(dir, config, until);
+    ASSERT_FALSE(error) << *error;
   }
 
   // A copy of the reference pack of a run stopped at iteration 3.
