@@ -14,6 +14,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <future>
 #include <limits>
 #include <map>
@@ -215,6 +216,23 @@ TEST(RunConfig, DeepPresetDiffersFromChallengingOnlyWhereItSays) {
     config->mutable_poet()->clear_novelty_normalized();
   }
   EXPECT_EQ(c.SerializeAsString(), challenging.SerializeAsString());
+}
+
+// The deep run's control without transfer and its second seed (experiments/deep/) are the preset but for the mode
+// and the seed.
+TEST(RunConfig, TheDeepRunsControlAndSecondSeedDifferOnlyWhereTheySay) {
+  const pb::RunConfig deep = load_preset("deep.textproto");
+  for (const auto& [file, change] :
+       std::vector<std::pair<std::string, std::function<void(pb::RunConfig&)>>>{
+           {"no-transfer.textproto", [](pb::RunConfig& c) { c.set_mode(pb::RunConfig::POET_WITHOUT_TRANSFER); }},
+           {"seed-3.textproto", [](pb::RunConfig& c) { c.set_seed(3); }}}) {
+    const Expected<pb::RunConfig> config =
+        load_run_config((source_dir() / "experiments" / "deep" / file).string());
+    ASSERT_TRUE(config) << config.error();
+    pb::RunConfig expected = deep;
+    change(expected);
+    EXPECT_EQ(config->SerializeAsString(), expected.SerializeAsString()) << file;
+  }
 }
 
 TEST(RunConfig, ControlPresetsHaveTheirModes) {
