@@ -26,6 +26,9 @@ Expected<std::string> read_text_file(const std::filesystem::path& path, std::uin
 // is left behind either way.
 std::optional<std::string> write_file_atomically(const std::filesystem::path& path, std::string_view text);
 
+// Whether path is dir or lies inside it (both made absolute, symbolic links resolved where they exist).
+bool is_inside(const std::filesystem::path& path, const std::filesystem::path& dir);
+
 // Writes all of text to fd, retrying short writes and interrupts. Returns errno, or 0.
 int write_all(int fd, std::string_view text);
 

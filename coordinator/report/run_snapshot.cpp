@@ -30,18 +30,6 @@ void load_wall_times(RunSnapshot& snapshot) {
 
 }  // namespace
 
-bool is_inside(const fs::path& path, const fs::path& dir) {
-  std::error_code ec;
-  const fs::path p = fs::weakly_canonical(fs::absolute(path), ec);
-  const fs::path d = fs::weakly_canonical(fs::absolute(dir), ec);
-  auto pi = p.begin();
-  for (auto di = d.begin(); di != d.end(); ++di, ++pi) {
-    if (di->empty()) continue;  // a trailing separator
-    if (pi == p.end() || *pi != *di) return false;
-  }
-  return true;
-}
-
 Expected<RunSnapshot> read_run_snapshot(const fs::path& dir) {
   std::error_code ec;
   if (!fs::is_directory(dir, ec)) return Unexpected{dir.string() + ": no such directory"};

@@ -15,6 +15,7 @@
 #include "poet/run_state.h"
 #include "report/pair_stats_log.h"
 #include "run/wall_times.h"
+#include "text_file.h"  // is_inside: the analysis tools write nothing in the run directory
 
 namespace poet {
 
@@ -31,10 +32,6 @@ struct RunSnapshot {
   std::vector<WallTime> wall_times;
   std::string wall_times_problem;
 };
-
-// Whether path is dir or lies inside it (both made absolute, symbolic links resolved where they exist): the
-// analysis tools write nothing there.
-bool is_inside(const std::filesystem::path& path, const std::filesystem::path& dir);
 
 // Reads dir. Errors name the file and say what is wrong: a missing directory or file, a damaged or truncated
 // checkpoint or log, a checkpoint of a newer format than this build reads.

@@ -228,6 +228,9 @@ Expected<PackSummary> decode_pack(std::string_view bytes) {
 Expected<PackSummary> write_run_pack(const fs::path& run_dir, const fs::path& pack_path) {
   std::error_code ec;
   if (!fs::is_directory(run_dir, ec)) return Unexpected{run_dir.string() + ": no such directory"};
+  if (is_inside(pack_path, run_dir))
+    return Unexpected{pack_path.string() + ": inside the run directory " + run_dir.string() +
+                      "; a pack is written elsewhere (it would replace or add to the run's files)"};
   const fs::path checkpoint_path = run_dir / kCheckpointFile;
   Expected<std::string> checkpoint_bytes = read_text_file(checkpoint_path, kMaxCheckpointBytes);
   if (!checkpoint_bytes)

@@ -207,6 +207,12 @@ TEST_F(RunPackTest, PackingAChangedOrMissingRunIsAClearError) {
   ASSERT_FALSE(none);
   EXPECT_TRUE(contains(none.error(), "no such directory")) << none.error();
   run_to(root_ / "B", 2);
+  // a pack in the run directory, even over its checkpoint: refused, nothing changed
+  const std::string checkpoint = read(root_ / "B" / kCheckpointFile);
+  const Expected<PackSummary> inside = write_run_pack(root_ / "B", root_ / "B" / kCheckpointFile);
+  ASSERT_FALSE(inside);
+  EXPECT_TRUE(contains(inside.error(), "inside the run directory")) << inside.error();
+  EXPECT_EQ(read(root_ / "B" / kCheckpointFile), checkpoint);
   std::string stats = read(root_ / "B" / kStatsFile);
   stats[stats.size() - 3] = stats[stats.size() - 3] == '1' ? '2' : '1';
   std::ofstream(root_ / "B" / kStatsFile, std::ios::binary | std::ios::trunc) << stats;
