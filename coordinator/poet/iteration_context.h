@@ -19,7 +19,7 @@ struct IterationContext {
   Evaluator& evaluator;
   IterationReport& report;
   const RunSettings& settings;
-  int t = 0;  // this iteration
+  int t = 0;                        // this iteration
   PhaseObserver* phases = nullptr;  // told when each phase begins, if anyone listens
 
   // The key of the stream for (run seed, purpose, ids): every random number of a run is drawn by address.

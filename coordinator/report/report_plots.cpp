@@ -1,8 +1,8 @@
 #include "report/report_plots.h"
 
 #include <algorithm>
-#include <cstdio>
 #include <cmath>
+#include <cstdio>
 #include <functional>
 #include <map>
 #include <utility>
@@ -108,10 +108,10 @@ Expected<std::string> render_frontier_plot(PictureFormat format, const RunMetric
                    {"stump top", kChallengingStumpHeight, kLevelColours[3]}};
   double highest = 1.0;
   for (size_t k = 0; k < 3; ++k) {
-    ChartSeries solved{std::string(measures[k].label) + ", solved", {}, measures[k].colour, ChartSeries::Line::kSolid,
-                       true, 2.4};
-    ChartSeries admitted{std::string(measures[k].label) + ", admitted", {}, measures[k].colour,
-                         ChartSeries::Line::kDashed, true, 1.2};
+    ChartSeries solved{
+        std::string(measures[k].label) + ", solved", {}, measures[k].colour, ChartSeries::Line::kSolid, true, 2.4};
+    ChartSeries admitted{
+        std::string(measures[k].label) + ", admitted", {}, measures[k].colour, ChartSeries::Line::kDashed, true, 1.2};
     for (const FrontierPoint& f : metrics.frontier_over_time) {
       solved.points.emplace_back(f.iteration, f.solved[k] / measures[k].threshold);
       admitted.points.emplace_back(f.iteration, f.admitted[k] / measures[k].threshold);

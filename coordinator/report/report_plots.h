@@ -1,11 +1,11 @@
 #pragma once
 // The pictures of a run, drawn with cairo as PNG or SVG bytes: each pair's evaluation score over iterations;
-// environments created, admitted and solved per difficulty level over iterations; the obstacle frontier over iterations; ANNECS over iterations in both
-// definitions (poet/annecs.h), a named line each; the environment tree — each
-// pair a row from its creation to its retirement (green once solved), parent → child links, and accepted
-// transfers as arrows from source to target at their iteration; and the paper's rose plots, one per pair, of its
-// environment's parameters; and Figure 3's rose for one target: POET's environment in red, the closest-to-target
-// environment each control run solved in blue. Each returns the bytes or an error message.
+// environments created, admitted and solved per difficulty level over iterations; the obstacle frontier over
+// iterations; ANNECS over iterations in both definitions (poet/annecs.h), a named line each; the environment tree —
+// each pair a row from its creation to its retirement (green once solved), parent → child links, and accepted transfers
+// as arrows from source to target at their iteration; and the paper's rose plots, one per pair, of its environment's
+// parameters; and Figure 3's rose for one target: POET's environment in red, the closest-to-target environment each
+// control run solved in blue. Each returns the bytes or an error message.
 
 #include <optional>
 #include <string>

@@ -22,8 +22,8 @@ namespace poet {
 struct RunSnapshot {
   std::filesystem::path dir;
   RunState state;
-  pb::RunConfig config;     // the checkpoint's config
-  std::string config_text;  // the same in text format (what config.textproto holds)
+  pb::RunConfig config;                // the checkpoint's config
+  std::string config_text;             // the same in text format (what config.textproto holds)
   std::vector<nlohmann::json> events;  // events.jsonl up to the checkpoint's size, one object per line
   std::vector<StatsRow> stats;         // pair_stats.csv up to the checkpoint's size
   bool live = false;                   // another process holds run.lock: the run is being written

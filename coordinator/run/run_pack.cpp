@@ -78,8 +78,8 @@ Expected<std::string> inflate_bytes(std::string_view stored, uint64_t raw_size, 
   std::string raw(static_cast<size_t>(raw_size), '\0');
   uLongf size = static_cast<uLongf>(raw_size);
   uLong consumed = static_cast<uLong>(stored.size());
-  const int rc = uncompress2(reinterpret_cast<Bytef*>(raw.data()), &size,
-                             reinterpret_cast<const Bytef*>(stored.data()), &consumed);
+  const int rc = uncompress2(reinterpret_cast<Bytef*>(raw.data()), &size, reinterpret_cast<const Bytef*>(stored.data()),
+                             &consumed);
   if (rc != Z_OK || size != raw_size || consumed != stored.size())
     return Unexpected{name + ": its compressed bytes are damaged (zlib: " +
                       (rc == Z_OK ? std::string("wrong length") : std::string(zError(rc))) + ")"};
@@ -256,7 +256,8 @@ Expected<PackSummary> write_run_pack(const fs::path& run_dir, const fs::path& pa
   if (fs::exists(wall_path, ec)) {
     Expected<std::vector<WallTime>> lines = read_wall_times(wall_path);
     if (!lines)
-      return Unexpected{wall_path.string() + ": " + lines.error() + " (move it away to pack the run without its times)"};
+      return Unexpected{wall_path.string() + ": " + lines.error() +
+                        " (move it away to pack the run without its times)"};
     std::erase_if(*lines, [&](const WallTime& w) { return w.iteration >= next_iteration; });
     entries.push_back({kWallTimesFile, wall_times_text(*lines)});
   }
@@ -304,8 +305,8 @@ Expected<PackSummary> restore_run_pack(const fs::path& pack_path, const fs::path
   // rename(2) replaces an empty directory and fails on one that is not: a file written into the destination
   // since the check above is never overwritten
   if (std::rename(staging.c_str(), dir->c_str()) != 0)
-    return fail(run_dir.string() + ": cannot move the restored run into place: " +
-                std::generic_category().message(errno));
+    return fail(run_dir.string() +
+                ": cannot move the restored run into place: " + std::generic_category().message(errno));
   sync_directory(parent);
   return summary;
 }

@@ -51,8 +51,8 @@ std::string encode_pack(const std::vector<PackEntry>& entries);
 Expected<PackSummary> decode_pack(std::string_view bytes);
 
 // Packs the run in run_dir into pack_path (written atomically; an existing file is replaced), then reads the
-// file back and decodes it, so a pack that was written is one that restores. A pack_path inside run_dir is refused. Reads only: the run may be going
-// on (the pack holds its last checkpoint). Errors name the file.
+// file back and decodes it, so a pack that was written is one that restores. A pack_path inside run_dir is refused.
+// Reads only: the run may be going on (the pack holds its last checkpoint). Errors name the file.
 Expected<PackSummary> write_run_pack(const std::filesystem::path& run_dir, const std::filesystem::path& pack_path);
 
 // Restores the pack at pack_path as the run directory run_dir, which must not exist or be an empty directory:

@@ -51,7 +51,8 @@ Expected<std::vector<WallTime>> parse_wall_times(std::string_view text) {
     if (line_number == 1) {
       const std::string header = std::string(line) + "\n";
       if (header != kWallTimesHeader && header != kWallTimesHeaderWithoutPhases)
-        return Unexpected{where + ": expected the header " + std::string(kWallTimesHeader, sizeof kWallTimesHeader - 2)};
+        return Unexpected{where + ": expected the header " +
+                          std::string(kWallTimesHeader, sizeof kWallTimesHeader - 2)};
       with_phases = header == kWallTimesHeader;
       continue;
     }
@@ -69,7 +70,8 @@ Expected<std::vector<WallTime>> parse_wall_times(std::string_view text) {
     const auto [it_end, it_ec] = std::from_chars(fields[0].data(), fields[0].data() + fields[0].size(), w.iteration);
     if (it_ec != std::errc() || it_end != fields[0].data() + fields[0].size() || w.iteration < 0)
       return Unexpected{where + ": the iteration is not a non-negative integer"};
-    if (!parse_seconds(fields[1], w.seconds)) return Unexpected{where + ": wall_s is not a finite, non-negative number"};
+    if (!parse_seconds(fields[1], w.seconds))
+      return Unexpected{where + ": wall_s is not a finite, non-negative number"};
     if (fields.size() == 6) {
       w.phases.emplace();
       for (size_t p = 0; p < 4; ++p)

@@ -5,8 +5,8 @@
 // checkpoint was written, summed over them (a resume continues the clock from the last line the checkpoint has
 // seen), then the seconds each phase of an iteration (poet/phase_observer.h) took since the line before. A file of
 // an earlier build (header "iteration,wall_s", two fields a line) reads as before; a resume writes it again with the
-// full header, its old lines keeping their two fields. Machine-dependent and outside the run's determinism: nothing in it is read back into
-// the state, so a lost or damaged file costs only the times.
+// full header, its old lines keeping their two fields. Machine-dependent and outside the run's determinism: nothing in
+// it is read back into the state, so a lost or damaged file costs only the times.
 
 #include <array>
 #include <cstdint>
@@ -21,8 +21,7 @@
 namespace poet {
 
 inline constexpr char kWallTimesFile[] = "wall_times.csv";
-inline constexpr char kWallTimesHeader[] =
-    "iteration,wall_s,reproduction_s,es_steps_s,evaluations_s,transfer_s\n";
+inline constexpr char kWallTimesHeader[] = "iteration,wall_s,reproduction_s,es_steps_s,evaluations_s,transfer_s\n";
 inline constexpr char kWallTimesHeaderWithoutPhases[] = "iteration,wall_s\n";
 // A line is a few bytes; this is some ten million iterations.
 inline constexpr std::uintmax_t kMaxWallTimesBytes = std::uintmax_t{256} << 20;

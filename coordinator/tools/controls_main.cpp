@@ -132,8 +132,9 @@ int main(int argc, char** argv) {
   }
   const Pair* pair = run->state.find(pair_id);
   if (!pair || pair->env.encoding.is_cppn()) {
-    std::cerr << "poet-controls: " << (pair ? "pair " + std::to_string(pair_id) + " has a CPPN course, which has no 5-vector"
-                                            : "no pair " + std::to_string(pair_id) + " in " + run_dir)
+    std::cerr << "poet-controls: "
+              << (pair ? "pair " + std::to_string(pair_id) + " has a CPPN course, which has no 5-vector"
+                       : "no pair " + std::to_string(pair_id) + " in " + run_dir)
               << "\n";
     return kExitUsage;
   }
@@ -194,13 +195,14 @@ int main(int argc, char** argv) {
               pair->solved() ? ("solved at " + std::to_string(pair->first_solved_iteration)).c_str() : "not solved");
   std::printf("POET's lineage: %lld ES steps, %s environment steps\n\n", static_cast<long long>(lineage_steps),
               lineage_env ? number(static_cast<double>(*lineage_env) / 1e6, "%.1f M").c_str() : "(not recorded)");
-  std::printf("| control | seed | ES steps | environment steps | best on the target | solved | closest solved | "
-              "normalised distance |\n|---|---|---|---|---|---|---|---|\n");
+  std::printf(
+      "| control | seed | ES steps | environment steps | best on the target | solved | closest solved | "
+      "normalised distance |\n|---|---|---|---|---|---|---|---|\n");
   for (const ControlRow& r : rows)
-    std::printf("| %s | %llu | %lld | %.1f M | %s | %s | %s | %s |\n", r.mode.c_str(),
-                static_cast<unsigned long long>(r.seed), static_cast<long long>(r.es_steps), r.env_steps / 1e6,
-                number(r.best_on_target, "%.1f").c_str(),
-                r.solved_at_es_step ? ("yes, ES step " + std::to_string(*r.solved_at_es_step)).c_str() : "no",
-                r.closest.distance ? r.closest.closest_env.c_str() : "nothing", number(r.closest.distance, "%.3f").c_str());
+    std::printf(
+        "| %s | %llu | %lld | %.1f M | %s | %s | %s | %s |\n", r.mode.c_str(), static_cast<unsigned long long>(r.seed),
+        static_cast<long long>(r.es_steps), r.env_steps / 1e6, number(r.best_on_target, "%.1f").c_str(),
+        r.solved_at_es_step ? ("yes, ES step " + std::to_string(*r.solved_at_es_step)).c_str() : "no",
+        r.closest.distance ? r.closest.closest_env.c_str() : "nothing", number(r.closest.distance, "%.3f").c_str());
   return 0;
 }

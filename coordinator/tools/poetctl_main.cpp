@@ -137,13 +137,15 @@ int main(int argc, char** argv) {
   picture->add_option("--run-dir", picture_run_dir, "Draw from this run directory's files instead (never changed)");
   std::string pack_dir, pack_file;
   auto* pack = app.add_subcommand(
-      "pack", "Write RUN_DIR's run (its last checkpoint and the logs it has seen; the run may be going on) into one "
-              "file, to go on elsewhere with poet-coordinator --resume --from-pack (no socket involved)");
+      "pack",
+      "Write RUN_DIR's run (its last checkpoint and the logs it has seen; the run may be going on) into one "
+      "file, to go on elsewhere with poet-coordinator --resume --from-pack (no socket involved)");
   pack->add_option("run_dir", pack_dir, "The run directory")->required();
   pack->add_option("file", pack_file, "The pack to write (replaced if it exists)")->required();
   auto* unpack = app.add_subcommand(
-      "unpack", "Restore a pack into DIR (new or empty) without running it: read it with poet-report, or go on with "
-                "poet-coordinator --run-dir DIR --resume");
+      "unpack",
+      "Restore a pack into DIR (new or empty) without running it: read it with poet-report, or go on with "
+      "poet-coordinator --run-dir DIR --resume");
   unpack->add_option("file", pack_file, "The pack")->required();
   unpack->add_option("dir", pack_dir, "The run directory to make")->required();
   if (const std::optional<int> code = parse_command_line(app, argc, argv)) return *code;

@@ -7,8 +7,8 @@
 #include <CLI/CLI.hpp>
 #include <cerrno>
 #include <climits>
-#include <cstdint>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
@@ -23,8 +23,8 @@
 #include "report/goal_switching.h"
 #include "report/report_json.h"
 #include "report/report_plots.h"
-#include "report/run_metrics.h"
 #include "report/run_cut.h"
+#include "report/run_metrics.h"
 #include "report/run_pictures.h"
 #include "report/run_snapshot.h"
 #include "tool_flags.h"
@@ -153,10 +153,11 @@ void print_table(const RunSnapshot& run, const RunMetrics& m, const Coverage& co
   std::printf("ANNECS at archiving: %d — %s\n\n", m.annecs.at_archiving, kAnnecsAtArchiving);
   if (!m.frontier_over_time.empty()) {
     const FrontierPoint& f = m.frontier_over_time.back();
-    std::printf("Obstacle frontier (the hardest value solved; admitted in brackets; Table 1's conditions: roughness "
-                "≥ 4.5, gap top ≥ 6.0, stump top ≥ 2.4)\n  roughness %.1f (%.1f), gap top %.1f (%.1f), stump top "
-                "%.1f (%.1f)\n\n",
-                f.solved[0], f.admitted[0], f.solved[1], f.admitted[1], f.solved[2], f.admitted[2]);
+    std::printf(
+        "Obstacle frontier (the hardest value solved; admitted in brackets; Table 1's conditions: roughness "
+        "≥ 4.5, gap top ≥ 6.0, stump top ≥ 2.4)\n  roughness %.1f (%.1f), gap top %.1f (%.1f), stump top "
+        "%.1f (%.1f)\n\n",
+        f.solved[0], f.admitted[0], f.solved[1], f.admitted[1], f.solved[2], f.admitted[2]);
   }
 
   std::printf(
@@ -230,9 +231,10 @@ int main(int argc, char** argv) {
   int per_level = kDefaultCoveragePerLevel;
   app.add_option("--run-dir", run_dir, "Run directory (finished, live or resumed)")->required();
   app.add_option("--json", json_path, "Write the metrics as JSON to this file ('-' for stdout, instead of the table)");
-  app.add_option("--plots", plots_dir,
-                 "Write scores.png, levels.png, annecs.png, frontier.png, tree.png and lineage.png (the courses along the last "
-                 "lineage the table shows) into this directory");
+  app.add_option(
+      "--plots", plots_dir,
+      "Write scores.png, levels.png, annecs.png, frontier.png, tree.png and lineage.png (the courses along the last "
+      "lineage the table shows) into this directory");
   app.add_option("--target", target_path,
                  "Environment file (envs/*.env.json form): report the solved environment closest to it (default: a "
                  "control run's own target)");

@@ -222,12 +222,10 @@ TEST(RunConfig, DeepPresetDiffersFromChallengingOnlyWhereItSays) {
 // and the seed.
 TEST(RunConfig, TheDeepRunsControlAndSecondSeedDifferOnlyWhereTheySay) {
   const pb::RunConfig deep = load_preset("deep.textproto");
-  for (const auto& [file, change] :
-       std::vector<std::pair<std::string, std::function<void(pb::RunConfig&)>>>{
+  for (const auto& [file, change] : std::vector<std::pair<std::string, std::function<void(pb::RunConfig&)>>>{
            {"no-transfer.textproto", [](pb::RunConfig& c) { c.set_mode(pb::RunConfig::POET_WITHOUT_TRANSFER); }},
            {"seed-3.textproto", [](pb::RunConfig& c) { c.set_seed(3); }}}) {
-    const Expected<pb::RunConfig> config =
-        load_run_config((source_dir() / "experiments" / "deep" / file).string());
+    const Expected<pb::RunConfig> config = load_run_config((source_dir() / "experiments" / "deep" / file).string());
     ASSERT_TRUE(config) << config.error();
     pb::RunConfig expected = deep;
     change(expected);

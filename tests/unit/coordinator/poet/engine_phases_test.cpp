@@ -34,8 +34,8 @@ TEST(EnginePhases, AnnouncedInOrderOnlyWhenTheyRun) {
   PhaseLog log;
   run_iteration(s, ev, &log);  // 4: reproduction and transfer (a child was admitted: two pairs)
   run_iteration(s, ev, &log);  // 5: ES steps and evaluations only
-  EXPECT_EQ(log.seen, (std::vector<int>{kReproduction, kEsSteps, kEvaluations, kTransfer, -1, kEsSteps, kEvaluations,
-                                        -1}));
+  EXPECT_EQ(log.seen,
+            (std::vector<int>{kReproduction, kEsSteps, kEvaluations, kTransfer, -1, kEsSteps, kEvaluations, -1}));
 }
 
 TEST(EnginePhases, AnObserverChangesNoNumber) {

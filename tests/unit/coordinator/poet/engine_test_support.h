@@ -5,9 +5,9 @@
 
 #include "config/run_config.h"
 #include "envgen/named_courses.h"
+#include "evaluator/local_evaluator.h"
 #include "poet/engine.h"
 #include "policy/mlp.h"
-#include "evaluator/local_evaluator.h"
 #include "run/event_json.h"
 #include "run/run_directory.h"
 

@@ -134,8 +134,8 @@ TEST_F(RunPackTest, EveryDamagedByteIsRefusedAndNothingIsWritten) {
 
 TEST_F(RunPackTest, TruncatedExtendedAndForeignFilesAreClearErrors) {
   const std::string good = pack_at_3();
-  for (size_t size : {size_t{0}, size_t{5}, size_t{14}, size_t{40}, good.size() / 2, good.size() - 5,
-                      good.size() - 1}) {
+  for (size_t size :
+       {size_t{0}, size_t{5}, size_t{14}, size_t{40}, good.size() / 2, good.size() - 5, good.size() - 1}) {
     const Expected<PackSummary> cut = decode_pack(std::string_view(good).substr(0, size));
     ASSERT_FALSE(cut) << size;
     EXPECT_TRUE(contains(cut.error(), size < 8 ? "not a run pack" : "truncated")) << size << ": " << cut.error();

@@ -20,7 +20,6 @@ namespace fs = std::filesystem;
 
 class WallTimesTest : public ::testing::Test {
  protected:
-
   std::string text() const {
     std::ifstream in(dir_ / kWallTimesFile);
     std::stringstream s;
@@ -40,7 +39,9 @@ TEST_F(WallTimesTest, ANewRunStartsTheClockAtZero) {
   EXPECT_EQ(w.carried(), 0);
   EXPECT_FALSE(w.record(0, 1.5, {0, 1.0, 0.25, 0}));
   EXPECT_FALSE(w.record(1, 3.25, {0.125, 1.0, 0.25, 0.5}));
-  EXPECT_EQ(text(), "iteration,wall_s,reproduction_s,es_steps_s,evaluations_s,transfer_s\n0,1.500,0.000,1.000,0.250,0.000\n1,3.250,0.125,1.000,0.250,0.500\n");
+  EXPECT_EQ(text(),
+            "iteration,wall_s,reproduction_s,es_steps_s,evaluations_s,transfer_s\n0,1.500,0.000,1.000,0.250,0.000\n1,3."
+            "250,0.125,1.000,0.250,0.500\n");
   const Expected<std::vector<WallTime>> lines = parse_wall_times(text());
   ASSERT_TRUE(lines) << lines.error();
   ASSERT_TRUE((*lines)[1].phases);
@@ -55,7 +56,9 @@ TEST_F(WallTimesTest, AResumeKeepsTheCheckpointsLinesAndContinuesTheClock) {
   EXPECT_EQ(w.carried(), 2.0);
   EXPECT_FALSE(w.record(2, 0.5, {0, 0.25, 0.125, 0}));
   // an earlier build's file: its lines keep their two fields under the full header
-  EXPECT_EQ(text(), "iteration,wall_s,reproduction_s,es_steps_s,evaluations_s,transfer_s\n0,1.000\n1,2.000\n2,2.500,0.000,0.250,0.125,0.000\n");
+  EXPECT_EQ(text(),
+            "iteration,wall_s,reproduction_s,es_steps_s,evaluations_s,transfer_s\n0,1.000\n1,2.000\n2,2.500,0.000,0."
+            "250,0.125,0.000\n");
   const Expected<std::vector<WallTime>> lines = parse_wall_times(text());
   ASSERT_TRUE(lines) << lines.error();
   ASSERT_EQ(lines->size(), 3u);
@@ -97,7 +100,8 @@ TEST(ParseWallTimes, RefusesWhatTheWriterNeverWrites) {
       {"iteration,wall_s\n1,1.0\n1,2.0\n", "does not follow"},
       {"iteration,wall_s\n1,3.0\n2,2.0\n", "goes back"},
       {"iteration,wall_s\n1,3.0,0,0,0,0\n", "expected iteration,wall_s"},  // phases under the old header
-      {"iteration,wall_s,reproduction_s,es_steps_s,evaluations_s,transfer_s\n1,3.0,0,0,0\n", "or every phase's seconds"},
+      {"iteration,wall_s,reproduction_s,es_steps_s,evaluations_s,transfer_s\n1,3.0,0,0,0\n",
+       "or every phase's seconds"},
       {"iteration,wall_s,reproduction_s,es_steps_s,evaluations_s,transfer_s\n1,3.0,0,0,-1,0\n", "field 5"},
       {"iteration,wall_s,reproduction_s,es_steps_s,evaluations_s,transfer_s\n1,3.0,0,0,0,nan\n", "field 6"},
   };
