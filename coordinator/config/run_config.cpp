@@ -177,6 +177,7 @@ void check_poet(Checks& c, const pb::PoetConfig& poet, pb::RunConfig::Mode mode)
     c.fail("poet.keep_admission_selection", "true contradicts mode " + pb::RunConfig::Mode_Name(mode) +
                                                 " (it applies to mode POET_WITHOUT_TRANSFER only)");
   c.known_enum("poet.novelty", poet.novelty(), pb::NoveltyMeasure_IsValid);
+  c.known_enum("poet.reproduction_agent", poet.reproduction_agent(), pb::ReproductionAgent_IsValid);
   // a normalisation of the 5-vectors means nothing to PATA-EC; taking it silently would hide a mistaken config
   // A CPPN course's 5-vector is all zeros: the encoding distance would give every child novelty 0.
   if (poet.environments() == pb::CPPN_TERRAIN && poet.novelty() == pb::ENCODING_DISTANCE &&
@@ -394,6 +395,8 @@ PoetSettings poet_settings(const pb::PoetConfig& p) {
   s.novelty_k = p.novelty_k();
   s.novelty_normalized = p.novelty_normalized();
   s.novelty = p.novelty() == pb::PATA_EC ? NoveltyMeasure::kPataEc : NoveltyMeasure::kEncodingDistance;
+  s.reproduction_agent =
+      p.reproduction_agent() == pb::BEST_THETA ? ReproductionAgent::kBestTheta : ReproductionAgent::kCurrentTheta;
   s.child_ranking =
       p.child_ranking() == pb::LOWEST_SCORE_FIRST ? ChildRanking::kLowestScoreFirst : ChildRanking::kNovelty;
   s.admission_proposal = proposal_kind(p.admission_proposal());

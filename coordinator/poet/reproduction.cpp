@@ -37,6 +37,18 @@ bool archived(const RunState& state, const EnvEncoding& encoding) {
                      [&](const Pair& p) { return p.env.encoding.same_genes(encoding); });
 }
 
+// A pair's agent in reproduction and admission (poet.reproduction_agent): its current θ and latest score, or the
+// best θ it has had and that θ's score.
+const std::vector<double>& agent_theta(const IterationContext& ctx, const Pair& p) {
+  const bool best = ctx.settings.poet.reproduction_agent == ReproductionAgent::kBestTheta && !p.best_theta.empty();
+  return best ? p.best_theta : p.theta;
+}
+
+double agent_score(const IterationContext& ctx, const Pair& p) {
+  const bool best = ctx.settings.poet.reproduction_agent == ReproductionAgent::kBestTheta && !p.best_theta.empty();
+  return best ? p.best_score : p.latest_score;
+}
+
 // The event of a mutation attempt; duplicate, or the minimal-criterion score and verdict, are added when known.
 ChildEvent child_event(const Child& child) {
   ChildEvent e;
@@ -62,7 +74,7 @@ std::optional<Start> best_start(IterationContext& ctx, const Child& child) {
   std::vector<size_t> direct;
   for (size_t i : active) {
     const Pair& source = ctx.state.pairs[i];
-    direct.push_back(first.add_evaluation(share(source.theta), child.env,
+    direct.push_back(first.add_evaluation(share(agent_theta(ctx, source)), child.env,
                                           ctx.key("admission-eval", {u(ctx.t), u(child.attempt), u(source.id), 0})));
   }
   first.run(ctx.evaluator, ctx.state.counters);
@@ -73,7 +85,7 @@ std::optional<Start> best_start(IterationContext& ctx, const Child& child) {
   std::vector<size_t> steps;
   for (size_t i : active) {
     const Pair& source = ctx.state.pairs[i];
-    steps.push_back(steps_batch.add_es_step({share(source.theta), child.env, fresh.sigma,
+    steps.push_back(steps_batch.add_es_step({share(agent_theta(ctx, source)), child.env, fresh.sigma,
                                              ctx.key("admission-noise", {u(ctx.t), u(child.attempt), u(source.id)})},
                                             ctx.settings.es.perturbations));
   }
@@ -86,7 +98,7 @@ std::optional<Start> best_start(IterationContext& ctx, const Child& child) {
   for (size_t s = 0; s < active.size(); ++s) {
     const Pair& source = ctx.state.pairs[active[s]];
     const EsOutcome& out = outcomes[s];
-    proposals.push_back(propose(kind, source.theta, out.gradient, fresh, fresh.lr, ctx.settings.es));
+    proposals.push_back(propose(kind, agent_theta(ctx, source), out.gradient, fresh, fresh.lr, ctx.settings.es));
     require_finite(ctx, source, proposals.back(),
                    "its admission proposal for child attempt " + std::to_string(child.attempt));
     proposal_evals.push_back(second.add_evaluation(
@@ -98,7 +110,7 @@ std::optional<Start> best_start(IterationContext& ctx, const Child& child) {
   for (size_t s = 0; s < active.size(); ++s) {
     const Pair& source = ctx.state.pairs[active[s]];
     const Evaluation d = first.evaluation(direct[s]);
-    if (best.source == kNone || d.score > best.eval.score) best = {source.id, false, source.theta, d};
+    if (best.source == kNone || d.score > best.eval.score) best = {source.id, false, agent_theta(ctx, source), d};
     const Evaluation p = second.evaluation(proposal_evals[s]);
     if (p.score > best.eval.score) best = {source.id, true, proposals[s], p};
   }
@@ -176,7 +188,7 @@ void reproduce(IterationContext& ctx) {
   // a. eligible parents
   std::vector<size_t> eligible;
   for (size_t i : state.active_indices())
-    if (state.pairs[i].latest_score >= poet.repro_threshold) eligible.push_back(i);
+    if (agent_score(ctx, state.pairs[i]) >= poet.repro_threshold) eligible.push_back(i);
   if (eligible.empty()) {
     ctx.event(ReproductionEvent{});
     return;
@@ -205,7 +217,7 @@ void reproduce(IterationContext& ctx) {
   for (const Child& c : children) {
     const Pair* parent = state.find(c.parent);
     mc_handles.push_back(
-        mc_batch.add_evaluation(share(parent->theta), c.env, ctx.key("mc-eval", {u(ctx.t), u(c.attempt)})));
+        mc_batch.add_evaluation(share(agent_theta(ctx, *parent)), c.env, ctx.key("mc-eval", {u(ctx.t), u(c.attempt)})));
   }
   mc_batch.run(ctx.evaluator, state.counters);
   std::vector<Child> survivors;
@@ -250,7 +262,7 @@ void reproduce(IterationContext& ctx) {
       start = std::move(*found);
     } else {
       const Pair* parent = state.find(c.parent);
-      start = {parent->id, false, parent->theta, c.mc};
+      start = {parent->id, false, agent_theta(ctx, *parent), c.mc};
     }
     admit(ctx, c, std::move(start));
     admitted += 1;

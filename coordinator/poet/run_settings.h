@@ -24,6 +24,7 @@ enum class TransferTest { kFull, kThreshold };             // N(N−1) proposal 
 enum class ChildRanking { kNovelty, kLowestScoreFirst };   // the order admission walks the passing children in
 enum class NoveltyMeasure { kEncodingDistance, kPataEc };  // 5-vectors' distance, or Enhanced POET's PATA-EC
 enum class EnvironmentKind { kObstacleCourses, kCppnTerrain };  // what a POET run's first environment is
+enum class ReproductionAgent { kCurrentTheta, kBestTheta };  // a pair's agent in reproduction and admission
 
 // The episode settings every task of a run shares.
 struct EpisodeSettings {
@@ -53,6 +54,7 @@ struct PoetSettings {
   bool keep_admission_selection = false;
   TransferTest transfer_test = TransferTest::kFull;
   EnvironmentKind environments = EnvironmentKind::kObstacleCourses;
+  ReproductionAgent reproduction_agent = ReproductionAgent::kCurrentTheta;
   MutationOptions mutation;
 
   bool passes_mc(double score) const { return mc_low <= score && score <= mc_high; }

@@ -199,13 +199,14 @@ TEST(RunConfig, EnhancedPresetIsEnhancedPoet) {
     EXPECT_EQ((c.poet().*field)(), (challenging.poet().*field)());
 }
 
-// The deep preset is the challenging one but for the two changes it names: a longer life (active cap) and
-// normalised novelty; the paper's criteria stay.
+// The deep preset is the challenging one but for the three changes it names: a longer life (active cap),
+// normalised novelty and reproduction from the best θ; the paper's criteria stay.
 TEST(RunConfig, DeepPresetDiffersFromChallengingOnlyWhereItSays) {
   pb::RunConfig c = load_preset("deep.textproto");
   pb::RunConfig challenging = load_preset("challenging.textproto");
   EXPECT_EQ(c.poet().active_cap(), 8);
   EXPECT_TRUE(c.poet().novelty_normalized());
+  EXPECT_EQ(c.poet().reproduction_agent(), pb::BEST_THETA);
   EXPECT_EQ(c.poet().repro_threshold(), 200);
   EXPECT_EQ(c.poet().mc_low(), 50);
   EXPECT_EQ(c.poet().mc_high(), 300);
@@ -214,6 +215,7 @@ TEST(RunConfig, DeepPresetDiffersFromChallengingOnlyWhereItSays) {
     config->clear_iterations();
     config->mutable_poet()->clear_active_cap();
     config->mutable_poet()->clear_novelty_normalized();
+    config->mutable_poet()->clear_reproduction_agent();
   }
   EXPECT_EQ(c.SerializeAsString(), challenging.SerializeAsString());
 }
@@ -332,7 +334,7 @@ TEST(RunConfig, RunSettingsCarryEveryField) {
            mc_low: 10 mc_high: 300 active_cap: 6 novelty_k: 3 novelty_normalized: true
            child_ranking: LOWEST_SCORE_FIRST admission_proposal: ADAM_PROPOSAL transfer_proposal: SGD_PROPOSAL
            solved_score: 250 keep_admission_selection: true transfer_test: THRESHOLD_TRANSFER_TEST
-           environments: CPPN_TERRAIN
+           environments: CPPN_TERRAIN reproduction_agent: BEST_THETA
            mutation { roughness: false pits: false stumps: false stairs: true mutate_stair_steps: true
                       all_types: false } }
     walker { push_scale: 0 lidar: FIRST max_steps: 500 stochastic_envs: true eval_episodes: 3 }
@@ -378,6 +380,7 @@ TEST(RunConfig, RunSettingsCarryEveryField) {
   EXPECT_EQ(p.solved_score, 250);
   EXPECT_TRUE(p.keep_admission_selection);
   EXPECT_EQ(p.transfer_test, TransferTest::kThreshold);
+  EXPECT_EQ(p.reproduction_agent, ReproductionAgent::kBestTheta);
   EXPECT_EQ(p.environments, EnvironmentKind::kCppnTerrain);
   const MutationOptions& m = p.mutation;
   EXPECT_FALSE(m.roughness);

@@ -51,6 +51,43 @@ TEST(Reproduction, NoEligibleParentMeansNoChildren) {
   EXPECT_EQ(s.counters.children_tried, 0);
 }
 
+// poet.reproduction_agent BEST_THETA: a pair whose walker an ES step broke (latest score below the threshold) is
+// eligible by its best score, and its best θ is evaluated on the children, tried in the admission walk (direct and
+// as a proposal's start) and given to the admitted child.
+TEST(Reproduction, TheBestThetaCanBeThePairsAgent) {
+  pb::RunConfig c = tiny_config();
+  c.mutable_poet()->set_max_admitted(1);
+  c.mutable_poet()->set_reproduction_agent(pb::BEST_THETA);
+  RunState s = state_at(c, 4, 120);  // latest 120: not eligible by its current θ
+  Pair& parent = s.pairs[0];
+  parent.best_score = 250;
+  parent.best_theta = parent.theta;
+  for (double& v : parent.best_theta) v += 0.25;
+  const std::vector<double> best = parent.best_theta;
+  const std::vector<double> current = parent.theta;
+  ScriptedEvaluator ev([](int, size_t, const RolloutTask& t) { return scored(t.perturbation ? 0 : 100); });
+  const IterationReport r = run_iteration(s, ev);
+  EXPECT_EQ(events_named(r, "reproduction").at(0)["eligible"], 1);
+  ASSERT_TRUE(is_mc_batch(ev.batches[0]));
+  for (const RolloutTask& t : ev.batches[0]) EXPECT_EQ(*t.theta, best);  // the minimal criterion
+  for (const RolloutTask& t : ev.batches[1]) EXPECT_EQ(*t.theta, best);  // the walk's direct start
+  for (const RolloutTask& t : ev.batches[2]) {                           // the proposal's ES step around it
+    ASSERT_TRUE(t.perturbation);
+    EXPECT_EQ(*t.theta, best);
+  }
+  ASSERT_EQ(s.pairs.size(), 2u);
+  EXPECT_EQ(s.pairs[1].initial_source_pair, 0);
+  EXPECT_FALSE(s.pairs[1].initial_by_proposal);  // ties go to the direct start: the best θ itself
+  EXPECT_EQ(s.pairs[1].best_theta, best);
+  EXPECT_EQ(s.pairs[0].theta.size(), current.size());  // ES goes on from the current θ
+  // with the default (CURRENT_THETA) the same pair is no parent
+  c.mutable_poet()->clear_reproduction_agent();
+  RunState t = state_at(c, 4, 120);
+  t.pairs[0].best_score = 250;
+  ScriptedEvaluator plain([](int, size_t, const RolloutTask& task) { return scored(task.perturbation ? 0 : 100); });
+  EXPECT_EQ(events_named(run_iteration(t, plain), "reproduction").at(0)["eligible"], 0);
+}
+
 TEST(Reproduction, OnlyOnMultiplesOfTheInterval) {
   RunState s = state_at(tiny_config(), 5, 250);
   ScriptedEvaluator ev(constant(100));
