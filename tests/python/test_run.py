@@ -168,3 +168,20 @@ def test_the_time_per_stage_splits_the_wall_time_by_phase(run_dir):
     bad = subprocess.run([sys.executable, script, str(run_dir), "--stage-iterations", "0"], capture_output=True,
                          text=True, timeout=60)
     assert bad.returncode == 2 and "at least 1" in bad.stderr
+
+
+def test_the_eligibility_table_counts_the_reproductions_and_their_parents(run_dir):
+    script = os.path.join(os.environ.get("POET_SOURCE_DIR", ""), "experiments", "eligibility.py")
+    done = subprocess.run([sys.executable, script, str(run_dir), "--block", "4"], capture_output=True, text=True,
+                          timeout=120)
+    assert done.returncode == 0, done.stderr
+    rows = [line.split("|")[1:-1] for line in done.stdout.splitlines() if line.startswith("| ") and "–" in line]
+    run = poet.Run(run_dir)
+    events = run.events
+    reproductions = events[events["event"] == "reproduction"]
+    assert sum(int(row[1]) for row in rows) == len(reproductions)  # every reproduction is in a row
+    assert sum(int(row[3]) for row in rows) == int(reproductions["admitted"].fillna(0).sum())
+    # the run's threshold (-1000) makes every pair eligible: none without a parent, latest and best alike
+    assert "≥ -1000" in done.stdout
+    for row in rows:
+        assert int(row[2]) == 0 and float(row[4]) == float(row[5]) > 0
