@@ -228,9 +228,6 @@ Expected<PackSummary> decode_pack(std::string_view bytes) {
 Expected<PackSummary> write_run_pack(const fs::path& run_dir, const fs::path& pack_path) {
   std::error_code ec;
   if (!fs::is_directory(run_dir, ec)) return Unexpected{run_dir.string() + ": no such directory"};
-  if (is_inside(pack_path, run_dir))
-    return Unexpected{pack_path.string() + ": inside the run directory " + run_dir.string() +
-                      "; a pack is written elsewhere (it would replace or add to the run's files)"};
   const fs::path checkpoint_path = run_dir / kCheckpointFile;
   Expected<std::string> checkpoint_bytes = read_text_file(checkpoint_path, kMaxCheckpointBytes);
   if (!checkpoint_bytes)
@@ -240,6 +237,9 @@ Expected<PackSummary> write_run_pack(const fs::path& run_dir, const fs::path& pa
   if (!checkpoint->has_events_bytes() || !checkpoint->has_stats_bytes())
     return Unexpected{checkpoint_path.string() + ": no log sizes recorded (not a run directory's checkpoint)"};
   const int next_iteration = checkpoint->next_iteration();
+  if (is_inside(pack_path, run_dir))
+    return Unexpected{pack_path.string() + ": inside the run directory " + run_dir.string() +
+                      "; a pack is written elsewhere (it would replace or add to the run's files)"};
 
   std::vector<PackEntry> entries = {{kCheckpointFile, std::move(*checkpoint_bytes)}};
   const auto crc = [](bool has, uint32_t value) { return has ? std::optional<uint32_t>(value) : std::nullopt; };
