@@ -3,25 +3,12 @@
 #include <google/protobuf/io/coded_stream.h>
 #include <google/protobuf/io/zero_copy_stream_impl_lite.h>
 
-
 #include "run/crc32.h"
+#include "run/little_endian.h"
 #include "text_file.h"
 #include "text_format.h"
 
 namespace poet {
-namespace {
-
-void put_le(std::string& out, uint64_t value, int bytes) {
-  for (int i = 0; i < bytes; ++i) out.push_back(static_cast<char>((value >> (8 * i)) & 0xff));
-}
-
-uint64_t get_le(std::string_view in, size_t offset, int bytes) {
-  uint64_t value = 0;
-  for (int i = bytes - 1; i >= 0; --i) value = (value << 8) | static_cast<unsigned char>(in[offset + i]);
-  return value;
-}
-
-}  // namespace
 
 std::string encode_checkpoint_file(const pb::Checkpoint& checkpoint) {
   std::string body;

@@ -13,6 +13,7 @@
 #include "run/checkpoint.h"
 #include "run/checkpoint_file.h"
 #include "run/crc32.h"
+#include "run/little_endian.h"
 #include "run/log_prefix.h"
 #include "run/run_directory.h"
 #include "run/wall_times.h"
@@ -26,14 +27,6 @@ constexpr std::array<const char*, 4> kPackedFiles = {kCheckpointFile, kEventsFil
 // deflate never does better than about 1032:1, so a larger claimed size is a lie told to make us allocate
 constexpr uint64_t kMaxDeflateRatio = 1032;
 constexpr uint64_t kMaxEntryBytes = uint64_t{2} << 30;
-
-void put_u32(std::string& out, uint32_t v) {
-  for (int i = 0; i < 4; ++i) out.push_back(static_cast<char>((v >> (8 * i)) & 0xff));
-}
-
-void put_u64(std::string& out, uint64_t v) {
-  for (int i = 0; i < 8; ++i) out.push_back(static_cast<char>((v >> (8 * i)) & 0xff));
-}
 
 // Reads little-endian fields from the front of the bytes; every read says whether the bytes were long enough.
 class Reader {
@@ -51,11 +44,10 @@ class Reader {
 
  private:
   template <class T>
-  bool number(T& v, size_t n) {
-    if (bytes_.size() < n) return false;
-    v = 0;
-    for (size_t i = 0; i < n; ++i) v |= static_cast<T>(static_cast<unsigned char>(bytes_[i])) << (8 * i);
-    bytes_.remove_prefix(n);
+  bool number(T& v, int n) {
+    if (bytes_.size() < static_cast<size_t>(n)) return false;
+    v = static_cast<T>(get_le(bytes_, 0, n));
+    bytes_.remove_prefix(static_cast<size_t>(n));
     return true;
   }
   std::string_view bytes_;
@@ -154,18 +146,18 @@ Expected<fs::path> free_destination(const fs::path& run_dir) {
 
 std::string encode_pack(const std::vector<PackEntry>& entries) {
   std::string out(kPackMagic);
-  put_u32(out, kPackFormatVersion);
-  put_u32(out, static_cast<uint32_t>(entries.size()));
+  put_le(out, kPackFormatVersion, 4);
+  put_le(out, entries.size(), 4);
   for (const PackEntry& e : entries) {
     const std::string stored = deflate_bytes(e.content);
-    put_u32(out, static_cast<uint32_t>(e.name.size()));
+    put_le(out, e.name.size(), 4);
     out += e.name;
-    put_u64(out, e.content.size());
-    put_u32(out, crc32_extend(0, e.content));
-    put_u64(out, stored.size());
+    put_le(out, e.content.size(), 8);
+    put_le(out, crc32_extend(0, e.content), 4);
+    put_le(out, stored.size(), 8);
     out += stored;
   }
-  put_u32(out, crc32_extend(0, out));
+  put_le(out, crc32_extend(0, out), 4);
   return out;
 }
 
