@@ -8,6 +8,7 @@
 
 #include <atomic>
 #include <chrono>
+#include <cstdio>
 #include <string>
 #include <thread>
 #include <vector>
@@ -63,7 +64,10 @@ class SilentPeers {
 
 TEST_F(PeerTrustTest, SilentPeersDelayTheRunByABoundedTime) {
   std::ofstream(config_, std::ios::trunc) << config_with("iterations: 6", "iterations: 4");
+  const auto reference_started = std::chrono::steady_clock::now();
   const fs::path reference = threads_run();
+  const double reference_seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - reference_started).count();
   const pid_t pid = coordinator(root_ / "S", {"--listen", "tcp://127.0.0.1:*"}, "S");
   const std::string endpoint = await_log("S", "workers connect to (tcp://[0-9.]+:[0-9]+)");
   const std::string port = await_log("S", "status: http://127.0.0.1:([0-9]+)/status");
@@ -75,19 +79,19 @@ TEST_F(PeerTrustTest, SilentPeersDelayTheRunByABoundedTime) {
   // they joined first, so the first jobs of the run are theirs
   const auto started = std::chrono::steady_clock::now();
   const pid_t worker = spawn(POET_WORKER_BIN, {"--connect", endpoint, "--threads", "2"}, "worker");
-  const std::map<std::string, double> before_end = [&] {
-    std::map<std::string, double> m;
-    for (int i = 0; i < 600 && m["poet_workers_demoted_total"] < kSilent; ++i) {
-      m = metrics(std::stoi(port));
-      std::this_thread::sleep_for(50ms);
-    }
-    return m;
-  }();
   EXPECT_EQ(wait(pid), 0) << read(root_ / "S.err");
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
-  // one lease (liveness_ms, 1 s here, before any job has finished) and the run itself: a few seconds
-  EXPECT_LT(seconds, 30) << "the silent peers held the run";
-  EXPECT_EQ(before_end.at("poet_workers_demoted_total"), kSilent);
+  // Each silent peer holds one job for one lease (liveness_ms, 1 s here) and is then given no more; leases run
+  // side by side, so thirty of them cost the run a few seconds, not thirty. How many get a job before the run
+  // ends depends on the machine's speed; the coordinator's closing line counts them.
+  const std::string demoted = await_log("S", "([0-9]+) worker\\(s\\) demoted");
+  ASSERT_FALSE(demoted.empty());
+  EXPECT_GE(std::stoi(demoted), 1) << "the silent peers were given the first jobs";
+  EXPECT_LE(std::stoi(demoted), kSilent);
+  EXPECT_LT(seconds - reference_seconds, 0.5 * kSilent)
+      << "the silent peers held the run " << seconds << " s against " << reference_seconds << " s undisturbed";
+  std::printf("%s of %d silent peers demoted; the run took %.1f s against %.1f s undisturbed\n", demoted.c_str(),
+              kSilent, seconds, reference_seconds);
   expect_same_run(reference, root_ / "S");
   EXPECT_EQ(wait(worker), 0);
 }
@@ -122,10 +126,11 @@ TEST_F(PeerTrustTest, PeersThatReturnErrorsOrVanishCannotStopTheRun) {
 
 TEST_F(PeerTrustTest, ATenMegabyteFrameAndAPeerWhoseConnectionIsGoneAreCounted) {
   // a long liveness window: a peer counted lost within it was lost by a failed send, not by silence
-  const pid_t pid = spawn(POET_COORDINATOR_BIN,
-                          {"--config", config_.string(), "--run-dir", (root_ / "F").string(), "--quiet",
-                           "--status-address", "127.0.0.1:0", "--listen", "tcp://127.0.0.1:*", "--liveness-ms", "20000"},
-                          "F");
+  const pid_t pid =
+      spawn(POET_COORDINATOR_BIN,
+            {"--config", config_.string(), "--run-dir", (root_ / "F").string(), "--quiet", "--status-address",
+             "127.0.0.1:0", "--listen", "tcp://127.0.0.1:*", "--liveness-ms", "20000"},
+            "F");
   const std::string endpoint = await_log("F", "workers connect to (tcp://[0-9.]+:[0-9]+)");
   const std::string port = await_log("F", "status: http://127.0.0.1:([0-9]+)/status");
   ASSERT_FALSE(endpoint.empty());
@@ -155,8 +160,7 @@ TEST_F(PeerTrustTest, ATenMegabyteFrameAndAPeerWhoseConnectionIsGoneAreCounted) 
 
 TEST_F(PeerTrustTest, VerificationFindsAWorkerThatLiesAndTheRunEndsTheSame) {
   const fs::path reference = threads_run();
-  const pid_t pid =
-      coordinator(root_ / "V", {"--listen", "tcp://127.0.0.1:*", "--verify-fraction", "1"}, "V");
+  const pid_t pid = coordinator(root_ / "V", {"--listen", "tcp://127.0.0.1:*", "--verify-fraction", "1"}, "V");
   const std::string endpoint = await_log("V", "workers connect to (tcp://[0-9.]+:[0-9]+)");
   const std::string port = await_log("V", "status: http://127.0.0.1:([0-9]+)/status");
   ASSERT_FALSE(endpoint.empty());
@@ -166,9 +170,9 @@ TEST_F(PeerTrustTest, VerificationFindsAWorkerThatLiesAndTheRunEndsTheSame) {
     honest.push_back(spawn(POET_WORKER_BIN, {"--connect", endpoint, "--threads", "1", "--log-level", "debug"}, name));
     await_log(name, "(welcomed) by the coordinator");
   }
-  const pid_t liar = spawn(POET_WORKER_BIN, {"--connect", endpoint, "--threads", "1", "--fault", "wrong-results",
-                                             "--name", "the-liar"},
-                           "liar");
+  const pid_t liar =
+      spawn(POET_WORKER_BIN,
+            {"--connect", endpoint, "--threads", "1", "--fault", "wrong-results", "--name", "the-liar"}, "liar");
   std::map<std::string, double> m;
   for (int i = 0; i < 600 && m["poet_wrong_workers_total"] < 1; ++i) {
     m = metrics(std::stoi(port));
