@@ -21,6 +21,8 @@
 #include "policy/policy_file.h"
 #include "rollout.h"
 #include "run_view.h"
+#include "suite/course_suite.h"
+#include "suite_score_json.h"
 #include "walker/walker_constants.h"
 #include "walker_frame.h"
 
@@ -286,6 +288,23 @@ py::dict evaluate(const PyPolicy& policy, const CourseSpec& course, const std::v
   return out;
 }
 
+// The policy on a named test suite: suite_score_json.h's document (every episode) as JSON text, the numbers
+// poet-eval --suite --json writes.
+std::string evaluate_suite(const PyPolicy& policy, const std::string& name, int threads, const std::string& lidar,
+                           double push_scale, int max_steps) {
+  if (threads < 1) throw std::invalid_argument("threads must be at least 1, got " + std::to_string(threads));
+  if (max_steps < 1) throw std::invalid_argument("max_steps must be at least 1, got " + std::to_string(max_steps));
+  const std::optional<CourseSuite> suite = named_suite(name);
+  if (!suite) throw std::invalid_argument("unknown suite '" + name + "'");
+  const WalkerOptions options = walker_options(lidar, push_scale);
+  SuiteScore score;
+  {
+    py::gil_scoped_release release;
+    score = run_suite(policy.mlp(), *suite, options, max_steps, threads);
+  }
+  return to_json(score, *suite).dump();
+}
+
 }  // namespace
 }  // namespace poet::python
 
@@ -334,6 +353,13 @@ PYBIND11_MODULE(_poet, m) {
       .def("step", &PyVectorWalkerEnv::step, py::arg("actions"))
       .def_property_readonly("num_envs", &PyVectorWalkerEnv::size);
 
+  m.def("_evaluate_suite", &evaluate_suite, py::arg("policy"), py::arg("suite"), py::arg("threads"), py::arg("lidar"),
+        py::arg("push_scale"), py::arg("max_steps"));
+  m.def("_suite_names", [] {
+    std::vector<std::string> names;
+    for (std::string_view n : suite_names()) names.emplace_back(n);
+    return names;
+  });
   m.def("_evaluate", &evaluate, py::arg("policy"), py::arg("course"), py::arg("seeds"), py::arg("threads"),
         py::arg("lidar"), py::arg("push_scale"), py::arg("max_steps"));
 

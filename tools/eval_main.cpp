@@ -1,6 +1,6 @@
-// poet-eval: a policy evaluated over a range of terrain seeds on one or more courses. Prints, per course, the
-// mean/min/max return, how many episodes finished, fell or timed out, and the mean steps; --json writes the same
-// (with every episode's return and steps) in machine-readable form.
+// poet-eval: a policy evaluated over a range of terrain seeds on one or more courses, or on a named held-out test
+// suite (--suite; every policy of a run directory with --run-dir). Prints, per course or per suite group, how the
+// episodes went; --json writes the same with every episode in machine-readable form.
 
 #include <CLI/CLI.hpp>
 #include <cstdio>
@@ -14,29 +14,90 @@
 #include "envgen/env_json.h"
 #include "envgen/named_courses.h"
 #include "policy/policy_file.h"
+#include "report/run_snapshot.h"
+#include "report/run_suite.h"
+#include "suite/course_suite.h"
+#include "suite_score_json.h"
+#include "suite_score_table.h"
 #include "text_file.h"
 #include "tool_flags.h"
 
+namespace {
+
+// Writes the JSON document to path ('-': stdout); false (and a message) when it cannot.
+bool write_json(const std::string& path, const nlohmann::json& doc) {
+  if (path == "-") {
+    std::cout << doc.dump(2) << "\n";
+    return true;
+  }
+  if (auto err = poet::write_file_atomically(path, doc.dump(2) + "\n")) {
+    std::fprintf(stderr, "poet-eval: cannot write %s: %s\n", path.c_str(), err->c_str());
+    return false;
+  }
+  return true;
+}
+
+std::string suite_list() {
+  std::string names;
+  for (std::string_view n : poet::suite_names()) names += (names.empty() ? "" : ", ") + std::string(n);
+  return names;
+}
+
+}  // namespace
+
 int main(int argc, char** argv) {
-  CLI::App app{"Evaluate a policy on courses over a range of terrain seeds"};
-  std::string policy_path, seeds = "0:49", json_path;
+  CLI::App app{"Evaluate a policy on courses over a range of terrain seeds, or on a held-out test suite"};
+  std::string policy_path, seeds = "0:49", json_path, suite_name, run_dir;
   std::vector<std::string> courses, env_paths;
   poet::WalkerFlags walker;
   int threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
-  app.add_option("--policy", policy_path, "Policy file, JSON [[p0..p2803], score]")->required();
-  app.add_option("--course", courses, "Named course (repeatable): flat, r1, r3, hard, hardcore-like");
-  app.add_option("--env", env_paths, "Environment definition file (repeatable); its seed is replaced by the sweep's");
-  app.add_option("--seeds", seeds, "Terrain seeds FIRST:LAST, inclusive (default 0:49)");
+  auto* policy_option = app.add_option("--policy", policy_path, "Policy file, JSON [[p0..p2803], score]");
+  auto* course_option =
+      app.add_option("--course", courses, "Named course (repeatable): flat, r1, r3, hard, hardcore-like");
+  auto* env_option = app.add_option("--env", env_paths,
+                                    "Environment definition file (repeatable); its seed is replaced by the sweep's");
+  auto* seeds_option = app.add_option("--seeds", seeds, "Terrain seeds FIRST:LAST, inclusive (default 0:49)");
+  auto* suite_option = app.add_option("--suite", suite_name, "Held-out test suite instead of courses: " + suite_list())
+                           ->excludes(course_option, env_option, seeds_option);
+  auto* run_option = app.add_option("--run-dir", run_dir,
+                                    "Evaluate every policy of this run directory (each pair's θ and best θ) on the "
+                                    "suite, with the run's own walker")
+                         ->needs(suite_option)
+                         ->excludes(policy_option);
   poet::add_walker_flags(app, walker);
   app.add_option("--threads", threads, "Worker threads")->check(CLI::Range(1, 256));
   app.add_option("--json", json_path, "Also write the results as JSON to this file ('-' for stdout)");
   poet::add_fingerprint_flag(app);
   if (auto code = poet::parse_command_line(app, argc, argv)) return *code;
+  FILE* table = json_path == "-" ? stderr : stdout;
 
-  unsigned first = 0, last = 0;
-  char tail = 0;
-  if (std::sscanf(seeds.c_str(), "%u:%u%c", &first, &last, &tail) != 2 || last < first || last >= poet::kMaxEnvSeed) {
-    std::fprintf(stderr, "poet-eval: --seeds must be FIRST:LAST with 0 <= FIRST <= LAST < 1000000\n");
+  std::optional<poet::CourseSuite> suite;
+  if (*suite_option) {
+    suite = poet::named_suite(suite_name);
+    if (!suite) {
+      std::fprintf(stderr, "poet-eval: unknown suite '%s' (known: %s)\n", suite_name.c_str(), suite_list().c_str());
+      return 2;
+    }
+  }
+  if (*run_option) {
+    for (const char* flag : {"--push-scale", "--lidar", "--max-steps"})
+      if (app.count(flag) > 0) {
+        std::fprintf(stderr, "poet-eval: %s does not go with --run-dir, which evaluates with the run's own walker\n",
+                     flag);
+        return 2;
+      }
+    auto run = poet::read_run_snapshot(run_dir);
+    if (!run) {
+      std::fprintf(stderr, "poet-eval: %s\n", run.error().c_str());
+      return 2;
+    }
+    const poet::RunSuite scores = poet::evaluate_run_on_suite(run->state, *suite, threads);
+    std::fputs(poet::run_suite_table(scores).c_str(), table);
+    if (!json_path.empty() && !write_json(json_path, poet::run_suite_json(scores, *suite, run_dir, true))) return 1;
+    return 0;
+  }
+  if (!*policy_option) {
+    std::fprintf(stderr, "poet-eval: --policy (or --run-dir with --suite) is required\n");
     return 2;
   }
   auto policy = poet::load_policy(policy_path);
@@ -44,7 +105,27 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "poet-eval: %s\n", policy.error().c_str());
     return 2;
   }
+  const poet::Mlp mlp(policy->params);
+  const poet::WalkerOptions options = walker.options();
+  const nlohmann::json walker_json = {
+      {"push_scale", walker.push_scale}, {"lidar", walker.lidar}, {"max_steps", walker.max_steps}};
 
+  if (suite) {
+    const poet::SuiteScore score = poet::run_suite(mlp, *suite, options, walker.max_steps, threads);
+    std::fputs(poet::suite_table(score).c_str(), table);
+    nlohmann::json doc = walker_json;
+    doc["policy"] = policy_path;
+    doc.update(poet::to_json(score, *suite));
+    if (!json_path.empty() && !write_json(json_path, doc)) return 1;
+    return 0;
+  }
+
+  unsigned first = 0, last = 0;
+  char tail = 0;
+  if (std::sscanf(seeds.c_str(), "%u:%u%c", &first, &last, &tail) != 2 || last < first || last >= poet::kMaxEnvSeed) {
+    std::fprintf(stderr, "poet-eval: --seeds must be FIRST:LAST with 0 <= FIRST <= LAST < 1000000\n");
+    return 2;
+  }
   std::vector<std::pair<std::string, poet::EnvEncoding>> targets;
   for (const auto& name : courses) {
     auto encoding = poet::named_course(name);
@@ -64,10 +145,6 @@ int main(int argc, char** argv) {
   }
   if (targets.empty()) targets.emplace_back("flat", *poet::named_course("flat"));
 
-  const poet::Mlp mlp(policy->params);
-  const poet::WalkerOptions options = walker.options();
-  const bool json_to_stdout = json_path == "-";
-  FILE* table = json_to_stdout ? stderr : stdout;
   std::fprintf(table, "%-16s %6s %9s %9s %9s %8s %5s %9s %10s\n", "course", "seeds", "mean", "min", "max", "finished",
                "fell", "timed_out", "mean_steps");
   nlohmann::json results = nlohmann::json::array();
@@ -79,19 +156,9 @@ int main(int argc, char** argv) {
                  s.mean_steps());
     results.push_back(poet::to_json(s));
   }
-
-  if (!json_path.empty()) {
-    const nlohmann::json doc = {{"policy", policy_path},
-                                {"push_scale", walker.push_scale},
-                                {"lidar", walker.lidar},
-                                {"max_steps", walker.max_steps},
-                                {"courses", results}};
-    if (json_to_stdout) {
-      std::cout << doc.dump(2) << "\n";
-    } else if (auto err = poet::write_file_atomically(json_path, doc.dump(2) + "\n")) {
-      std::fprintf(stderr, "poet-eval: cannot write %s: %s\n", json_path.c_str(), err->c_str());
-      return 1;
-    }
-  }
+  nlohmann::json doc = walker_json;
+  doc["policy"] = policy_path;
+  doc["courses"] = results;
+  if (!json_path.empty() && !write_json(json_path, doc)) return 1;
   return 0;
 }

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 
+#include "envgen/level_sample.h"
 #include "rng.h"
 
 namespace poet {
@@ -10,14 +11,8 @@ std::vector<CoverageSample> coverage_sample(uint64_t seed, int per_level) {
   std::vector<CoverageSample> samples;
   for (int level = 1; level <= 3; ++level) {
     RandomStream stream(stream_key(seed, "coverage", {static_cast<uint64_t>(level)}));
-    for (int n = 0; n < per_level;) {
-      EnvVector e{};
-      for (size_t i = 0; i < e.size(); ++i) e[i] = stream.uniform(0.0, kEnvVectorMax[i]);
-      if (e[1] > e[2] || e[3] > e[4]) continue;  // lo ≤ hi for the gap and the stump height
-      if (static_cast<int>(difficulty(e)) != level) continue;
-      samples.push_back({level, e, std::nullopt});
-      ++n;
-    }
+    for (int n = 0; n < per_level; ++n)
+      samples.push_back({level, draw_env_vector(stream, static_cast<Difficulty>(level)), std::nullopt});
   }
   return samples;
 }

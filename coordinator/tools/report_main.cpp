@@ -3,6 +3,7 @@
 // checkpoint has seen, so a run being written is reported as of its last checkpoint.
 //   poet-report --run-dir DIR [--json FILE|-] [--plots DIR] [--target ENV.json] [--coverage-samples FILE]
 //               [--until-iteration T | --until-env-steps N]   the run as it stood then (report/run_cut.h)
+//               [--suite NAME [--threads N]]   every agent of the run on a held-out test suite (report/run_suite.h)
 
 #include <CLI/CLI.hpp>
 #include <cerrno>
@@ -17,6 +18,7 @@
 #include <map>
 #include <nlohmann/json.hpp>
 #include <optional>
+#include <thread>
 
 #include "envgen/env_json.h"
 #include "report/coverage.h"
@@ -27,6 +29,8 @@
 #include "report/run_metrics.h"
 #include "report/run_pictures.h"
 #include "report/run_snapshot.h"
+#include "report/run_suite.h"
+#include "suite/course_suite.h"
 #include "tool_flags.h"
 
 namespace poet {
@@ -253,6 +257,15 @@ int main(int argc, char** argv) {
                  "that iteration's ES steps and evaluations)")
       ->check(CLI::Range(int64_t{0}, INT64_MAX))
       ->excludes(until_option);
+  std::string suite_name;
+  int threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  app.add_option(
+         "--suite", suite_name,
+         "Also run every agent of the run (each pair's θ and its best θ) on this held-out test suite and report "
+         "the best single agent and the best per group (as poet-eval --run-dir does)")
+      // a cut run keeps today's θs (report/run_cut.h): its agents are not the ones it had then
+      ->excludes(until_option, app.get_option("--until-env-steps"));
+  app.add_option("--threads", threads, "Threads for --suite's episodes")->check(CLI::Range(1, 256));
   add_fingerprint_flag(app);
   if (auto code = parse_command_line(app, argc, argv)) return *code;
 
@@ -262,6 +275,11 @@ int main(int argc, char** argv) {
                 << "; the report never writes there\n";
       return 2;
     }
+  std::optional<CourseSuite> suite;
+  if (!suite_name.empty() && !(suite = named_suite(suite_name))) {
+    std::cerr << "poet-report: unknown suite '" << suite_name << "'\n";
+    return 2;
+  }
   std::optional<EnvEncoding> target;
   if (!target_path.empty()) {
     Expected<EnvDef> def = load_env_def(target_path);
@@ -297,6 +315,13 @@ int main(int argc, char** argv) {
   }
   const RunMetrics metrics = compute_run_metrics(*run, target);
   const Coverage coverage = compute_coverage(run->state, coverage_seed, per_level);
+  std::optional<RunSuite> suite_scores;
+  if (suite) suite_scores = evaluate_run_on_suite(run->state, *suite, threads);
+  auto print_all = [&] {
+    print_table(*run, metrics, coverage, samples_path);
+    if (suite_scores)
+      std::printf("\nagents on the test suite %s:\n%s", suite->name.c_str(), run_suite_table(*suite_scores).c_str());
+  };
 
   if (!plots_dir.empty()) {
     std::error_code ec;
@@ -328,10 +353,12 @@ int main(int argc, char** argv) {
       return 1;
     }
   if (json_path.empty()) {
-    print_table(*run, metrics, coverage, samples_path);
+    print_all();
     return 0;
   }
-  const std::string text = report_json(*run, metrics, coverage, samples_path).dump(2) + "\n";
+  nlohmann::json doc = report_json(*run, metrics, coverage, samples_path);
+  if (suite_scores) doc["suite"] = run_suite_json(*suite_scores, *suite, run_dir, false);
+  const std::string text = doc.dump(2) + "\n";
   if (json_path == "-") {
     std::cout << text;
     return 0;
@@ -341,6 +368,6 @@ int main(int argc, char** argv) {
     std::cerr << "poet-report: cannot write " << json_path << "\n";
     return 1;
   }
-  print_table(*run, metrics, coverage, samples_path);
+  print_all();
   return 0;
 }

@@ -12,7 +12,7 @@ import numpy as np
 from . import _poet
 from ._poet import ACT_DIM, DEFAULT_MAX_STEPS, DEFAULT_PUSH_SCALE, OBS_DIM, Policy
 
-__all__ = ["WalkerEnv", "VectorWalkerEnv", "Policy", "evaluate", "Run", "as_gymnasium", "OBS_DIM", "ACT_DIM"]
+__all__ = ["WalkerEnv", "VectorWalkerEnv", "Policy", "evaluate", "evaluate_suite", "suite_names", "Run", "as_gymnasium", "OBS_DIM", "ACT_DIM"]
 
 
 def _course(course):
@@ -118,6 +118,27 @@ def evaluate(policy, course, seeds, *, threads=1, lidar="nearest", push_scale=DE
     seeds = [_whole(s, "each seed") for s in seeds]
     return _poet._evaluate(policy, _course(course), seeds, _whole(threads, "threads"), lidar,
                            _number(push_scale, "push_scale"), _whole(max_steps, "max_steps"))
+
+
+def suite_names():
+    """The names of the held-out test suites this build knows, for evaluate_suite and poet-eval --suite."""
+    return list(_poet._suite_names())
+
+
+def evaluate_suite(policy, suite="poet-suite-v1", *, threads=1, lidar="nearest", push_scale=DEFAULT_PUSH_SCALE,
+                   max_steps=DEFAULT_MAX_STEPS):
+    """The policy on a named held-out test suite, on `threads` threads.
+
+    Returns poet-eval --suite --json's document, bit for bit: "suite", "episodes", "finished",
+    "finished_fraction", "mean_return" and "groups", each group with its fraction finished and 95% interval,
+    its mean return with its own and every episode under "courses". The result does not depend on `threads`.
+    """
+    if not isinstance(policy, Policy):
+        raise TypeError(f"policy must be a poet.Policy, got {type(policy).__name__}")
+    if not isinstance(suite, str):
+        raise TypeError(f"suite must be a suite's name, got {type(suite).__name__}")
+    return json.loads(_poet._evaluate_suite(policy, suite, _whole(threads, "threads"), lidar,
+                                            _number(push_scale, "push_scale"), _whole(max_steps, "max_steps")))
 
 
 def as_gymnasium(env):

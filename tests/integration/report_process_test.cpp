@@ -192,6 +192,49 @@ TEST_F(ReportProcessTest, ARunIsReportedAsItStoodAtABudget) {
   EXPECT_EQ(report({"--run-dir", run.string(), "--until-env-steps", "5", "--until-iteration", "1"}, &table, &err), 2);
 }
 
+// Every agent of a run on the test suite: poet-eval --run-dir and poet-report --suite give the same figures and the
+// same best agents, and neither changes the run directory. A run with short episodes keeps the suite quick.
+TEST_F(ReportProcessTest, TheRunsAgentsOnATestSuiteAreTheSameInPoetEvalAndPoetReport) {
+  const fs::path run = threads_run();
+  const auto before = files_of(run);
+  std::string eval_out, report_out, err;
+  ASSERT_EQ(tool(POET_EVAL_BIN,
+                 {"--run-dir", run.string(), "--suite", "poet-suite-v1", "--threads", "2", "--json",
+                  (root_ / "eval.json").string()},
+                 &eval_out, &err),
+            0)
+      << err;
+  ASSERT_EQ(report({"--run-dir", run.string(), "--suite", "poet-suite-v1", "--threads", "2", "--json", "-",
+                    "--coverage-per-level", "5"},
+                   &report_out, &err),
+            0)
+      << err;
+  EXPECT_TRUE(before == files_of(run)) << "the run directory changed";
+  const nlohmann::json eval = nlohmann::json::parse(read(root_ / "eval.json"));
+  const nlohmann::json report_suite = nlohmann::json::parse(report_out)["suite"];
+  ASSERT_GE(eval["candidates"].size(), 3u) << "each pair's θ, and its best θ where it differs";
+  ASSERT_EQ(eval["candidates"].size(), report_suite["candidates"].size());
+  for (size_t i = 0; i < eval["candidates"].size(); ++i) {
+    const nlohmann::json& a = eval["candidates"][i];
+    const nlohmann::json& b = report_suite["candidates"][i];
+    EXPECT_EQ(a["label"], b["label"]);
+    nlohmann::json summary = a["score"];
+    for (auto& group : summary["groups"]) group.erase("courses");  // poet-report's JSON carries no episodes
+    EXPECT_EQ(summary, b["score"]) << a["label"];
+    EXPECT_EQ(a["score"]["episodes"], 500);
+  }
+  EXPECT_EQ(eval["best"], report_suite["best"]);
+  EXPECT_EQ(eval["best_per_group"], report_suite["best_per_group"]);
+  EXPECT_TRUE(contains(eval_out, "best single agent on poet-suite-v1: " + eval["best"].get<std::string>())) << eval_out;
+  EXPECT_TRUE(contains(eval_out, "best on extremely challenging: ")) << eval_out;
+
+  std::string table;
+  EXPECT_EQ(report({"--run-dir", run.string(), "--suite", "poet-suite-v0"}, &table, &err), 2);
+  EXPECT_TRUE(contains(err, "unknown suite 'poet-suite-v0'")) << err;
+  EXPECT_EQ(report({"--run-dir", run.string(), "--suite", "poet-suite-v1", "--until-iteration", "1"}, &table, &err), 2);
+  EXPECT_TRUE(contains(err, "excludes")) << err;
+}
+
 // The controls of a POET-solved environment (experiments/controls.sh, figure3.sh): poet-lineage writes the ES-alone and
 // direct-path configs with the lineage's budget (and a seed of their own), both run to their end as written, and
 // poet-controls sets them beside the lineage, in ES steps and environment steps, and draws the rose.

@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
@@ -79,6 +80,53 @@ TEST_F(ToolsProcessTest, BadValueExitsTwo) {
     const Outcome o = run(path, args, "case" + std::to_string(n++));
     EXPECT_EQ(o.code, 2) << path << " " << args.back() << "\n" << o.err;
     EXPECT_TRUE(contains(o.err, args.back())) << path << "\n" << o.err;  // CLI11 names the bad value
+  }
+}
+
+// poet-eval --suite: the table has a line per group of the suite, the JSON every episode; what does not go with a
+// suite, or names no suite, exits 2 saying so.
+TEST_F(ToolsProcessTest, EvalRunsAPolicyOnATestSuite) {
+  const std::string walker = std::string(POET_SOURCE_DIR) + "/data/walkers/flat-walker.json";
+  const Outcome o = run(
+      POET_EVAL_BIN,
+      {"--policy", walker, "--suite", "poet-suite-v1", "--max-steps", "40", "--threads", "2", "--json", "suite.json"},
+      "suite");
+  ASSERT_EQ(o.code, 0) << o.err;
+  EXPECT_TRUE(contains(o.out, "suite poet-suite-v1: 500 episodes")) << o.out;
+  for (const char* group :
+       {"\neasy ", "\nchallenging ", "\nvery challenging ", "\nextremely challenging ", "\nhardcore-like "})
+    EXPECT_TRUE(contains(o.out, group)) << group << "\n" << o.out;
+  const nlohmann::json j = nlohmann::json::parse(read_file(root_ / "suite.json"));
+  EXPECT_EQ(j["suite"], "poet-suite-v1");
+  EXPECT_EQ(j["max_steps"], 40);
+  EXPECT_EQ(j["episodes"], 500);
+  ASSERT_EQ(j["groups"].size(), 5u);
+  size_t episodes = 0;
+  for (const auto& group : j["groups"])
+    for (const auto& course : group["courses"]) {
+      EXPECT_TRUE(course["config"].contains("ground_roughness"));
+      for (const auto& e : course["episodes"]) {
+        EXPECT_LE(e["steps"].get<int>(), 40);
+        ++episodes;
+      }
+    }
+  EXPECT_EQ(episodes, 500u);
+
+  const std::vector<std::pair<std::vector<std::string>, std::string>> refused = {
+      {{"--policy", walker, "--suite", "poet-suite-v0"}, "unknown suite 'poet-suite-v0'"},
+      {{"--policy", walker, "--suite", "poet-suite-v1", "--course", "flat"}, "excludes"},
+      {{"--policy", walker, "--suite", "poet-suite-v1", "--seeds", "0:3"}, "excludes"},
+      {{"--run-dir", "somewhere"}, "requires --suite"},
+      {{"--run-dir", "somewhere", "--suite", "poet-suite-v1", "--policy", walker}, "excludes"},
+      {{"--run-dir", "somewhere", "--suite", "poet-suite-v1", "--push-scale", "5"}, "the run's own walker"},
+      {{"--run-dir", "somewhere", "--suite", "poet-suite-v1"}, "somewhere"},
+      {{"--suite", "poet-suite-v1"}, "--policy (or --run-dir with --suite) is required"},
+  };
+  int n = 0;
+  for (const auto& [args, message] : refused) {
+    const Outcome bad = run(POET_EVAL_BIN, args, "refused" + std::to_string(n++));
+    EXPECT_EQ(bad.code, 2) << args.back() << "\n" << bad.err;
+    EXPECT_TRUE(contains(bad.err, message)) << message << "\n" << bad.err;
   }
 }
 

@@ -1,5 +1,5 @@
-"""poet.Policy and poet.evaluate: the shipped walker's numbers equal poet-eval's, bit for bit, whatever the thread
-count; damaged policy files give the tools' messages."""
+"""poet.Policy, poet.evaluate and poet.evaluate_suite: the shipped walker's numbers equal poet-eval's, bit for bit,
+whatever the thread count; damaged policy files give the tools' messages."""
 
 import json
 import subprocess
@@ -53,6 +53,35 @@ def test_evaluate_does_not_depend_on_the_thread_count(walker_path):
     for key in ("return", "steps", "finished", "fell"):
         assert np.array_equal(one[key], three[key])
     assert one["return"].dtype == np.float64 and one["steps"].dtype == np.int64 and one["fell"].dtype == bool
+
+
+def test_evaluate_suite_equals_poet_eval_suite_bit_for_bit(walker_path, eval_bin):
+    policy = poet.Policy.load(str(walker_path))
+    assert "poet-suite-v1" in poet.suite_names()
+    printed = subprocess.run(
+        [eval_bin, "--policy", str(walker_path), "--suite", "poet-suite-v1", "--max-steps", "60", "--threads", "2",
+         "--json", "-"],
+        check=True, capture_output=True, text=True, timeout=120).stdout
+    reference = json.loads(printed)
+    ours = poet.evaluate_suite(policy, "poet-suite-v1", threads=1, max_steps=60)
+    for key in ("policy", "push_scale", "lidar", "max_steps"):  # the command line's, not the suite's
+        del reference[key]
+    assert ours == reference  # floats parsed from JSON on both sides: exact equality
+    assert [g["group"] for g in ours["groups"]] == [
+        "easy", "challenging", "very challenging", "extremely challenging", "hardcore-like"]
+    assert sum(len(c["episodes"]) for g in ours["groups"] for c in g["courses"]) == ours["episodes"] == 500
+
+
+def test_evaluate_suite_refuses_bad_arguments(walker_path):
+    policy = poet.Policy.load(str(walker_path))
+    with pytest.raises(ValueError, match="unknown suite 'poet-suite-v0'"):
+        poet.evaluate_suite(policy, "poet-suite-v0")
+    with pytest.raises(TypeError):
+        poet.evaluate_suite(policy, 1)
+    with pytest.raises(TypeError):
+        poet.evaluate_suite("not a policy")
+    with pytest.raises(ValueError):
+        poet.evaluate_suite(policy, threads=0)
 
 
 @pytest.mark.parametrize(

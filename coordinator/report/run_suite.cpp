@@ -1,0 +1,83 @@
+#include "report/run_suite.h"
+
+#include <cstdio>
+#include <tuple>
+
+#include "suite_score_json.h"
+#include "suite_score_table.h"
+
+namespace poet {
+namespace {
+
+// (finished, mean return): larger is better; the earlier candidate wins a tie.
+bool better(int finished, double mean, int best_finished, double best_mean) {
+  return std::tie(finished, mean) > std::tie(best_finished, best_mean);
+}
+
+}  // namespace
+
+std::vector<SuiteCandidate> suite_candidates(const RunState& state) {
+  std::vector<SuiteCandidate> out;
+  for (const Pair& p : state.pairs) {
+    const std::string label = "pair " + std::to_string(p.id);
+    out.push_back({p.id, false, label, p.theta});
+    if (!p.best_theta.empty() && p.best_theta != p.theta) out.push_back({p.id, true, label + " best", p.best_theta});
+  }
+  return out;
+}
+
+RunSuite evaluate_run_on_suite(const RunState& state, const CourseSuite& suite, int threads) {
+  RunSuite run{suite_candidates(state), {}, 0, std::vector<size_t>(suite.groups.size(), 0)};
+  for (const SuiteCandidate& c : run.candidates)
+    run.scores.push_back(
+        run_suite(Mlp(c.theta), suite, state.settings.episodes.walker, state.settings.episodes.max_steps, threads));
+  for (size_t i = 1; i < run.scores.size(); ++i) {
+    const SuiteScore& s = run.scores[i];
+    const SuiteScore& b = run.scores[run.best];
+    if (better(s.finished(), s.mean_return(), b.finished(), b.mean_return())) run.best = i;
+    for (size_t g = 0; g < suite.groups.size(); ++g) {
+      const GroupScore& x = s.groups[g];
+      const GroupScore& y = run.scores[run.best_per_group[g]].groups[g];
+      if (better(x.finished(), x.mean_return(), y.finished(), y.mean_return())) run.best_per_group[g] = i;
+    }
+  }
+  return run;
+}
+
+std::string run_suite_table(const RunSuite& run) {
+  if (run.scores.empty()) return "the run has no agents to evaluate\n";
+  std::string out = suite_rows_header(run.scores.front());
+  for (size_t i = 0; i < run.candidates.size(); ++i) out += suite_row(run.candidates[i].label, run.scores[i]);
+  const SuiteScore& best = run.scores[run.best];
+  char figures[96];
+  std::snprintf(figures, sizeof figures, " (%d of %d finished, mean return %.2f)\n", best.finished(), best.episodes(),
+                best.mean_return());
+  out += "best single agent on " + best.suite + ": " + run.candidates[run.best].label + figures;
+  for (size_t g = 0; g < run.best_per_group.size(); ++g) {
+    const GroupScore& score = run.scores[run.best_per_group[g]].groups[g];
+    std::snprintf(figures, sizeof figures, " (%d of %zu finished, mean return %.2f)\n", score.finished(),
+                  score.episodes.size(), score.mean_return());
+    out += "best on " + score.group + ": " + run.candidates[run.best_per_group[g]].label + figures;
+  }
+  return out;
+}
+
+nlohmann::json run_suite_json(const RunSuite& run, const CourseSuite& suite, const std::string& run_dir,
+                              bool episodes) {
+  nlohmann::json candidates = nlohmann::json::array();
+  for (size_t i = 0; i < run.candidates.size(); ++i) {
+    const SuiteCandidate& c = run.candidates[i];
+    candidates.push_back({{"label", c.label},
+                          {"pair", c.pair},
+                          {"best_theta", c.best_theta},
+                          {"score", episodes ? to_json(run.scores[i], suite) : summary_json(run.scores[i])}});
+  }
+  nlohmann::json doc = {{"suite", suite.name}, {"run_dir", run_dir}, {"candidates", candidates}};
+  if (run.scores.empty()) return doc;
+  doc["best"] = run.candidates[run.best].label;
+  for (size_t g = 0; g < run.best_per_group.size(); ++g)
+    doc["best_per_group"][suite.groups[g].name] = run.candidates[run.best_per_group[g]].label;
+  return doc;
+}
+
+}  // namespace poet
