@@ -13,6 +13,7 @@ nlohmann::json group_summary(const GroupScore& g) {
           {"finished_fraction", g.finished_fraction()},
           {"finished_interval", {lo, hi}},
           {"mean_return", g.mean_return()},
+          {"mean_progress", g.mean_progress()},
           {"return_sd", g.return_sd()},
           {"mean_return_half_width", g.mean_return_half_width()}};
 }
@@ -27,6 +28,7 @@ nlohmann::json summary_json(const SuiteScore& score) {
           {"finished", score.finished()},
           {"finished_fraction", score.finished_fraction()},
           {"mean_return", score.mean_return()},
+          {"mean_progress", score.mean_progress()},
           {"groups", groups}};
 }
 

@@ -8,11 +8,11 @@
 
 namespace poet {
 
-// {"suite", "episodes", "finished", "finished_fraction", "mean_return",
+// {"suite", "episodes", "finished", "finished_fraction", "mean_return", "mean_progress",
 //  "groups": [{"group", "episodes", "finished", "finished_fraction", "finished_interval": [lo, hi],
-//              "mean_return", "return_sd", "mean_return_half_width",
-//              "courses": [{"course", "config": {...}, "episodes": [{"seed", "return", "steps", "finished",
-//                                                                   "fell"}]}]}]}
+//              "mean_return", "mean_progress", "return_sd", "mean_return_half_width",
+//              "courses": [{"course", "config": {...}, "episodes": [{"seed", "return", "steps", "progress",
+//                                                                   "finished", "fell"}]}]}]}
 // `score` must come from run_suite on `suite`.
 nlohmann::json to_json(const SuiteScore& score, const CourseSuite& suite);
 

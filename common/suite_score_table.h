@@ -12,7 +12,7 @@ namespace poet {
 std::string suite_table(const SuiteScore& score);
 
 // The header of a comparison of many policies on one suite, and each policy's line: finished per group and in all,
-// and the mean return over the suite. `label` is cut to 24 characters.
+// and the mean progress and mean return over the suite. `label` is cut to 24 characters.
 std::string suite_rows_header(const SuiteScore& any);
 std::string suite_row(const std::string& label, const SuiteScore& score);
 

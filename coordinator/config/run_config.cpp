@@ -244,7 +244,11 @@ void check_mode(Checks& c, const pb::RunConfig& config) {
   if (mode == pb::RunConfig::ES_ALONE) {
     if (!config.es_alone().has_target()) c.fail("es_alone.target", "required in mode ES_ALONE");
     check_target(c, "es_alone.target", config.es_alone().target());
+    c.known_enum("es_alone.random_courses", config.es_alone().random_courses(),
+                 pb::EsAloneConfig::RandomCourses_IsValid);
   }
+  // a budget beyond any machine's reach is a typing error: 10^15 steps are some 500 years of this walker on a core
+  c.integer("env_step_budget", config.env_step_budget(), 0, 1'000'000'000'000'000);
   if (mode == pb::RunConfig::DIRECT_PATH) {
     const pb::DirectPathConfig& direct = config.direct_path();
     if (!direct.has_target()) c.fail("direct_path.target", "required in mode DIRECT_PATH");
@@ -285,6 +289,9 @@ std::optional<std::string> validate(const pb::RunConfig& config) {
   c.real("init_stddev", config.init_stddev(), Range{0, 10});
   check_es(c, config.es());
   check_poet(c, config.poet(), config.mode());
+  // on a fixed course a second evaluation repeats the first: a confirmation would cost episodes and change nothing
+  if (config.poet().confirm_transfers() && !config.walker().stochastic_envs())
+    c.fail("poet.confirm_transfers", "true needs walker.stochastic_envs: true (on a fixed course a score is exact)");
   check_walker(c, config.walker());
   check_batch_size(c, config);
   check_mode(c, config);
@@ -397,6 +404,7 @@ PoetSettings poet_settings(const pb::PoetConfig& p) {
   s.novelty = p.novelty() == pb::PATA_EC ? NoveltyMeasure::kPataEc : NoveltyMeasure::kEncodingDistance;
   s.reproduction_agent =
       p.reproduction_agent() == pb::BEST_THETA ? ReproductionAgent::kBestTheta : ReproductionAgent::kCurrentTheta;
+  s.confirm_transfers = p.confirm_transfers();
   s.child_ranking =
       p.child_ranking() == pb::LOWEST_SCORE_FIRST ? ChildRanking::kLowestScoreFirst : ChildRanking::kNovelty;
   s.admission_proposal = proposal_kind(p.admission_proposal());
@@ -427,6 +435,13 @@ RunSettings run_settings(const pb::RunConfig& config) {
   if (s.mode == RunMode::kDirectPath) s.target = env_def_from_proto(config.direct_path().target()).value();
   s.advance_threshold = config.direct_path().advance_threshold();
   s.budget_es_steps = config.direct_path().budget_es_steps();
+  s.env_step_budget = config.env_step_budget();
+  if (s.mode == RunMode::kEsAlone && config.es_alone().random_courses() != pb::EsAloneConfig::NO_RANDOM_COURSES) {
+    // the levels in order, EASY_COURSES (1) being Difficulty::kEasy (0)
+    s.episodes.random_courses = static_cast<Difficulty>(config.es_alone().random_courses() - 1);
+    s.episodes.stochastic = true;
+    s.episodes.eval_episodes = config.walker().eval_episodes();
+  }
   return s;
 }
 

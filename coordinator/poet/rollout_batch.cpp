@@ -6,6 +6,7 @@
 #include <stdexcept>
 #include <thread>
 
+#include "envgen/level_sample.h"
 #include "es/es_gradient.h"
 #include "parallel_for.h"
 #include "poet/background_pool.h"
@@ -14,15 +15,20 @@
 namespace poet {
 namespace {
 
-// A fresh course seed for stochastic environments, drawn by address from the key of what it is for.
-uint32_t course_seed(uint64_t key, uint64_t index) {
-  RandomStream stream(stream_key(key, "course", {index}));
-  return static_cast<uint32_t>(stream.uniform_int(0, kMaxEnvSeed));
-}
-
 int cores() { return static_cast<int>(std::max(1u, std::thread::hardware_concurrency())); }
 
 }  // namespace
+
+EnvDef RolloutBatch::course(const EnvDef& env, uint64_t key, uint64_t index) const {
+  if (!settings_.stochastic) return env;
+  // drawn by address from the key of what it is for: the seed first, then (domain randomisation) the encoding
+  RandomStream stream(stream_key(key, "course", {index}));
+  EnvDef course = env;
+  course.seed = static_cast<uint32_t>(stream.uniform_int(0, kMaxEnvSeed));
+  if (settings_.random_courses)
+    course.encoding = course_of(draw_env_vector(stream, *settings_.random_courses), "random course");
+  return course;
+}
 
 RolloutTask RolloutBatch::task(SharedParams theta, const EnvDef& env) const {
   RolloutTask t;
@@ -39,8 +45,7 @@ size_t RolloutBatch::add_es_step(const EsRequest& request, int perturbations) {
   for (int i = 0; i < perturbations; ++i) {
     const uint64_t key = stream_key(request.step_key, "perturbation", {static_cast<uint64_t>(i)});
     slot.keys.push_back(key);
-    EnvDef env = request.env;
-    if (settings_.stochastic) env.seed = course_seed(request.step_key, static_cast<uint64_t>(i));
+    const EnvDef env = course(request.env, request.step_key, static_cast<uint64_t>(i));
     for (int sign : {1, -1}) {
       RolloutTask t = task(request.theta, env);
       t.perturbation = Perturbation{key, sign, request.sigma};
@@ -54,9 +59,7 @@ size_t RolloutBatch::add_es_step(const EsRequest& request, int perturbations) {
 size_t RolloutBatch::add_evaluation(SharedParams theta, const EnvDef& env, uint64_t eval_key) {
   Slot slot{tasks_.size(), static_cast<size_t>(settings_.eval_episodes), {}, 0};
   for (int e = 0; e < settings_.eval_episodes; ++e) {
-    EnvDef course = env;
-    if (settings_.stochastic) course.seed = course_seed(eval_key, static_cast<uint64_t>(e));
-    tasks_.push_back(task(theta, course));
+    tasks_.push_back(task(theta, course(env, eval_key, static_cast<uint64_t>(e))));
   }
   slots_.push_back(std::move(slot));
   return slots_.size() - 1;

@@ -2,7 +2,8 @@
 // How the loop turns its needs into rollout tasks and reads the results back: one batch collects the tasks of
 // many ES steps and evaluations, runs them through the Evaluator in one call, and hands each requester its
 // slice. ES steps are 2n tasks (θ ± σε for n perturbation keys, interleaved plus/minus); an evaluation is one
-// episode on the environment's own course, or eval_episodes fresh courses when environments are stochastic.
+// episode on the environment's own course, or eval_episodes fresh courses when environments are stochastic (of
+// the environment's encoding, or with ES alone's domain randomisation of encodings drawn at a level).
 
 #include <cstdint>
 #include <memory>
@@ -79,6 +80,9 @@ class RolloutBatch {
     std::vector<uint64_t> keys;  // ES steps: the perturbation keys
     double sigma = 0;
   };
+  // The course of rollout `index` of what `key` is for: env itself, or with stochastic courses a fresh seed (and
+  // with domain randomisation a fresh encoding at the level).
+  EnvDef course(const EnvDef& env, uint64_t key, uint64_t index) const;
   RolloutTask task(SharedParams theta, const EnvDef& env) const;
   size_t slot_of(size_t task) const;
   std::vector<RolloutResult> evaluate_early(Evaluator& evaluator, const EsSettings& es);

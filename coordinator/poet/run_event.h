@@ -81,6 +81,7 @@ struct TransferRoundEvent {
   size_t proposals = 0;
   int64_t accepted = 0;
   int64_t rollouts = 0;  // every episode of the round: direct evaluations, proposal ES steps and their evaluations
+  std::optional<int64_t> unconfirmed;  // with confirm_transfers: choices that lost to θ on the fresh courses
 };
 
 // The direct path: a stage solved, or the next stage begun (its index, environment and distance to the target).

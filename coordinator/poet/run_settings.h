@@ -7,6 +7,7 @@
 #include <optional>
 #include <string_view>
 
+#include "envgen/env_distance.h"
 #include "envgen/env_encoding.h"
 #include "envgen/mutation.h"
 #include "es/es_settings.h"
@@ -19,12 +20,12 @@ enum class RunMode { kPoet, kPoetWithoutTransfer, kEsAlone, kDirectPath };
 // in words for people ("POET without transfer", "ES alone", "direct-path curriculum").
 std::string_view mode_name(RunMode mode);
 std::string_view mode_words(RunMode mode);
-enum class ProposalKind { kAdam, kSgd };                   // the update Adam's next step would make, or SGD's
-enum class TransferTest { kFull, kThreshold };             // N(N−1) proposal steps a round, or Enhanced POET's
-enum class ChildRanking { kNovelty, kLowestScoreFirst };   // the order admission walks the passing children in
-enum class NoveltyMeasure { kEncodingDistance, kPataEc };  // 5-vectors' distance, or Enhanced POET's PATA-EC
+enum class ProposalKind { kAdam, kSgd };                        // the update Adam's next step would make, or SGD's
+enum class TransferTest { kFull, kThreshold };                  // N(N−1) proposal steps a round, or Enhanced POET's
+enum class ChildRanking { kNovelty, kLowestScoreFirst };        // the order admission walks the passing children in
+enum class NoveltyMeasure { kEncodingDistance, kPataEc };       // 5-vectors' distance, or Enhanced POET's PATA-EC
 enum class EnvironmentKind { kObstacleCourses, kCppnTerrain };  // what a POET run's first environment is
-enum class ReproductionAgent { kCurrentTheta, kBestTheta };  // a pair's agent in reproduction and admission
+enum class ReproductionAgent { kCurrentTheta, kBestTheta };     // a pair's agent in reproduction and admission
 
 // The episode settings every task of a run shares.
 struct EpisodeSettings {
@@ -32,6 +33,8 @@ struct EpisodeSettings {
   int max_steps = 0;
   bool stochastic = false;
   int eval_episodes = 1;  // 1 unless stochastic
+  // ES alone's domain randomisation (stochastic then too): each rollout's encoding drawn at this level
+  std::optional<Difficulty> random_courses;
 };
 
 // The POET loop (spec §3); the fields of the schema's PoetConfig.
@@ -55,6 +58,7 @@ struct PoetSettings {
   TransferTest transfer_test = TransferTest::kFull;
   EnvironmentKind environments = EnvironmentKind::kObstacleCourses;
   ReproductionAgent reproduction_agent = ReproductionAgent::kCurrentTheta;
+  bool confirm_transfers = false;  // stochastic courses: the best candidate must beat θ again on fresh courses
   MutationOptions mutation;
 
   bool passes_mc(double score) const { return mc_low <= score && score <= mc_high; }
@@ -73,6 +77,7 @@ struct RunSettings {
   std::optional<EnvDef> target;  // the control's target: ES alone's environment, the direct path's end
   double advance_threshold = 0;  // direct path: move to the next stage at this score
   int64_t budget_es_steps = 0;   // direct path: stop after this many ES steps
+  int64_t env_step_budget = 0;   // stop after the iteration that reaches this many environment steps (0: none)
 };
 
 }  // namespace poet

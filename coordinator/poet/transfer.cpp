@@ -6,8 +6,11 @@
 //   threshold test (Enhanced POET's): direct evaluations first; only a source that beats the target's threshold
 //     (the best of its last five evaluation scores) gets the proposal step — two more batches — and the best
 //     proposal that beats the threshold too replaces θ.
+//   confirm_transfers (stochastic courses only): a third batch runs each target's choice and its own θ on the same
+//     fresh courses, and the choice replaces θ only if it scores above θ there.
 
 #include <algorithm>
+#include <optional>
 
 #include "poet/iteration_context.h"
 
@@ -99,6 +102,8 @@ void transfer(IterationContext& ctx) {
 
   // the choices: the best transfer, first in order on ties (direct by source order, then proposals), replaces θ
   // if strictly better than the latest score (full test) or than the threshold, as a proposal (threshold test)
+  std::vector<const Candidate*> chosen(active.size(), nullptr);
+  std::vector<Evaluation> chosen_eval(active.size());
   for (size_t a = 0; a < active.size(); ++a) {
     Pair& target = ctx.state.pairs[active[a]];
     const Candidate* best = nullptr;
@@ -117,19 +122,53 @@ void transfer(IterationContext& ctx) {
     ctx.state.counters.transfer_attempts += 1;
     const double bar = full ? target.latest_score : threshold_of(target);
     if (!best || !(best_eval.score > bar)) continue;
+    chosen[a] = best;
+    chosen_eval[a] = best_eval;
+  }
 
+  // with confirm_transfers (stochastic courses), each choice and the target's θ run on the same fresh courses,
+  // and the choice stands only if it scores above θ there; its score is then that unbiased one
+  std::optional<int64_t> unconfirmed;
+  if (ctx.settings.poet.confirm_transfers) {
+    unconfirmed = 0;
+    RolloutBatch confirm = ctx.batch();
+    std::vector<std::pair<size_t, size_t>> handles(active.size());
+    for (size_t a = 0; a < active.size(); ++a) {
+      if (!chosen[a]) continue;
+      const Pair& target = ctx.state.pairs[active[a]];
+      const uint64_t key = ctx.key("transfer-confirm", {u(ctx.t), u(target.id)});
+      handles[a] = {confirm.add_evaluation(share(chosen[a]->theta), target.env, key),
+                    confirm.add_evaluation(share(target.theta), target.env, key)};
+    }
+    confirm.run(ctx.evaluator, ctx.state.counters);
+    for (size_t a = 0; a < active.size(); ++a) {
+      if (!chosen[a]) continue;
+      const Evaluation candidate = confirm.evaluation(handles[a].first);
+      if (candidate.score > confirm.evaluation(handles[a].second).score) {
+        chosen_eval[a] = candidate;
+      } else {
+        chosen[a] = nullptr;
+        *unconfirmed += 1;
+      }
+    }
+  }
+
+  for (size_t a = 0; a < active.size(); ++a) {
+    if (!chosen[a]) continue;
+    Pair& target = ctx.state.pairs[active[a]];
+    const Candidate& best = *chosen[a];
     const double previous = target.latest_score;
-    target.theta = best->theta;
+    target.theta = best.theta;
     reset(target.optimizer, ctx.settings.es);
-    target.transfers.push_back({ctx.t, best->source, best->proposal, best_eval.score});
+    target.transfers.push_back({ctx.t, best.source, best.proposal, chosen_eval[a].score});
     ctx.state.counters.transfer_successes += 1;
-    ctx.event(TransferEvent{target.id, best->source, best->proposal, best_eval.score, previous});
-    record_evaluation(ctx, target, target.theta, best_eval);
+    ctx.event(TransferEvent{target.id, best.source, best.proposal, chosen_eval[a].score, previous});
+    record_evaluation(ctx, target, target.theta, chosen_eval[a]);
   }
   // what the round cost: with the threshold test, the proposals it paid for out of the N(N−1) of the full test
   ctx.event(TransferRoundEvent{full, active.size(), active.size() * (active.size() - 1), proposal_count,
                                ctx.state.counters.transfer_successes - successes_before,
-                               ctx.state.counters.rollouts - rollouts_before});
+                               ctx.state.counters.rollouts - rollouts_before, unconfirmed});
 }
 
 }  // namespace poet

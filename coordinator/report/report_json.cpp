@@ -3,6 +3,7 @@
 #include <map>
 
 #include "envgen/env_distance.h"
+#include "poet/engine.h"
 
 namespace poet {
 namespace {
@@ -76,7 +77,7 @@ nlohmann::ordered_json report_json(const RunSnapshot& run, const RunMetrics& m, 
   out["seed"] = state.settings.seed;
   out["iterations_done"] = m.iterations_done;
   out["iteration_limit"] = state.settings.iterations;
-  out["finished"] = state.finished || m.iterations_done >= state.settings.iterations;
+  out["finished"] = run_complete(state);  // the iteration limit, the environment-step budget or a control's end
   out["live"] = run.live;
   out["rollouts"] = state.counters.rollouts;
   out["env_steps"] = state.counters.env_steps;

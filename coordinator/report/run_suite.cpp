@@ -9,9 +9,12 @@
 namespace poet {
 namespace {
 
-// (finished, mean return): larger is better; the earlier candidate wins a tie.
-bool better(int finished, double mean, int best_finished, double best_mean) {
-  return std::tie(finished, mean) > std::tie(best_finished, best_mean);
+// (finished, mean progress, mean return): larger is better; the earlier candidate wins a tie. Progress before the
+// return, which ranks standing still above walking halfway and falling.
+template <class Score>
+bool better(const Score& a, const Score& b) {
+  return std::make_tuple(a.finished(), a.mean_progress(), a.mean_return()) >
+         std::make_tuple(b.finished(), b.mean_progress(), b.mean_return());
 }
 
 }  // namespace
@@ -34,11 +37,11 @@ RunSuite evaluate_run_on_suite(const RunState& state, const CourseSuite& suite, 
   for (size_t i = 1; i < run.scores.size(); ++i) {
     const SuiteScore& s = run.scores[i];
     const SuiteScore& b = run.scores[run.best];
-    if (better(s.finished(), s.mean_return(), b.finished(), b.mean_return())) run.best = i;
+    if (better(s, b)) run.best = i;
     for (size_t g = 0; g < suite.groups.size(); ++g) {
       const GroupScore& x = s.groups[g];
       const GroupScore& y = run.scores[run.best_per_group[g]].groups[g];
-      if (better(x.finished(), x.mean_return(), y.finished(), y.mean_return())) run.best_per_group[g] = i;
+      if (better(x, y)) run.best_per_group[g] = i;
     }
   }
   return run;
@@ -49,14 +52,14 @@ std::string run_suite_table(const RunSuite& run) {
   std::string out = suite_rows_header(run.scores.front());
   for (size_t i = 0; i < run.candidates.size(); ++i) out += suite_row(run.candidates[i].label, run.scores[i]);
   const SuiteScore& best = run.scores[run.best];
-  char figures[96];
-  std::snprintf(figures, sizeof figures, " (%d of %d finished, mean return %.2f)\n", best.finished(), best.episodes(),
-                best.mean_return());
+  char figures[128];
+  std::snprintf(figures, sizeof figures, " (%d of %d finished, mean progress %.1f%%, mean return %.2f)\n",
+                best.finished(), best.episodes(), 100 * best.mean_progress(), best.mean_return());
   out += "best single agent on " + best.suite + ": " + run.candidates[run.best].label + figures;
   for (size_t g = 0; g < run.best_per_group.size(); ++g) {
     const GroupScore& score = run.scores[run.best_per_group[g]].groups[g];
-    std::snprintf(figures, sizeof figures, " (%d of %zu finished, mean return %.2f)\n", score.finished(),
-                  score.episodes.size(), score.mean_return());
+    std::snprintf(figures, sizeof figures, " (%d of %zu finished, mean progress %.1f%%, mean return %.2f)\n",
+                  score.finished(), score.episodes.size(), 100 * score.mean_progress(), score.mean_return());
     out += "best on " + score.group + ": " + run.candidates[run.best_per_group[g]].label + figures;
   }
   return out;

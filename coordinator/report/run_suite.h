@@ -2,7 +2,7 @@
 // A run's agents on a held-out test suite (poet-eval --run-dir, poet-report --suite, poet.evaluate_suite): every
 // pair's θ, active or retired, and its best θ where it differs, each on the whole suite with the run's walker; then
 // the run's best single agent on the suite and its best agent per group. Best is the most episodes finished, then
-// the higher mean return, then the earlier candidate.
+// the further mean progress along the courses, then the higher mean return, then the earlier candidate.
 
 #include <nlohmann/json.hpp>
 #include <string>
@@ -32,8 +32,8 @@ std::vector<SuiteCandidate> suite_candidates(const RunState& state);
 // Runs every candidate on the suite (episodes on up to `threads` threads; the result does not depend on them).
 RunSuite evaluate_run_on_suite(const RunState& state, const CourseSuite& suite, int threads);
 
-// One line per candidate (finished per group and in all, mean return), then the best single agent and the best
-// per group. Empty for a run without candidates.
+// One line per candidate (finished per group and in all, mean progress and return), then the best single agent and the
+// best per group. Empty for a run without candidates.
 std::string run_suite_table(const RunSuite& run);
 
 // {"suite", "run_dir", "candidates": [{"label", "pair", "best_theta", "score": {...}}], "best": label,

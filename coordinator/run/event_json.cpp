@@ -47,10 +47,12 @@ Json fields(const TransferEvent& e) {
 }
 
 Json fields(const TransferRoundEvent& e) {
-  return {{"event", "transfer_round"}, {"test", e.full_test ? "full" : "threshold"},
-          {"pairs", e.pairs},          {"candidates", e.candidates},
-          {"proposals", e.proposals},  {"accepted", e.accepted},
-          {"rollouts", e.rollouts}};
+  Json j = {{"event", "transfer_round"}, {"test", e.full_test ? "full" : "threshold"},
+            {"pairs", e.pairs},          {"candidates", e.candidates},
+            {"proposals", e.proposals},  {"accepted", e.accepted},
+            {"rollouts", e.rollouts}};
+  if (e.unconfirmed) j["unconfirmed"] = *e.unconfirmed;  // only with confirm_transfers: other runs' lines unchanged
+  return j;
 }
 
 Json fields(const StageEvent& e) {

@@ -1,5 +1,6 @@
 #include "suite/course_suite.h"
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdio>
@@ -11,6 +12,7 @@
 #include "parallel_for.h"
 #include "rng.h"
 #include "walker/terrain.h"
+#include "walker/walker_constants.h"
 
 namespace poet {
 namespace {
@@ -111,6 +113,18 @@ double GroupScore::mean_return() const {
   return sum / static_cast<double>(episodes.size());
 }
 
+double progress(const RolloutResult& episode) {
+  const double x = (episode.final_x - walker::kInitX) / (walker::kFinishX - walker::kInitX);
+  return std::clamp(x, 0.0, 1.0);
+}
+
+double GroupScore::mean_progress() const {
+  if (episodes.empty()) return 0.0;
+  double sum = 0;
+  for (const RolloutResult& e : episodes) sum += progress(e);
+  return sum / static_cast<double>(episodes.size());
+}
+
 double GroupScore::return_sd() const {
   if (episodes.size() < 2) return 0.0;
   const double mean = mean_return();
@@ -142,6 +156,12 @@ double SuiteScore::finished_fraction() const {
 double SuiteScore::mean_return() const {
   double sum = 0;
   for (const GroupScore& g : groups) sum += g.mean_return() * static_cast<double>(g.episodes.size());
+  return episodes() == 0 ? 0.0 : sum / static_cast<double>(episodes());
+}
+
+double SuiteScore::mean_progress() const {
+  double sum = 0;
+  for (const GroupScore& g : groups) sum += g.mean_progress() * static_cast<double>(g.episodes.size());
   return episodes() == 0 ? 0.0 : sum / static_cast<double>(episodes());
 }
 

@@ -53,6 +53,10 @@ struct GroupScore {
   // courses drawn like these, given n episodes.
   std::pair<double, double> finished_interval() const;
   double mean_return() const;
+  // How far along the course the walkers got, from the start (0) to the finish line (1), on average: the measure
+  // that tells a walker that went halfway and fell from one that stood still, which the return does not (a fall
+  // costs 100, so standing scores higher than falling halfway).
+  double mean_progress() const;
   double return_sd() const;               // sample standard deviation (0 for one episode)
   double mean_return_half_width() const;  // 1.96 sd / √n: the 95% interval of the mean is mean ± this
 };
@@ -64,7 +68,11 @@ struct SuiteScore {
   int finished() const;
   double finished_fraction() const;  // over every episode of the suite
   double mean_return() const;        // over every episode of the suite
+  double mean_progress() const;      // over every episode of the suite
 };
+
+// An episode's progress: its hull's x from the start to the finish line as a fraction, clamped to [0, 1].
+double progress(const RolloutResult& episode);
 
 // The policy's episodes on every course of the suite on up to `threads` threads; the result does not depend on
 // `threads`.

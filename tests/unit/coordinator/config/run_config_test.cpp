@@ -220,6 +220,18 @@ TEST(RunConfig, DeepPresetDiffersFromChallengingOnlyWhereItSays) {
   EXPECT_EQ(c.SerializeAsString(), challenging.SerializeAsString());
 }
 
+TEST(RunConfig, StochasticPresetDiffersFromChallengingOnlyWhereItSays) {
+  pb::RunConfig c = load_preset("stochastic.textproto");
+  pb::RunConfig challenging = load_preset("challenging.textproto");
+  EXPECT_TRUE(c.walker().stochastic_envs());
+  EXPECT_EQ(c.walker().eval_episodes(), 5) << "the reference's";
+  EXPECT_TRUE(c.poet().confirm_transfers());
+  c.mutable_walker()->clear_stochastic_envs();
+  if (c.walker().ByteSizeLong() == 0) c.clear_walker();
+  c.mutable_poet()->clear_confirm_transfers();
+  EXPECT_EQ(c.SerializeAsString(), challenging.SerializeAsString());
+}
+
 // The deep run's control without transfer and its second seed (experiments/deep/) are the preset but for the mode
 // and the seed.
 TEST(RunConfig, TheDeepRunsControlAndSecondSeedDifferOnlyWhereTheySay) {
@@ -233,6 +245,34 @@ TEST(RunConfig, TheDeepRunsControlAndSecondSeedDifferOnlyWhereTheySay) {
     change(expected);
     EXPECT_EQ(config->SerializeAsString(), expected.SerializeAsString()) << file;
   }
+}
+
+// The generalisation comparison (experiments/general/): POET on fixed and on stochastic courses are their presets
+// but for the budget that ends them, and domain randomisation has the same ES and the same budget.
+TEST(RunConfig, TheGeneralisationRunsDifferFromTheirPresetsOnlyByTheirBudget) {
+  const auto general = [](const std::string& file) {
+    const Expected<pb::RunConfig> c = load_run_config((source_dir() / "experiments" / "general" / file).string());
+    EXPECT_TRUE(c) << file << ": " << (c ? "" : c.error());
+    return c ? *c : pb::RunConfig();
+  };
+  const pb::RunConfig fixed = general("fixed.textproto");
+  EXPECT_EQ(fixed.env_step_budget(), 100'000'000);
+  for (const auto& [file, preset] : std::vector<std::pair<std::string, std::string>>{
+           {"fixed.textproto", "challenging.textproto"}, {"stochastic.textproto", "stochastic.textproto"}}) {
+    pb::RunConfig run = general(file);
+    EXPECT_EQ(run.env_step_budget(), fixed.env_step_budget()) << file;
+    run.clear_env_step_budget();
+    run.clear_iterations();
+    pb::RunConfig expected = load_preset(preset);
+    expected.clear_iterations();
+    EXPECT_EQ(run.SerializeAsString(), expected.SerializeAsString()) << file;
+  }
+  const pb::RunConfig dr = general("domain-randomisation.textproto");
+  EXPECT_EQ(dr.mode(), pb::RunConfig::ES_ALONE);
+  EXPECT_EQ(dr.es_alone().random_courses(), pb::EsAloneConfig::CHALLENGING_COURSES);
+  EXPECT_EQ(dr.es().SerializeAsString(), fixed.es().SerializeAsString());
+  EXPECT_EQ(dr.env_step_budget(), fixed.env_step_budget());
+  EXPECT_EQ(dr.seed(), fixed.seed());
 }
 
 TEST(RunConfig, ControlPresetsHaveTheirModes) {
@@ -334,7 +374,7 @@ TEST(RunConfig, RunSettingsCarryEveryField) {
            mc_low: 10 mc_high: 300 active_cap: 6 novelty_k: 3 novelty_normalized: true
            child_ranking: LOWEST_SCORE_FIRST admission_proposal: ADAM_PROPOSAL transfer_proposal: SGD_PROPOSAL
            solved_score: 250 keep_admission_selection: true transfer_test: THRESHOLD_TRANSFER_TEST
-           environments: CPPN_TERRAIN reproduction_agent: BEST_THETA
+           environments: CPPN_TERRAIN reproduction_agent: BEST_THETA confirm_transfers: true
            mutation { roughness: false pits: false stumps: false stairs: true mutate_stair_steps: true
                       all_types: false } }
     walker { push_scale: 0 lidar: FIRST max_steps: 500 stochastic_envs: true eval_episodes: 3 }
@@ -381,6 +421,7 @@ TEST(RunConfig, RunSettingsCarryEveryField) {
   EXPECT_TRUE(p.keep_admission_selection);
   EXPECT_EQ(p.transfer_test, TransferTest::kThreshold);
   EXPECT_EQ(p.reproduction_agent, ReproductionAgent::kBestTheta);
+  EXPECT_TRUE(p.confirm_transfers);
   EXPECT_EQ(p.environments, EnvironmentKind::kCppnTerrain);
   const MutationOptions& m = p.mutation;
   EXPECT_FALSE(m.roughness);
@@ -419,6 +460,42 @@ TEST(RunConfig, RunSettingsCarryEveryField) {
 }
 
 // RunSettingsCarryEveryField normalises the encoding distance, which PATA-EC refuses: the measure on its own.
+TEST(RunConfig, TheEnvStepBudgetAndDomainRandomisationReachTheSettings) {
+  const Expected<pb::RunConfig> c = parse_run_config(R"(
+    mode: ES_ALONE env_step_budget: 123456789
+    es_alone { target { } random_courses: EXTREMELY_CHALLENGING_COURSES }
+    walker { eval_episodes: 4 }
+  )");
+  ASSERT_TRUE(c) << c.error();
+  const RunSettings s = run_settings(*c);
+  EXPECT_EQ(s.env_step_budget, 123456789);
+  EXPECT_EQ(s.episodes.random_courses, Difficulty::kExtremelyChallenging);
+  EXPECT_TRUE(s.episodes.stochastic) << "domain randomisation draws a fresh seed too";
+  EXPECT_EQ(s.episodes.eval_episodes, 4);
+  const Expected<pb::RunConfig> easy =
+      parse_run_config("mode: ES_ALONE es_alone { target { } random_courses: EASY_COURSES }");
+  ASSERT_TRUE(easy) << easy.error();
+  EXPECT_EQ(run_settings(*easy).episodes.random_courses, Difficulty::kEasy);
+  const Expected<pb::RunConfig> fixed = parse_run_config("mode: ES_ALONE es_alone { target { } }");
+  ASSERT_TRUE(fixed) << fixed.error();
+  EXPECT_EQ(run_settings(*fixed).episodes.random_courses, std::nullopt);
+  EXPECT_FALSE(run_settings(*fixed).episodes.stochastic);
+  EXPECT_EQ(run_settings(*fixed).env_step_budget, 0);
+  // random courses belong to ES alone
+  EXPECT_NE(error_of("mode: POET es_alone { random_courses: EASY_COURSES }").find("es_alone"), std::string::npos);
+  EXPECT_NE(error_of("env_step_budget: -1").find("env_step_budget"), std::string::npos);
+}
+
+TEST(RunConfig, ConfirmedTransfersNeedStochasticCourses) {
+  EXPECT_EQ(error_of("mode: POET poet { confirm_transfers: true }"),
+            "poet.confirm_transfers: true needs walker.stochastic_envs: true (on a fixed course a score is exact)");
+  const Expected<pb::RunConfig> c =
+      parse_run_config("mode: POET poet { confirm_transfers: true } walker { stochastic_envs: true }");
+  ASSERT_TRUE(c) << c.error();
+  EXPECT_TRUE(run_settings(*c).poet.confirm_transfers);
+  EXPECT_FALSE(run_settings(*parse_run_config("mode: POET")).poet.confirm_transfers);
+}
+
 TEST(RunConfig, RunSettingsCarryTheNoveltyMeasure) {
   const Expected<pb::RunConfig> pata = parse_run_config("poet { novelty: PATA_EC novelty_k: 3 }");
   ASSERT_TRUE(pata) << pata.error();
@@ -552,6 +629,8 @@ TEST(RunConfig, EveryBoundIsExact) {
   } cases[] = {
       {"iterations: $", "iterations", "must be in [0, 10000000]", "10000000", "10000001"},
       {"checkpoint_interval: $", "checkpoint_interval", "must be in [1, 1000000]", "1000000", "1000001"},
+      {"env_step_budget: $", "env_step_budget", "must be in [0, 1000000000000000]", "1000000000000000",
+       "1000000000000001"},
       {"init_stddev: $", "init_stddev", "must be in [0, 10]", "10", "10.000000000000002"},
       {"mode: ES_ALONE es_alone { target { } } es { perturbations: $ }", "es.perturbations", "must be in [1, 100000]",
        "100000", "100001"},

@@ -52,6 +52,40 @@ TEST(EsAlone, OptimisesOnePairOnTheTargetAndNeverReproducesOrTransfers) {
   EXPECT_GT(s.pairs[0].es_env_steps, 0);
 }
 
+// A run with an environment-step budget is complete after the iteration that reaches it, in any mode.
+TEST(EnvStepBudget, TheRunEndsAfterTheIterationThatReachesIt) {
+  pb::RunConfig c = tiny_config();
+  c.set_mode(pb::RunConfig::ES_ALONE);
+  *c.mutable_es_alone()->mutable_target() = to_proto(rough(2.5, 77));
+  c.set_env_step_budget(25);  // the scripted rollouts take 10 steps: five an iteration (4 perturbed, 1 evaluation)
+  RunState s = initial_state(run_settings(c));
+  ScriptedEvaluator ev([](int, size_t, const RolloutTask&) { return scored(1); });
+  while (!run_complete(s)) run_iteration(s, ev);
+  EXPECT_EQ(s.next_iteration, 1) << "the first iteration's 50 steps reach the budget of 25";
+  EXPECT_EQ(s.counters.env_steps, 50);
+  c.set_env_step_budget(0);
+  RunState unlimited = initial_state(run_settings(c));
+  unlimited.counters.env_steps = 1'000'000'000;
+  EXPECT_FALSE(run_complete(unlimited)) << "0 is no budget";
+}
+
+// ES alone with domain randomisation: the pair keeps its target as its name, and every rollout runs on a course
+// drawn at the level.
+TEST(EsAlone, DomainRandomisationRunsEveryRolloutOnACourseOfTheLevel) {
+  pb::RunConfig c = tiny_config();
+  c.set_mode(pb::RunConfig::ES_ALONE);
+  *c.mutable_es_alone()->mutable_target() = to_proto(rough(2.5, 77));
+  c.mutable_es_alone()->set_random_courses(pb::EsAloneConfig::CHALLENGING_COURSES);
+  RunState s = initial_state(run_settings(c));
+  ScriptedEvaluator ev([](int, size_t, const RolloutTask& t) {
+    EXPECT_EQ(difficulty(t.env.encoding), Difficulty::kChallenging);
+    return scored(1);
+  });
+  for (int i = 0; i < 2; ++i) run_iteration(s, ev);
+  EXPECT_EQ(s.pairs[0].env.encoding.roughness, 2.5);
+  EXPECT_EQ(s.pairs[0].es_steps, 2);
+}
+
 TEST(PoetWithoutTransfer, ChildrenStartFromTheirParentAndNoTransferRuns) {
   pb::RunConfig c = tiny_config();
   c.set_mode(pb::RunConfig::POET_WITHOUT_TRANSFER);

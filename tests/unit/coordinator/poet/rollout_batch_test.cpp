@@ -153,6 +153,48 @@ TEST(RolloutBatch, StochasticEnvironmentsDrawCoursesPerMirroredPairAndPerEpisode
   EXPECT_FALSE(ev_out.finished);
 }
 
+// ES alone's domain randomisation: every mirrored pair and every evaluation episode on a course of its own, each
+// drawn at the level asked for, the pair's members on the same one; the same keys give the same courses.
+TEST(RolloutBatch, DomainRandomisationDrawsAnEncodingAtTheLevelPerMirroredPairAndPerEpisode) {
+  pb::RunConfig c = tiny_config();
+  c.set_mode(pb::RunConfig::ES_ALONE);
+  c.mutable_es_alone()->set_random_courses(pb::EsAloneConfig::VERY_CHALLENGING_COURSES);
+  c.mutable_walker()->set_eval_episodes(3);
+  const EpisodeSettings randomised = run_settings(c).episodes;
+  ASSERT_EQ(randomised.random_courses, Difficulty::kVeryChallenging);
+  EXPECT_TRUE(randomised.stochastic);
+  EXPECT_EQ(randomised.eval_episodes, 3);
+
+  const auto tasks_of = [&](const EpisodeSettings& settings) {
+    RolloutBatch batch(settings);
+    const SharedParams theta = share(std::vector<double>(kParamCount, 0.5));
+    batch.add_es_step({theta, rough(2.0, 7), 0.05, 42}, 4);
+    batch.add_evaluation(theta, rough(2.0, 7), 99);
+    ScriptedEvaluator ev([](int, size_t i, const RolloutTask&) { return scored(double(i)); });
+    RunCounters counters;
+    batch.run(ev, counters);
+    return ev.batches[0];
+  };
+  const std::vector<RolloutTask> tasks = tasks_of(randomised);
+  ASSERT_EQ(tasks.size(), 8u + 3u);
+  std::set<double> roughness;
+  for (size_t i = 0; i < tasks.size(); ++i) {
+    EXPECT_EQ(difficulty(tasks[i].env.encoding), Difficulty::kVeryChallenging) << i;
+    EXPECT_EQ(validate(tasks[i].env.encoding), std::nullopt) << i;
+    roughness.insert(tasks[i].env.encoding.roughness);
+  }
+  for (size_t i = 0; i < 4; ++i) {
+    EXPECT_TRUE(tasks[2 * i].env.encoding.same_genes(tasks[2 * i + 1].env.encoding));
+    EXPECT_EQ(tasks[2 * i].env.seed, tasks[2 * i + 1].env.seed);
+  }
+  EXPECT_EQ(roughness.size(), 7u) << "four pairs and three episodes, each on an encoding of its own";
+  const std::vector<RolloutTask> again = tasks_of(randomised);
+  for (size_t i = 0; i < tasks.size(); ++i) EXPECT_TRUE(tasks[i].env.encoding.same_genes(again[i].env.encoding));
+  // the seeds are those of stochastic courses on the target's encoding: the encoding is drawn after the seed
+  const std::vector<RolloutTask> stochastic = tasks_of(settings(true));
+  for (size_t i = 0; i < tasks.size(); ++i) EXPECT_EQ(tasks[i].env.seed, stochastic[i].env.seed);
+}
+
 TEST(RolloutBatch, AnEmptyBatchNeverReachesTheEvaluatorAndBadResultsAreRefused) {
   RolloutBatch empty(settings(false));
   ScriptedEvaluator ev([](int, size_t, const RolloutTask&) { return scored(1); });

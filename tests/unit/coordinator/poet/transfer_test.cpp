@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 
 #include "engine_test_support.h"
 #include "scripted_evaluator.h"
@@ -33,6 +34,49 @@ ScriptedEvaluator transfer_script(double direct_on_flat, double direct_on_rough,
     if (call == 3) return scored(on_flat(t) ? proposal_on_flat : proposal_on_rough, finished);
     return scored(100);
   });
+}
+
+// confirm_transfers on stochastic courses: each target's choice and its θ run on the same fresh courses (call 4),
+// and the choice stands only where it beats θ there, with that score.
+TEST(Transfer, OnStochasticCoursesAChoiceMustBeatTheTargetsThetaAgainOnFreshCourses) {
+  pb::RunConfig c = tiny_config();
+  c.mutable_poet()->set_mutation_interval(1000);
+  c.mutable_poet()->set_transfer_interval(5);
+  c.mutable_walker()->set_stochastic_envs(true);
+  c.mutable_walker()->set_eval_episodes(2);
+  c.mutable_poet()->set_confirm_transfers(true);
+  RunState s = state_at(c, 5, 0);
+  add_pair(s, rough(1.0), 0);
+  // calls 0–3 as transfer_script(150, 100, 120, 200); call 4: pair 0's choice 90 against its θ's 95 (refused),
+  // pair 1's choice 180 against its θ's 100 (kept)
+  ScriptedEvaluator ev([](int call, size_t i, const RolloutTask& t) {
+    if (t.perturbation) return scored(0);
+    if (call == 2) return scored(on_flat(t) ? 150 : 100);
+    if (call == 3) return scored(on_flat(t) ? 120 : 200);
+    if (call == 4) return scored(std::array{90.0, 90.0, 95.0, 95.0, 180.0, 180.0, 100.0, 100.0}.at(i));
+    return scored(100);
+  });
+  const IterationReport r = run_iteration(s, ev);
+  ASSERT_EQ(ev.batches.size(), 5u);
+  const std::vector<RolloutTask>& confirm = ev.batches[4];
+  ASSERT_EQ(confirm.size(), 8u);  // per target: the choice's two episodes, then θ's two, on the same courses
+  for (size_t target = 0; target < 2; ++target)
+    for (size_t e = 0; e < 2; ++e) EXPECT_EQ(confirm[4 * target + e].env.seed, confirm[4 * target + 2 + e].env.seed);
+  EXPECT_NE(confirm[0].env.seed, confirm[1].env.seed);
+  EXPECT_EQ(s.pairs[0].theta, *confirm[2].theta) << "the choice lost to θ on the fresh courses";
+  EXPECT_NE(*confirm[0].theta, *confirm[2].theta);
+  EXPECT_EQ(s.pairs[1].theta, *confirm[4].theta) << "the choice beat θ on the fresh courses";
+  EXPECT_TRUE(s.pairs[0].transfers.empty());
+  ASSERT_EQ(s.pairs[1].transfers.size(), 1u);
+  EXPECT_TRUE(s.pairs[1].transfers[0].proposal);
+  EXPECT_EQ(s.pairs[1].transfers[0].score, 180);
+  EXPECT_EQ(s.pairs[1].latest_score, 180) << "the score recorded is the confirmation's";
+  EXPECT_EQ(s.counters.transfer_attempts, 2);
+  EXPECT_EQ(s.counters.transfer_successes, 1);
+  const auto rounds = events_named(r, "transfer_round");
+  ASSERT_EQ(rounds.size(), 1u);
+  EXPECT_EQ(rounds[0]["accepted"], 1);
+  EXPECT_EQ(rounds[0]["unconfirmed"], 1);
 }
 
 TEST(Transfer, DirectAndProposalTransfersReplaceWhenStrictlyBetter) {

@@ -47,7 +47,7 @@ TEST(RunSuite, TheWalkerThatGoesFurtherIsBestAndTheTableAndJsonSaySo) {
   ASSERT_EQ(run.scores.size(), 2u);
   const size_t hardcore = 4;
   EXPECT_EQ(run.best_per_group[hardcore], 1u) << "the flat walker goes further on hardcore-like than θ = 0";
-  EXPECT_GT(run.scores[1].groups[hardcore].mean_return(), run.scores[0].groups[hardcore].mean_return());
+  EXPECT_GT(run.scores[1].groups[hardcore].mean_progress(), run.scores[0].groups[hardcore].mean_progress());
   const std::string table = run_suite_table(run);
   EXPECT_NE(table.find("best on hardcore-like: pair 1"), std::string::npos) << table;
   const nlohmann::json j = run_suite_json(run, suite, "somewhere", false);

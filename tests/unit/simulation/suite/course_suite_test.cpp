@@ -13,6 +13,7 @@
 #include "policy/mlp.h"
 #include "policy/policy_file.h"
 #include "rng.h"
+#include "walker/walker_constants.h"
 
 namespace poet {
 namespace {
@@ -119,6 +120,14 @@ TEST(CourseSuite, StatisticsAreWilsonsIntervalAndTheMeansOwn) {
   EXPECT_DOUBLE_EQ(half.mean_return(), 200);
   EXPECT_NEAR(half.return_sd(), 100 * std::sqrt(100.0 / 99.0), 1e-9);
   EXPECT_NEAR(half.mean_return_half_width(), 1.959964 * half.return_sd() / 10, 1e-5);
+  RolloutResult start, halfway, beyond;
+  start.final_x = walker::kInitX - 1;  // walked backwards: no progress
+  halfway.final_x = (walker::kInitX + walker::kFinishX) / 2;
+  beyond.final_x = walker::kFinishX + 3;
+  EXPECT_EQ(progress(start), 0);
+  EXPECT_DOUBLE_EQ(progress(halfway), 0.5);
+  EXPECT_EQ(progress(beyond), 1);
+  EXPECT_DOUBLE_EQ((GroupScore{"g", {start, halfway, beyond}}.mean_progress()), 0.5);
   const SuiteScore both{"s", {none, half}};
   EXPECT_EQ(both.episodes(), 200);
   EXPECT_EQ(both.finished(), 50);
