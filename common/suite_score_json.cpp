@@ -37,13 +37,14 @@ nlohmann::json to_json(const SuiteScore& score, const CourseSuite& suite) {
   for (size_t g = 0; g < score.groups.size(); ++g) {
     nlohmann::json courses = nlohmann::json::array();
     size_t next = 0;
-    for (const SuiteCourse& c : suite.groups[g].courses) {
+    for (const SuiteCourse& c : suite.groups.at(g).courses) {
       nlohmann::json episodes = nlohmann::json::array();
       for (uint32_t seed : c.seeds) {
         const RolloutResult& e = score.groups[g].episodes.at(next++);
         episodes.push_back({{"seed", seed},
                             {"return", e.total_reward},
                             {"steps", e.steps},
+                            {"progress", progress(e)},
                             {"finished", e.finished},
                             {"fell", e.fell}});
       }

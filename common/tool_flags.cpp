@@ -15,7 +15,7 @@ void add_walker_flags(CLI::App& app, WalkerFlags& flags) {
       ->check(CLI::Range(0.0, 1e4));
   app.add_option("--lidar", flags.lidar, "Lidar rule: nearest (default) or first (the reference's)")
       ->check(CLI::IsMember({"nearest", "first"}));
-  app.add_option("--max-steps", flags.max_steps, "Time limit in steps")->check(CLI::Range(1, 1'000'000));
+  app.add_option("--max-steps", flags.max_steps, "Time limit in steps")->check(CLI::Range(1, walker::kMaxTimeLimit));
 }
 
 void add_fingerprint_flag(CLI::App& app) {

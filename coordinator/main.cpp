@@ -419,9 +419,9 @@ int run(const Options& options, StopSignals& signals) {
     print_summary(state, elapsed());
     return kExitInterrupted;
   }
-  if (const int64_t budget = state.settings.env_step_budget; budget > 0 && state.counters.env_steps >= budget)
+  if (budget_reached(state))
     spdlog::info("run finished at iteration {}: its environment-step budget of {} reached ({} steps)",
-                 state.next_iteration, budget, state.counters.env_steps);
+                 state.next_iteration, state.settings.env_step_budget, state.counters.env_steps);
   else
     spdlog::info("run finished at iteration {}", state.next_iteration);
   board.set_state(RunPhase::kFinished);

@@ -24,6 +24,8 @@ def load(path):
 
 def rows_of(label, doc):
     """[(row label, [(group name, group summary, agent label or None)], suite summary)]"""
+    if not isinstance(doc, dict) or "suite" not in doc or ("candidates" not in doc and "groups" not in doc):
+        sys.exit(f"general_table.py: {label}: not the output of poet-eval --suite --json")
     if "candidates" not in doc:  # one policy
         return [(label, [(g["group"], g, None) for g in doc["groups"]], doc)]
     if not doc["candidates"]:
@@ -48,12 +50,16 @@ def main():
     parser.add_argument("--plot", help="write the plot here (PNG)")
     parser.add_argument("runs", nargs="+", metavar="LABEL=SUITE_JSON")
     args = parser.parse_args()
-    methods = []
+    methods, suite = [], None
     for item in args.runs:
         label, sep, path = item.partition("=")
         if not sep or not label or not path:
             sys.exit(f"general_table.py: expected LABEL=SUITE_JSON, got {item!r}")
-        methods.append((label, rows_of(label, load(path))))
+        doc = load(path)
+        methods.append((label, rows_of(label, doc)))
+        suite = suite or doc["suite"]
+        if doc["suite"] != suite:
+            sys.exit(f"general_table.py: {label}: suite {doc['suite']}, not the first file's {suite}")
 
     groups = [name for name, _, _ in methods[0][1][0][1]]
     print("| agents | " + " | ".join(groups) + " | mean progress (suite) | mean return (suite) |")
@@ -87,7 +93,7 @@ def main():
         ax.set_ylabel("courses finished (%), 95% interval")
         ax_return.set_ylabel("mean return, 95% interval")
         ax_return.axhline(0, color="black", linewidth=0.5)
-        ax.set_title(f"best single agent of each method on the test suite {methods[0][1][0][2]['suite']}")
+        ax.set_title(f"best single agent of each method on the test suite {suite}")
         ax.legend()
         fig.tight_layout()
         fig.savefig(args.plot, dpi=110)

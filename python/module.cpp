@@ -267,10 +267,17 @@ class PyVectorWalkerEnv {
   bool started_ = false;
 };
 
+// evaluate's and evaluate_suite's episodes run to their end inside one call: their length is bounded as the tools'.
+void check_time_limit(int max_steps) {
+  if (max_steps < 1 || max_steps > walker::kMaxTimeLimit)
+    throw std::invalid_argument("max_steps must be in [1, " + std::to_string(walker::kMaxTimeLimit) + "], got " +
+                                std::to_string(max_steps));
+}
+
 py::dict evaluate(const PyPolicy& policy, const CourseSpec& course, const std::vector<int64_t>& seeds, int threads,
                   const std::string& lidar, double push_scale, int max_steps) {
   if (threads < 1) throw std::invalid_argument("threads must be at least 1, got " + std::to_string(threads));
-  if (max_steps < 1) throw std::invalid_argument("max_steps must be at least 1, got " + std::to_string(max_steps));
+  check_time_limit(max_steps);
   const WalkerOptions options = walker_options(lidar, push_scale);
   std::vector<uint32_t> terrain_seeds;
   for (int64_t s : seeds) terrain_seeds.push_back(checked_seed(s));
@@ -293,7 +300,7 @@ py::dict evaluate(const PyPolicy& policy, const CourseSpec& course, const std::v
 std::string evaluate_suite(const PyPolicy& policy, const std::string& name, int threads, const std::string& lidar,
                            double push_scale, int max_steps) {
   if (threads < 1) throw std::invalid_argument("threads must be at least 1, got " + std::to_string(threads));
-  if (max_steps < 1) throw std::invalid_argument("max_steps must be at least 1, got " + std::to_string(max_steps));
+  check_time_limit(max_steps);
   const std::optional<CourseSuite> suite = named_suite(name);
   if (!suite) throw std::invalid_argument("unknown suite '" + name + "'");
   const WalkerOptions options = walker_options(lidar, push_scale);

@@ -290,7 +290,10 @@ std::optional<std::string> validate(const pb::RunConfig& config) {
   check_es(c, config.es());
   check_poet(c, config.poet(), config.mode());
   // on a fixed course a second evaluation repeats the first: a confirmation would cost episodes and change nothing
-  if (config.poet().confirm_transfers() && !config.walker().stochastic_envs())
+  if (config.poet().confirm_transfers() && config.mode() != pb::RunConfig::POET)
+    c.fail("poet.confirm_transfers", "true contradicts mode " + pb::RunConfig::Mode_Name(config.mode()) +
+                                         " (it applies to mode POET only, the one with transfer rounds)");
+  else if (config.poet().confirm_transfers() && !config.walker().stochastic_envs())
     c.fail("poet.confirm_transfers", "true needs walker.stochastic_envs: true (on a fixed course a score is exact)");
   check_walker(c, config.walker());
   check_batch_size(c, config);

@@ -100,10 +100,13 @@ RunState initial_state(const RunSettings& settings, std::optional<std::vector<do
   return state;
 }
 
-bool run_complete(const RunState& state) {
+bool budget_reached(const RunState& state) {
   const int64_t budget = state.settings.env_step_budget;
-  return state.finished || state.next_iteration >= state.settings.iterations ||
-         (budget > 0 && state.counters.env_steps >= budget);
+  return budget > 0 && state.counters.env_steps >= budget;
+}
+
+bool run_complete(const RunState& state) {
+  return state.finished || state.next_iteration >= state.settings.iterations || budget_reached(state);
 }
 
 IterationReport run_iteration(RunState& state, Evaluator& evaluator, PhaseObserver* phases) {

@@ -28,8 +28,11 @@ class RunDiverged : public std::runtime_error {
 // settings made from a config that validate() accepts; start_theta, when given, holds kParamCount finite values.
 RunState initial_state(const RunSettings& settings, std::optional<std::vector<double>> start_theta = std::nullopt);
 
-// True when the run has nothing left to do: the iteration limit is reached or a control's stopping rule met.
+// True when the run has nothing left to do: the iteration limit or the environment-step budget is reached, or a
+// control's stopping rule met.
 bool run_complete(const RunState& state);
+// True when the run has an environment-step budget and its environment steps have reached it.
+bool budget_reached(const RunState& state);
 
 // Runs iteration state.next_iteration (reproduce, optimise, transfer, or the control's steps) and advances
 // next_iteration. Throws RunDiverged, or what the evaluator throws (EvaluationStopped after a stop request); the

@@ -127,7 +127,8 @@ void transfer(IterationContext& ctx) {
   }
 
   // with confirm_transfers (stochastic courses), each choice and the target's θ run on the same fresh courses,
-  // and the choice stands only if it scores above θ there; its score is then that unbiased one
+  // and the choice stands only if it scores above θ there; its score is then that one, from courses that did
+  // not choose it
   std::optional<int64_t> unconfirmed;
   if (ctx.settings.poet.confirm_transfers) {
     unconfirmed = 0;

@@ -1,6 +1,7 @@
 #include "report/run_suite.h"
 
 #include <cstdio>
+#include <map>
 #include <tuple>
 
 #include "suite_score_json.h"
@@ -31,9 +32,14 @@ std::vector<SuiteCandidate> suite_candidates(const RunState& state) {
 
 RunSuite evaluate_run_on_suite(const RunState& state, const CourseSuite& suite, int threads) {
   RunSuite run{suite_candidates(state), {}, 0, std::vector<size_t>(suite.groups.size(), 0)};
-  for (const SuiteCandidate& c : run.candidates)
-    run.scores.push_back(
-        run_suite(Mlp(c.theta), suite, state.settings.episodes.walker, state.settings.episodes.max_steps, threads));
+  // a θ that several pairs hold (a transfer copies one) is run once: the episodes are a function of θ
+  std::map<std::vector<double>, size_t> first_with;
+  for (size_t i = 0; i < run.candidates.size(); ++i) {
+    const auto [it, fresh] = first_with.emplace(run.candidates[i].theta, i);
+    run.scores.push_back(fresh ? run_suite(Mlp(run.candidates[i].theta), suite, state.settings.episodes.walker,
+                                           state.settings.episodes.max_steps, threads)
+                               : run.scores[it->second]);
+  }
   for (size_t i = 1; i < run.scores.size(); ++i) {
     const SuiteScore& s = run.scores[i];
     const SuiteScore& b = run.scores[run.best];

@@ -1,5 +1,5 @@
 #pragma once
-// A run's agents on a held-out test suite (poet-eval --run-dir, poet-report --suite, poet.evaluate_suite): every
+// A run's agents on a held-out test suite (poet-eval --run-dir, poet-report --suite): every
 // pair's θ, active or retired, and its best θ where it differs, each on the whole suite with the run's walker; then
 // the run's best single agent on the suite and its best agent per group. Best is the most episodes finished, then
 // the further mean progress along the courses, then the higher mean return, then the earlier candidate.
@@ -33,7 +33,7 @@ std::vector<SuiteCandidate> suite_candidates(const RunState& state);
 RunSuite evaluate_run_on_suite(const RunState& state, const CourseSuite& suite, int threads);
 
 // One line per candidate (finished per group and in all, mean progress and return), then the best single agent and the
-// best per group. Empty for a run without candidates.
+// best per group; for a run without candidates, a line that says so.
 std::string run_suite_table(const RunSuite& run);
 
 // {"suite", "run_dir", "candidates": [{"label", "pair", "best_theta", "score": {...}}], "best": label,

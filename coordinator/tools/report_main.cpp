@@ -21,6 +21,7 @@
 #include <thread>
 
 #include "envgen/env_json.h"
+#include "poet/engine.h"
 #include "report/coverage.h"
 #include "report/goal_switching.h"
 #include "report/report_json.h"
@@ -114,8 +115,17 @@ void print_table(const RunSnapshot& run, const RunMetrics& m, const Coverage& co
               std::string(mode_words(state.settings.mode)).c_str(),
               static_cast<unsigned long long>(state.settings.seed), m.iterations_done, state.settings.iterations,
               run.live ? " (live: reported as of its last checkpoint)" : "");
-  std::printf("%lld rollouts, %.1f M environment steps\n\n", static_cast<long long>(state.counters.rollouts),
+  std::printf("%lld rollouts, %.1f M environment steps", static_cast<long long>(state.counters.rollouts),
               static_cast<double>(state.counters.env_steps) / 1e6);
+  if (state.settings.env_step_budget > 0)
+    std::printf(" (budget %.1f M%s)", static_cast<double>(state.settings.env_step_budget) / 1e6,
+                budget_reached(state) ? ", reached" : "");
+  std::printf("\n\n");
+  if (const auto level = state.settings.episodes.random_courses)
+    std::printf(
+        "Domain randomisation: every rollout ran on a course drawn at the level %s, not on the pair's "
+        "environment, which only names the run (its level below is that name's)\n\n",
+        std::string(to_string(*level)).c_str());
 
   std::printf(
       "Environments by difficulty level (spec §1.4; the first environment counts as admitted at iteration 0)\n");
@@ -259,13 +269,16 @@ int main(int argc, char** argv) {
       ->excludes(until_option);
   std::string suite_name;
   int threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
-  app.add_option(
-         "--suite", suite_name,
-         "Also run every agent of the run (each pair's θ and its best θ) on this held-out test suite and report "
-         "the best single agent and the best per group (as poet-eval --run-dir does)")
-      // a cut run keeps today's θs (report/run_cut.h): its agents are not the ones it had then
-      ->excludes(until_option, app.get_option("--until-env-steps"));
-  app.add_option("--threads", threads, "Threads for --suite's episodes")->check(CLI::Range(1, 256));
+  auto* suite_option =
+      app.add_option(
+             "--suite", suite_name,
+             "Also run every agent of the run (each pair's θ and its best θ) on this held-out test suite and report "
+             "the best single agent and the best per group (as poet-eval --run-dir does)")
+          // a cut run keeps today's θs (report/run_cut.h): its agents are not the ones it had then
+          ->excludes(until_option, app.get_option("--until-env-steps"));
+  app.add_option("--threads", threads, "Threads for --suite's episodes")
+      ->check(CLI::Range(1, 256))
+      ->needs(suite_option);
   add_fingerprint_flag(app);
   if (auto code = parse_command_line(app, argc, argv)) return *code;
 
@@ -276,7 +289,7 @@ int main(int argc, char** argv) {
       return 2;
     }
   std::optional<CourseSuite> suite;
-  if (!suite_name.empty() && !(suite = named_suite(suite_name))) {
+  if (*suite_option && !(suite = named_suite(suite_name))) {
     std::cerr << "poet-report: unknown suite '" << suite_name << "'\n";
     return 2;
   }
@@ -356,7 +369,7 @@ int main(int argc, char** argv) {
     print_all();
     return 0;
   }
-  nlohmann::json doc = report_json(*run, metrics, coverage, samples_path);
+  nlohmann::ordered_json doc = report_json(*run, metrics, coverage, samples_path);
   if (suite_scores) doc["suite"] = run_suite_json(*suite_scores, *suite, run_dir, false);
   const std::string text = doc.dump(2) + "\n";
   if (json_path == "-") {

@@ -125,9 +125,9 @@ def suite_names():
     return list(_poet._suite_names())
 
 
-def evaluate_suite(policy, suite="poet-suite-v1", *, threads=1, lidar="nearest", push_scale=DEFAULT_PUSH_SCALE,
+def evaluate_suite(policy, suite, *, threads=1, lidar="nearest", push_scale=DEFAULT_PUSH_SCALE,
                    max_steps=DEFAULT_MAX_STEPS):
-    """The policy on a named held-out test suite, on `threads` threads.
+    """The policy on the held-out test suite named `suite` (one of suite_names()), on `threads` threads.
 
     Returns poet-eval --suite --json's document, bit for bit: "suite", "episodes", "finished",
     "finished_fraction", "mean_return" and "groups", each group with its fraction finished and 95% interval,

@@ -17,14 +17,21 @@
 namespace poet {
 namespace {
 
-using namespace std::string_view_literals;
-
+// Every named suite: its name, the seed its courses are drawn from, encodings per level and seeds per encoding.
+struct SuiteRecipe {
+  std::string_view name;
+  uint64_t seed;
+  int encodings;
+  int seeds;
+};
 // poet-suite-v1: 50 encodings per level on 2 terrain seeds each, 100 episodes per group, 500 in all. More
 // encodings than seeds, because courses of one encoding are alike: what varies most is the encoding.
-constexpr std::array kSuiteNames = {"poet-suite-v1"sv};
-constexpr uint64_t kSuiteV1Seed = 20261126;
-constexpr int kSuiteV1Encodings = 50;
-constexpr int kSuiteV1Seeds = 2;
+constexpr std::array kSuites = {SuiteRecipe{"poet-suite-v1", 20261126, 50, 2}};
+constexpr auto kSuiteNames = [] {
+  std::array<std::string_view, kSuites.size()> names{};
+  for (size_t i = 0; i < kSuites.size(); ++i) names[i] = kSuites[i].name;
+  return names;
+}();
 
 constexpr double kZ95 = 1.959963984540054;
 
@@ -77,7 +84,8 @@ CourseSuite make_suite(std::string name, uint64_t seed, int encodings, int seeds
 }
 
 std::optional<CourseSuite> named_suite(std::string_view name) {
-  if (name == "poet-suite-v1") return make_suite(std::string(name), kSuiteV1Seed, kSuiteV1Encodings, kSuiteV1Seeds);
+  for (const SuiteRecipe& r : kSuites)
+    if (r.name == name) return make_suite(std::string(name), r.seed, r.encodings, r.seeds);
   return std::nullopt;
 }
 

@@ -57,5 +57,8 @@ inline constexpr double kTorqueCost = 0.00035;  // reward cost per unit of |acti
 inline constexpr double kFallReward = -100.0;
 // steps after the reset step; belongs to the rollout; the schema's default
 inline constexpr int kDefaultTimeLimit = schema_defaults::walker_config::max_steps;
+// The longest episode the tools and the Python module run for a user (500 times the reference's): beyond it a
+// standing walker would hold an evaluation for hours.
+inline constexpr int kMaxTimeLimit = 1'000'000;
 
 }  // namespace poet::walker

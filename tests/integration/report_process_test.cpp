@@ -235,6 +235,24 @@ TEST_F(ReportProcessTest, TheRunsAgentsOnATestSuiteAreTheSameInPoetEvalAndPoetRe
   EXPECT_TRUE(contains(err, "excludes")) << err;
 }
 
+// env_step_budget ends a run after the iteration that reaches it: the coordinator says so, and the report calls the
+// run finished although its iteration limit is far.
+TEST_F(ReportProcessTest, ARunEndsOnItsEnvironmentStepBudget) {
+  std::ofstream(config_, std::ios::trunc) << config_with("iterations: 6", "iterations: 1000 env_step_budget: 2000");
+  const pid_t pid = coordinator(root_ / "B", {"--threads", "2"}, "B");
+  ASSERT_EQ(wait(pid), 0) << read(root_ / "B.err");
+  EXPECT_TRUE(contains(read(root_ / "B.err"), "its environment-step budget of 2000 reached")) << read(root_ / "B.err");
+  std::string out, err;
+  ASSERT_EQ(report({"--run-dir", (root_ / "B").string(), "--json", "-", "--coverage-per-level", "5"}, &out, &err), 0)
+      << err;
+  const nlohmann::json j = nlohmann::json::parse(out);
+  EXPECT_TRUE(j["finished"].get<bool>());
+  EXPECT_LT(j["iterations_done"].get<int>(), 1000);
+  EXPECT_GE(j["env_steps"].get<int64_t>(), 2000);
+  ASSERT_EQ(report({"--run-dir", (root_ / "B").string(), "--coverage-per-level", "5"}, &out, &err), 0) << err;
+  EXPECT_TRUE(contains(out, "(budget 0.0 M, reached)")) << out;
+}
+
 // The controls of a POET-solved environment (experiments/controls.sh, figure3.sh): poet-lineage writes the ES-alone and
 // direct-path configs with the lineage's budget (and a seed of their own), both run to their end as written, and
 // poet-controls sets them beside the lineage, in ES steps and environment steps, and draws the rose.

@@ -79,9 +79,11 @@ def test_evaluate_suite_refuses_bad_arguments(walker_path):
     with pytest.raises(TypeError):
         poet.evaluate_suite(policy, 1)
     with pytest.raises(TypeError):
-        poet.evaluate_suite("not a policy")
+        poet.evaluate_suite("not a policy", "poet-suite-v1")
     with pytest.raises(ValueError):
-        poet.evaluate_suite(policy, threads=0)
+        poet.evaluate_suite(policy, "poet-suite-v1", threads=0)
+    with pytest.raises(ValueError, match="max_steps"):
+        poet.evaluate_suite(policy, "poet-suite-v1", max_steps=10**7)
 
 
 @pytest.mark.parametrize(

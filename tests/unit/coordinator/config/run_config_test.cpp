@@ -374,7 +374,7 @@ TEST(RunConfig, RunSettingsCarryEveryField) {
            mc_low: 10 mc_high: 300 active_cap: 6 novelty_k: 3 novelty_normalized: true
            child_ranking: LOWEST_SCORE_FIRST admission_proposal: ADAM_PROPOSAL transfer_proposal: SGD_PROPOSAL
            solved_score: 250 keep_admission_selection: true transfer_test: THRESHOLD_TRANSFER_TEST
-           environments: CPPN_TERRAIN reproduction_agent: BEST_THETA confirm_transfers: true
+           environments: CPPN_TERRAIN reproduction_agent: BEST_THETA
            mutation { roughness: false pits: false stumps: false stairs: true mutate_stair_steps: true
                       all_types: false } }
     walker { push_scale: 0 lidar: FIRST max_steps: 500 stochastic_envs: true eval_episodes: 3 }
@@ -421,7 +421,6 @@ TEST(RunConfig, RunSettingsCarryEveryField) {
   EXPECT_TRUE(p.keep_admission_selection);
   EXPECT_EQ(p.transfer_test, TransferTest::kThreshold);
   EXPECT_EQ(p.reproduction_agent, ReproductionAgent::kBestTheta);
-  EXPECT_TRUE(p.confirm_transfers);
   EXPECT_EQ(p.environments, EnvironmentKind::kCppnTerrain);
   const MutationOptions& m = p.mutation;
   EXPECT_FALSE(m.roughness);
@@ -459,7 +458,6 @@ TEST(RunConfig, RunSettingsCarryEveryField) {
   }
 }
 
-// RunSettingsCarryEveryField normalises the encoding distance, which PATA-EC refuses: the measure on its own.
 TEST(RunConfig, TheEnvStepBudgetAndDomainRandomisationReachTheSettings) {
   const Expected<pb::RunConfig> c = parse_run_config(R"(
     mode: ES_ALONE env_step_budget: 123456789
@@ -493,9 +491,13 @@ TEST(RunConfig, ConfirmedTransfersNeedStochasticCourses) {
       parse_run_config("mode: POET poet { confirm_transfers: true } walker { stochastic_envs: true }");
   ASSERT_TRUE(c) << c.error();
   EXPECT_TRUE(run_settings(*c).poet.confirm_transfers);
+  EXPECT_EQ(error_of("mode: POET_WITHOUT_TRANSFER poet { confirm_transfers: true } walker { stochastic_envs: true }"),
+            "poet.confirm_transfers: true contradicts mode POET_WITHOUT_TRANSFER (it applies to mode POET only, the "
+            "one with transfer rounds)");
   EXPECT_FALSE(run_settings(*parse_run_config("mode: POET")).poet.confirm_transfers);
 }
 
+// RunSettingsCarryEveryField normalises the encoding distance, which PATA-EC refuses: the measure on its own.
 TEST(RunConfig, RunSettingsCarryTheNoveltyMeasure) {
   const Expected<pb::RunConfig> pata = parse_run_config("poet { novelty: PATA_EC novelty_k: 3 }");
   ASSERT_TRUE(pata) << pata.error();
