@@ -365,12 +365,17 @@ MutationOptions mutation_options(const pb::MutationConfig& m) {
 static_assert(static_cast<int>(LidarRule::kNearest) == pb::WalkerConfig::NEAREST &&
               static_cast<int>(LidarRule::kFirst) == pb::WalkerConfig::FIRST);
 
-EpisodeSettings episode_settings(const pb::WalkerConfig& w) {
+// The walker's settings, and ES alone's domain randomisation, which makes every course a fresh one too.
+EpisodeSettings episode_settings(const pb::RunConfig& config) {
+  const pb::WalkerConfig& w = config.walker();
   EpisodeSettings s;
   s.walker.push_scale = w.push_scale();
   s.walker.lidar = static_cast<LidarRule>(w.lidar());
   s.max_steps = w.max_steps();
-  s.stochastic = w.stochastic_envs();
+  const auto random = config.es_alone().random_courses();
+  if (config.mode() == pb::RunConfig::ES_ALONE && random != pb::EsAloneConfig::NO_RANDOM_COURSES)
+    s.random_courses = static_cast<Difficulty>(random - 1);  // the levels in order: EASY_COURSES (1) is kEasy (0)
+  s.stochastic = w.stochastic_envs() || s.random_courses.has_value();
   s.eval_episodes = s.stochastic ? w.eval_episodes() : 1;
   return s;
 }
@@ -432,19 +437,13 @@ RunSettings run_settings(const pb::RunConfig& config) {
   s.init_zero = config.init_zero();
   s.init_stddev = config.init_stddev();
   s.es = es_settings(config.es());
-  s.episodes = episode_settings(config.walker());
+  s.episodes = episode_settings(config);
   s.poet = poet_settings(config.poet());
   if (s.mode == RunMode::kEsAlone) s.target = env_def_from_proto(config.es_alone().target()).value();
   if (s.mode == RunMode::kDirectPath) s.target = env_def_from_proto(config.direct_path().target()).value();
   s.advance_threshold = config.direct_path().advance_threshold();
   s.budget_es_steps = config.direct_path().budget_es_steps();
   s.env_step_budget = config.env_step_budget();
-  if (s.mode == RunMode::kEsAlone && config.es_alone().random_courses() != pb::EsAloneConfig::NO_RANDOM_COURSES) {
-    // the levels in order, EASY_COURSES (1) being Difficulty::kEasy (0)
-    s.episodes.random_courses = static_cast<Difficulty>(config.es_alone().random_courses() - 1);
-    s.episodes.stochastic = true;
-    s.episodes.eval_episodes = config.walker().eval_episodes();
-  }
   return s;
 }
 
