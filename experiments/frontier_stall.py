@@ -1,14 +1,15 @@
 #!/usr/bin/env python3
 """Why a run's frontier stalls, from its files: the challenging children per block of iterations and where the
-active pairs' genes went, the pairs that retired unsolved and whether ES was still improving them, and the
+active pairs' genes went, how long the pairs at the frontier lived and bred, the pairs that retired unsolved and whether ES was still improving them, and the
 evaluations that scored ≥ 230 without finishing (the time limit) — with what the best θs of the pairs that never
 finished do when given more steps.
 
     PYTHONPATH=build/python python3 experiments/frontier_stall.py RUN_DIR [--block 50] [--since 200]
 
 Blocks: challenging children (at least one of Table 1's conditions), those passing the minimal criterion and
-admitted; the active pairs' mean roughness, gap top and stump top at the block's last reproduction. Retired
-unsolved: each pair's best evaluation in its first 30 ES steps and in its last 10. Time limit: the evaluations
+admitted; the active pairs' mean roughness, gap top and stump top at the block's last reproduction. Frontier
+pairs: each admitted challenging environment's creation, first solve and retirement, and the children made from it
+(attempts, those passing the minimal criterion, those admitted). Retired unsolved: each pair's best evaluation in its first 30 ES steps and in its last 10. Time limit: the evaluations
 ≥ 230 of the pairs active from iteration SINCE on, and before iteration SINCE − 50, that ran 2,000 steps without
 finishing; then each pair with such an evaluation and no solve, its best θ on its own course at 2,000, 2,500 and
 3,000 steps. Prints Markdown tables.
@@ -56,6 +57,32 @@ def blocks(run, block):
         g = " | ".join(f"{x:.2f}" for x in r["genes"]) if r["genes"] else "- | - | -"
         last = min(b * block + block, run.next_iteration) - 1
         print(f"| {b * block}–{last} | {r['children']} | {r['passed']} | {r['admitted']} | {g} |")
+
+
+def frontier_pairs(run):
+    events = run._events
+    genes_of_env = {e["env"]: e["e"] for e in events if e["event"] == "child"}
+    happened = {}
+    for e in events:
+        if e["event"] in ("solved", "pair_retired"):
+            happened.setdefault((e["event"], e["pair"]), e["iteration"])
+    children = {}
+    for e in events:
+        if e["event"] == "child":
+            row = children.setdefault(e["parent"], [0, 0, 0])
+            row[0] += 1
+            row[1] += bool(e.get("passed_mc"))
+        elif e["event"] == "pair_created" and e["pair"] > 0:
+            children.setdefault(e["parent"], [0, 0, 0])[2] += 1
+    print("\n| pair | environment | created | solved | retired | children | passed MC | admitted |")
+    print("|---|---|---|---|---|---|---|---|")
+    for e in events:
+        if e["event"] != "pair_created" or conditions(genes_of_env.get(e["env"], [0.0] * 5)) < 1:
+            continue
+        pair = e["pair"]
+        cells = [str(happened.get((event, pair), "-")) for event in ("solved", "pair_retired")]
+        made = " | ".join(str(n) for n in children.get(pair, [0, 0, 0]))
+        print(f"| {pair} | {e['env']} | {e['iteration']} | {' | '.join(cells)} | {made} |")
 
 
 def retired_unsolved(run, stats):
@@ -110,6 +137,7 @@ def main(argv):
         parser.error(str(error))
     stats = run.pair_stats
     blocks(run, args.block)
+    frontier_pairs(run)
     retired_unsolved(run, stats)
     time_limit(run, stats, args.since)
 

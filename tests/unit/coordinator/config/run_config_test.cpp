@@ -199,12 +199,13 @@ TEST(RunConfig, EnhancedPresetIsEnhancedPoet) {
     EXPECT_EQ((c.poet().*field)(), (challenging.poet().*field)());
 }
 
-// The deep preset is the challenging one but for the three changes it names: a longer life (active cap),
-// normalised novelty and reproduction from the best θ; the paper's criteria stay.
+// The deep preset is the challenging one but for the changes it names: a longer life (active cap and mutation
+// interval), normalised novelty and reproduction from the best θ; the paper's criteria stay.
 TEST(RunConfig, DeepPresetDiffersFromChallengingOnlyWhereItSays) {
   pb::RunConfig c = load_preset("deep.textproto");
   pb::RunConfig challenging = load_preset("challenging.textproto");
-  EXPECT_EQ(c.poet().active_cap(), 8);
+  EXPECT_EQ(c.poet().active_cap(), 12);
+  EXPECT_EQ(c.poet().mutation_interval(), 10);
   EXPECT_TRUE(c.poet().novelty_normalized());
   EXPECT_EQ(c.poet().reproduction_agent(), pb::BEST_THETA);
   EXPECT_EQ(c.poet().repro_threshold(), 200);
@@ -214,6 +215,7 @@ TEST(RunConfig, DeepPresetDiffersFromChallengingOnlyWhereItSays) {
   for (pb::RunConfig* config : {&c, &challenging}) {
     config->clear_iterations();
     config->mutable_poet()->clear_active_cap();
+    config->mutable_poet()->clear_mutation_interval();
     config->mutable_poet()->clear_novelty_normalized();
     config->mutable_poet()->clear_reproduction_agent();
   }
