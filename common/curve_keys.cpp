@@ -89,11 +89,4 @@ Expected<AuthorizedKeys> scan_authorized_keys(const std::filesystem::path& dir) 
   return found;
 }
 
-Expected<std::vector<std::string>> read_authorized_keys(const std::filesystem::path& dir) {
-  Expected<AuthorizedKeys> found = scan_authorized_keys(dir);
-  if (!found) return Unexpected{found.error()};
-  if (!found->bad_files.empty()) return Unexpected{found->bad_files.begin()->second};
-  return std::move(found->keys);
-}
-
 }  // namespace poet

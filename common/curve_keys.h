@@ -45,8 +45,4 @@ struct AuthorizedKeys {
 // no worker is authorised yet).
 Expected<AuthorizedKeys> scan_authorized_keys(const std::filesystem::path& dir);
 
-// The keys of scan_authorized_keys, sorted; a file that is not a key is an error too (the coordinator's check at
-// start, where the operator can fix it at once).
-Expected<std::vector<std::string>> read_authorized_keys(const std::filesystem::path& dir);
-
 }  // namespace poet

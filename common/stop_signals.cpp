@@ -7,7 +7,7 @@
 
 namespace poet {
 
-StopSignals::StopSignals(int exit_code) : exit_code_(exit_code) {
+StopSignals::StopSignals(int fixed_exit_code) : fixed_exit_code_(fixed_exit_code) {
   sigemptyset(&set_);
   sigaddset(&set_, SIGINT);
   sigaddset(&set_, SIGTERM);
@@ -24,7 +24,8 @@ void StopSignals::watch() {
   for (;;) {
     int signal = 0;
     if (sigwait(&set_, &signal) != 0) continue;
-    if (!in_loop_.load(std::memory_order_acquire) || source_.stop_requested()) ::_exit(exit_code_);
+    if (!in_loop_.load(std::memory_order_acquire) || source_.stop_requested()) ::_exit(exit_code_for(signal));
+    first_signal_.store(signal, std::memory_order_release);
     source_.request_stop();
     if (on_stop_) on_stop_();
   }

@@ -6,10 +6,10 @@
 //   ... [--local-workers N] [--listen tcp://HOST:PORT [--curve-keys DIR]] [--status-address HOST:PORT]
 //       [--health-address HOST:PORT]
 // The state is checkpointed every checkpoint_interval iterations and at the end. SIGINT/SIGTERM abandon the
-// iteration in flight (within a second) and exit 130, the last checkpoint being the state; a resume repeats that
-// iteration exactly. A signal during start-up (reading the config or checkpoint, opening the run) exits 130 at
-// once, and so does a second signal. Exit codes: 0 done, 1 runtime error (or a diverged run), 2 bad command line,
-// config or run directory (or one another process owns), 130 interrupted.
+// iteration in flight (within a second) and exit 128 + the signal's number, the last checkpoint being the state; a
+// resume repeats that iteration exactly. A signal during start-up (reading the config or checkpoint, opening the
+// run) exits so at once, and so does a second signal. Exit codes: 0 done, 1 runtime error (or a diverged run), 2 bad
+// command line, config or run directory (or one another process owns), 130 interrupted by SIGINT, 143 by SIGTERM.
 
 #include <spdlog/sinks/stdout_color_sinks.h>
 #include <spdlog/spdlog.h>
@@ -55,7 +55,6 @@ namespace poet {
 namespace {
 
 constexpr int kExitError = 1;
-constexpr int kExitInterrupted = 130;
 
 struct Options {
   std::string config_path;
@@ -211,22 +210,25 @@ struct Rollouts {
 // use DIR's worker key, so it must be there and authorised too.
 std::optional<CurveServer> curve_server(const std::filesystem::path& dir, bool local_workers) {
   Expected<CurveKeyPair> keys = read_key_pair(dir, "coordinator");
-  Expected<std::vector<std::string>> authorized = read_authorized_keys(dir);
+  // a file of authorized/ that holds no key is skipped, here as at every handshake (curve_authenticator.h)
+  Expected<AuthorizedKeys> authorized = scan_authorized_keys(dir);
   if (!keys || !authorized) {
     spdlog::error("--curve-keys: {} (make keys with `poetctl keygen`)", keys ? authorized.error() : keys.error());
     return std::nullopt;
   }
+  const std::vector<std::string>& authorized_keys = authorized->keys;
   if (local_workers) {
     Expected<CurveKeyPair> worker = read_key_pair(dir, "worker");
-    if (!worker || !std::binary_search(authorized->begin(), authorized->end(), worker->public_key)) {
+    if (!worker || !std::binary_search(authorized_keys.begin(), authorized_keys.end(), worker->public_key)) {
       spdlog::error("--curve-keys with --local-workers: {}",
                     worker ? "worker.key is not in authorized/" : worker.error());
       return std::nullopt;
     }
   }
-  if (authorized->empty())
+  if (authorized_keys.empty())
     spdlog::warn("--curve-keys: no key in {}: no worker can connect until one is added", (dir / "authorized").string());
-  spdlog::info("CURVE on: workers need one of the {} keys in {}", authorized->size(), (dir / "authorized").string());
+  spdlog::info("CURVE on: workers need one of the {} keys in {}", authorized_keys.size(),
+               (dir / "authorized").string());
   return CurveServer{keys->secret_key, dir, {}};  // skipped_key_file: set by the caller
 }
 
@@ -393,7 +395,7 @@ int run(const Options& options, StopSignals& signals) {
           "stopped during iteration {}; the run's state is its checkpoint at iteration {}, and a resume "
           "repeats the iterations since: poet-coordinator --run-dir {} --resume",
           state.next_iteration, saved_iteration, options.run_dir);
-      return kExitInterrupted;
+      return signals.exit_code();
     } catch (const RunDiverged& e) {
       progress.finish();
       spdlog::error("{} (the checkpoint at iteration {} precedes the divergence)", e.what(), saved_iteration);
@@ -417,7 +419,7 @@ int run(const Options& options, StopSignals& signals) {
     spdlog::warn("interrupted at iteration {}; continue with: poet-coordinator --run-dir {} --resume",
                  state.next_iteration, options.run_dir);
     print_summary(state, elapsed());
-    return kExitInterrupted;
+    return signals.exit_code();
   }
   if (budget_reached(state))
     spdlog::info("run finished at iteration {}: its environment-step budget of {} reached ({} steps)",
@@ -437,8 +439,8 @@ int run(const Options& options, StopSignals& signals) {
 }  // namespace poet
 
 int main(int argc, char** argv) {
-  // first of all, so that a signal at any later point of start-up ends the process with 130
-  static poet::StopSignals signals(poet::kExitInterrupted);
+  // first of all, so that a signal at any later point of start-up ends the process (130 or 143)
+  static poet::StopSignals signals;
 
   poet::Options options;
   CLI::App app{"Run POET (or a control) in a run directory; resume it after an interruption"};

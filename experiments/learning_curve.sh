@@ -69,8 +69,8 @@ status=0
 wait "$coordinator" || status=$?
 coordinator=
 record
-if ((status == 130)); then
-  echo "poet-coordinator was interrupted (130): the curve holds the steps of its last checkpoint" >&2
+if ((status == 130 || status == 143)); then
+  echo "poet-coordinator was interrupted ($status): the curve holds the steps of its last checkpoint" >&2
 elif ((status != 0)); then
   echo "poet-coordinator exited $status:" >&2
   tail -n 5 "$out/coordinator.log" >&2

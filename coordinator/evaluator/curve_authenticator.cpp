@@ -30,6 +30,8 @@ CurveAuthenticator::CurveAuthenticator(zmq::context_t& context, std::filesystem:
       skipped_key_file_(std::move(skipped_key_file)) {
   socket_.set(zmq::sockopt::linger, 0);
   socket_.bind(kZapEndpoint);
+  // the files already bad at start are skipped, logged and counted then, as those that turn bad later are
+  if (Expected<AuthorizedKeys> authorized = scan_authorized_keys(key_dir_)) note_bad_files(authorized->bad_files);
 }
 
 bool CurveAuthenticator::answer_one(std::string& key, std::string& reason) {

@@ -2,8 +2,8 @@
 // The coordinator's ZAP handler (ZeroMQ RFC 27) for CURVE: every worker's handshake asks it whether the client's
 // public key is one of DIR/authorized/*.key. The folder is read at each handshake, so a key copied in takes effect
 // for the next connection, without a restart. A worker whose key is refused never gets a connection: it can
-// neither be sent work nor submit any. A file there that holds no key (half-copied, garbage) is skipped: logged
-// once and counted, while the other keys go on working.
+// neither be sent work nor submit any. A file there that holds no key (half-copied, garbage), at start or later, is
+// skipped: logged once and counted, while the other keys go on working.
 
 #include <cstdint>
 #include <filesystem>
@@ -19,7 +19,8 @@ class CurveAuthenticator {
  public:
   // Binds the ZAP endpoint in `context`; it must exist before a CURVE socket of that context binds. Throws
   // zmq::error_t when it cannot. skipped_key_file, when given, is called once for each file of authorized/ found
-  // to hold no key (again if it is fixed and then spoiled again), on the thread that calls answer_all.
+  // to hold no key (again if it is fixed and then spoiled again): here for those bad at start, then on the thread
+  // that calls answer_all.
   CurveAuthenticator(zmq::context_t& context, std::filesystem::path key_dir,
                      std::function<void()> skipped_key_file = {});
 

@@ -262,7 +262,7 @@ TEST_F(CoordinatorProcessTest, SigtermAbandonsALongIterationAtOnce) {
   std::this_thread::sleep_for(1500ms);  // well into iteration 0
   ASSERT_EQ(::kill(pid, SIGTERM), 0);
   const Outcome stopped = wait(pid, "S");
-  EXPECT_EQ(stopped.code, 130) << stopped.err;
+  EXPECT_EQ(stopped.code, 143) << "128 + SIGTERM: " << stopped.err;
   EXPECT_LT(stopped.seconds, 5.0) << "the stop waited for the iteration";
   EXPECT_TRUE(contains(stopped.err, "stopped during iteration 0")) << stopped.err;
   EXPECT_TRUE(contains(stopped.err, "checkpoint at iteration 0")) << stopped.err;
@@ -270,7 +270,8 @@ TEST_F(CoordinatorProcessTest, SigtermAbandonsALongIterationAtOnce) {
   EXPECT_EQ(read(dir / "events.jsonl"), "");
 }
 
-// A signal while the process starts (here pending before its first instruction) ends it at once with 130.
+// A signal while the process starts (here pending before its first instruction) ends it at once with 128 + its
+// number.
 TEST_F(CoordinatorProcessTest, ASignalDuringStartUpExitsAtOnce) {
   const pid_t pid =
       spawn({"--config", config_.string(), "--run-dir", (root_ / "U").string(), "--quiet", "--iterations", kEndless},
@@ -278,7 +279,7 @@ TEST_F(CoordinatorProcessTest, ASignalDuringStartUpExitsAtOnce) {
   ASSERT_GT(pid, 0);
   ASSERT_EQ(::kill(pid, SIGTERM), 0);
   const Outcome outcome = wait(pid, "U");
-  EXPECT_EQ(outcome.code, 130) << outcome.err;
+  EXPECT_EQ(outcome.code, 143) << outcome.err;
   EXPECT_LT(outcome.seconds, 5.0);
   EXPECT_LE(checkpoint_iteration(root_ / "U"), 0);  // no iteration ran
 }

@@ -191,7 +191,7 @@ TEST_F(DistributedRunTest, TheStatusSocketAnswersDuringARun) {
   EXPECT_TRUE(contains(body, R"("workers":1)")) << body;
   EXPECT_EQ(client.Get("/nowhere")->status, 404);
   ASSERT_EQ(::kill(pid, SIGTERM), 0);
-  EXPECT_EQ(wait(pid), 130);
+  EXPECT_EQ(wait(pid), 143);
 }
 
 }  // namespace

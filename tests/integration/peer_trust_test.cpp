@@ -155,7 +155,7 @@ TEST_F(PeerTrustTest, ATenMegabyteFrameAndAPeerWhoseConnectionIsGoneAreCounted) 
   EXPECT_GE(m[dropped("oversized")], 1);
   EXPECT_GE(m["poet_workers_lost_total"], 1);
   ASSERT_EQ(::kill(pid, SIGTERM), 0);
-  EXPECT_EQ(wait(pid), 130);
+  EXPECT_EQ(wait(pid), 143);
 }
 
 TEST_F(PeerTrustTest, VerificationFindsAWorkerThatLiesAndTheRunEndsTheSame) {

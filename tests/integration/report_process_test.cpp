@@ -362,9 +362,9 @@ TEST_F(ReportProcessTest, ReportsALiveRunAsOfItsLastCheckpoint) {
   }
   EXPECT_EQ(reported, 5);
   EXPECT_EQ(live, 5);
-  // the run went on undisturbed and stops as an interrupted run does (130), with its checkpoint
+  // the run went on undisturbed and stops as a run interrupted by SIGTERM does (143), with its checkpoint
   ASSERT_EQ(::kill(pid, SIGTERM), 0);
-  EXPECT_EQ(wait(pid), 130) << read(root_ / "live.err");
+  EXPECT_EQ(wait(pid), 143) << read(root_ / "live.err");
   std::string out;
   ASSERT_EQ(report({"--run-dir", run.string(), "--json", "-", "--coverage-per-level", "5"}, &out), 0);
   EXPECT_EQ(nlohmann::json::parse(out)["live"], false);
@@ -562,7 +562,7 @@ TEST_F(ReportProcessTest, PicturesFromALiveCoordinatorsStatusSocket) {
       1);
   EXPECT_TRUE(contains(err, "404")) << err;
   ASSERT_EQ(::kill(pid, SIGTERM), 0);
-  EXPECT_EQ(wait(pid), 130);
+  EXPECT_EQ(wait(pid), 143);
   // the coordinator gone: a clear message, not a hang
   EXPECT_EQ(poetctl({"--address", address, "picture", "tree", (root_ / "t.svg").string()}, nullptr, &err), 1);
   EXPECT_TRUE(contains(err, "cannot reach the coordinator")) << err;

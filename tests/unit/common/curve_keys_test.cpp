@@ -69,21 +69,18 @@ TEST_F(CurveKeysTest, BadKeyFilesAreRefusedWithTheirName) {
 }
 
 TEST_F(CurveKeysTest, AuthorizedKeysAreTheFolderKeyFiles) {
-  const Expected<std::vector<std::string>> no_folder = read_authorized_keys(dir_);
+  const Expected<AuthorizedKeys> no_folder = scan_authorized_keys(dir_);
   ASSERT_FALSE(no_folder);
   EXPECT_TRUE(contains(no_folder.error(), "authorized")) << no_folder.error();
   fs::create_directories(dir_ / "authorized");
-  EXPECT_TRUE(read_authorized_keys(dir_)->empty());
+  EXPECT_TRUE(scan_authorized_keys(dir_)->keys.empty());
   std::ofstream(dir_ / "authorized" / "b.key") << kSecret << "\n";
   std::ofstream(dir_ / "authorized" / "a.key") << kPublic << "\n";
   std::ofstream(dir_ / "authorized" / "README") << "other files are ignored\n";
-  const Expected<std::vector<std::string>> keys = read_authorized_keys(dir_);
-  ASSERT_TRUE(keys) << keys.error();
-  EXPECT_EQ(*keys, (std::vector<std::string>{kSecret, kPublic}));  // sorted
-  std::ofstream(dir_ / "authorized" / "c.key") << "garbage";
-  const Expected<std::vector<std::string>> bad = read_authorized_keys(dir_);
-  ASSERT_FALSE(bad);
-  EXPECT_TRUE(contains(bad.error(), "c.key")) << bad.error();
+  const Expected<AuthorizedKeys> found = scan_authorized_keys(dir_);
+  ASSERT_TRUE(found) << found.error();
+  EXPECT_EQ(found->keys, (std::vector<std::string>{kSecret, kPublic}));  // sorted
+  EXPECT_TRUE(found->bad_files.empty());
 }
 
 TEST_F(CurveKeysTest, AScanSetsFilesThatHoldNoKeyAside) {
