@@ -5,8 +5,10 @@ Usage: general_table.py [--plot FILE.png] LABEL=SUITE_JSON...
 Each SUITE_JSON is poet-eval --suite --json's output: of one policy (--policy), or of every agent of a run
 (--run-dir), for which the table gives the run's best single agent on the whole suite and, in a second row, the
 best agent of each group on that group alone (the label under each figure). Prints a Markdown table of the fraction
-finished per group (with its 95% interval), the mean progress along the courses and the mean return over the suite; --plot draws the fractions finished
-of each method's best single agent, with their intervals, per group (matplotlib).
+finished per group (with its 95% interval), the mean progress along the courses and the mean return over the suite;
+--plot draws, per group, the fraction finished (with its interval), the mean progress and the mean return (with its
+interval) of each method's best single agent (matplotlib). Progress is drawn beside the return because a walker that
+stands still scores more than one that walks and falls.
 """
 
 import argparse
@@ -77,7 +79,7 @@ def main():
         matplotlib.use("Agg")
         import matplotlib.pyplot as plt
 
-        fig, (ax, ax_return) = plt.subplots(2, 1, figsize=(10, 7.5), sharex=True)
+        fig, (ax, ax_progress, ax_return) = plt.subplots(3, 1, figsize=(10, 10), sharex=True)
         width = 0.8 / len(methods)
         for m, (label, rows) in enumerate(methods):
             cells = rows[0][1]
@@ -86,11 +88,13 @@ def main():
             lo = [y - 100 * g["finished_interval"][0] for y, (_, g, _) in zip(ys, cells)]
             hi = [100 * g["finished_interval"][1] - y for y, (_, g, _) in zip(ys, cells)]
             ax.bar(xs, ys, width, yerr=[lo, hi], capsize=3, label=label)
+            ax_progress.bar(xs, [100 * g["mean_progress"] for _, g, _ in cells], width, label=label)
             means = [g["mean_return"] for _, g, _ in cells]
             spread = [g["mean_return_half_width"] for _, g, _ in cells]
             ax_return.bar(xs, means, width, yerr=spread, capsize=3, label=label)
         ax_return.set_xticks(range(len(groups)), groups)
         ax.set_ylabel("courses finished (%), 95% interval")
+        ax_progress.set_ylabel("mean progress along the course (%)")
         ax_return.set_ylabel("mean return, 95% interval")
         ax_return.axhline(0, color="black", linewidth=0.5)
         ax.set_title(f"best single agent of each method on the test suite {suite}")

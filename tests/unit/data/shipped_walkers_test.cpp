@@ -12,22 +12,17 @@
 #include "envgen/env_json.h"
 #include "policy/policy_file.h"
 #include "rollout_task.h"
+#include "walker_manifest.h"
 
 namespace poet {
 namespace {
 
-const std::string kRoot = POET_SOURCE_DIR;
-
 TEST(ShippedWalkers, EachFinishesItsCourseOnTheSeedsTheManifestNames) {
-  std::ifstream in(kRoot + "/data/walkers/shipped.json");
-  ASSERT_TRUE(in) << "data/walkers/shipped.json is missing";
-  const nlohmann::json manifest = nlohmann::json::parse(in);
-  ASSERT_FALSE(manifest.empty());
-  for (const nlohmann::json& entry : manifest) {
-    const std::string name = entry.at("name");
-    const Expected<PolicyFile> walker = load_policy(kRoot + "/" + entry.at("walker").get<std::string>());
+  const std::vector<test::ManifestWalker> manifest = test::read_walker_manifest("shipped.json");
+  ASSERT_FALSE(manifest.empty()) << "data/walkers/shipped.json is missing or empty";
+  for (const auto& [name, entry, walker] : manifest) {
     ASSERT_TRUE(walker) << name << ": " << walker.error();
-    const Expected<EnvDef> env = load_env_def(kRoot + "/" + entry.at("environment").get<std::string>());
+    const Expected<EnvDef> env = load_env_def(test::kSourceRoot + "/" + entry.at("environment").get<std::string>());
     ASSERT_TRUE(env) << name << ": " << env.error();
     EXPECT_NE(difficulty(env->encoding), Difficulty::kEasy) << name << " is shipped as challenging or above";
     auto theta = std::make_shared<const std::vector<double>>(walker->params);
