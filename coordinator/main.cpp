@@ -359,6 +359,7 @@ int run(const Options& options, StopSignals& signals) {
       snapshot.verified_jobs = d.verified_jobs();
       snapshot.unverified_jobs = d.unverified_jobs();
       snapshot.wrong_workers = static_cast<int64_t>(d.wrong_workers().size());
+      snapshot.disputes_settled = d.disputes_settled();
       const bool waiting = d.ready_workers() == 0 && d.queue_depth() > 0;
       board.publish_dispatch(std::move(snapshot));
       board.set_state(waiting ? RunPhase::kWaitingForWorkers : RunPhase::kRunning,

@@ -23,6 +23,9 @@ bool same_results(const std::vector<RolloutResult>& a, const std::vector<Rollout
 
 // The queued jobs a worker looks through for one it may take; the rest wait their turn.
 constexpr size_t kQueueScan = 4096;
+// Who answered a task the coordinator computed itself: no routing id can equal it (a peer's own id may not start
+// with a zero byte, and libzmq's generated ones are five bytes).
+const WorkerId kCoordinatorAnswer("\0the coordinator", 16);
 
 }  // namespace
 
@@ -175,8 +178,8 @@ bool Dispatcher::chosen_for_check(const Job& job) const {
 }
 
 size_t Dispatcher::proven_workers() const {
-  return static_cast<size_t>(std::count_if(workers_.begin(), workers_.end(),
-                                           [](const auto& w) { return w.second.view.proven; }));
+  return static_cast<size_t>(
+      std::count_if(workers_.begin(), workers_.end(), [](const auto& w) { return w.second.view.proven; }));
 }
 
 void Dispatcher::demote(Worker& worker) {
@@ -195,8 +198,9 @@ void Dispatcher::on_result(const WorkerId& id, const wire::Result& result, Milli
   const bool taken_back = worker != workers_.end() && worker->second.taken_back.erase(result.job_id()) > 0;
   if (worker == workers_.end() || job == jobs_.end() || (!holds && !taken_back)) {
     // a job its backup finished first; or a stranger, or a job this worker no longer holds (re-queued, or done)
-    count_drop(worker != workers_.end() && worker->second.beaten.erase(result.job_id()) ? DropReason::kLateResult
-                                                                                        : DropReason::kUnexpectedResult);
+    count_drop(worker != workers_.end() && worker->second.beaten.erase(result.job_id())
+                   ? DropReason::kLateResult
+                   : DropReason::kUnexpectedResult);
     return;
   }
   Worker& w = worker->second;
@@ -334,7 +338,7 @@ void Dispatcher::accept(Job& job, const std::vector<RolloutResult>& results, con
   jobs_.erase(job.id);
 }
 
-void Dispatcher::refuse_wrong(const WorkerId id) {  // a copy: the answers it may name are erased below
+void Dispatcher::refuse_wrong(const WorkerId id, const char* why) {  // a copy: the answers it may name are erased
   if (!refused_.insert(id).second) return;
   // its answers awaiting a check are worth nothing: those jobs wait for answers from others
   for (auto& [job_id, job] : jobs_) {
@@ -347,7 +351,7 @@ void Dispatcher::refuse_wrong(const WorkerId id) {  // a copy: the answers it ma
   wrong_workers_.push_back(name);
   if (it != workers_.end()) {
     Outgoing refusal{id, {}};
-    refusal.message.mutable_refused()->set_reason("this worker returned results that two other workers did not");
+    refusal.message.mutable_refused()->set_reason(why);
     refusals_.push_back(std::move(refusal));
     remove_worker(id, /*died=*/false);
   }
@@ -400,9 +404,8 @@ void Dispatcher::expire_leases(Millis now) {
 }
 
 bool Dispatcher::proven_can_take(const Job& job) const {
-  return std::any_of(workers_.begin(), workers_.end(), [&](const auto& w) {
-    return w.second.ready && w.second.view.proven && may_take(job, w.second);
-  });
+  return std::any_of(workers_.begin(), workers_.end(),
+                     [&](const auto& w) { return w.second.ready && w.second.view.proven && may_take(job, w.second); });
 }
 
 bool Dispatcher::may_take(const Job& job, const Worker& worker) const {
@@ -457,16 +460,18 @@ void Dispatcher::settle_unverifiable() {
   for (const uint64_t id : queue_) {
     const Job& job = jobs_.at(id);
     // proven workers that refused it may now be all there are (the others left): the error rule says again
-    if (!job.refusing.empty() && job.refusing.size() >= std::min<size_t>(2, std::max<size_t>(1, proven)) &&
-        !failure_)
+    if (!job.refusing.empty() && job.refusing.size() >= std::min<size_t>(2, std::max<size_t>(1, proven)) && !failure_)
       failure_ = "workers refused " + describe_task(job.begin) + " (" + std::to_string(job.refusing.size()) +
                  " of the " + std::to_string(proven) + " proven workers connected)";
     if (job.answers.empty()) continue;
-    const bool someone = std::any_of(workers_.begin(), workers_.end(),
-                                     [&](const auto& w) { return eligible_checker(job, w.second); });
+    const bool someone =
+        std::any_of(workers_.begin(), workers_.end(), [&](const auto& w) { return eligible_checker(job, w.second); });
     if (someone) continue;
     if (job.answers.size() == 1) settle.push_back(id);
-    if (job.answers.size() == 2) disputes_waiting_ += 1;  // two workers disagree: a third must decide
+    if (job.answers.size() == 2) {  // two workers disagree and no worker can decide: the coordinator does
+      disputes_waiting_ += 1;
+      if (!std::exchange(jobs_.at(id).disputed, true)) disputes_.push_back(id);
+    }
   }
   for (const uint64_t id : settle) {
     Job& job = jobs_.at(id);
@@ -474,6 +479,38 @@ void Dispatcher::settle_unverifiable() {
     const Answer answer = job.answers[0];
     accept(job, answer.results, answer.worker, false);
   }
+}
+
+std::vector<Dispatcher::Dispute> Dispatcher::take_disputes() {
+  std::vector<Dispute> out;
+  for (const uint64_t id : std::exchange(disputes_, {})) {
+    const auto it = jobs_.find(id);
+    if (!batch_active_ || it == jobs_.end() || it->second.answers.size() != 2) continue;
+    const Job& job = it->second;
+    out.push_back({batch_id_, id,
+                   std::vector<RolloutTask>(tasks_.begin() + static_cast<std::ptrdiff_t>(job.begin),
+                                            tasks_.begin() + static_cast<std::ptrdiff_t>(job.end))});
+  }
+  return out;
+}
+
+void Dispatcher::settle_dispute(uint64_t batch_id, uint64_t job_id, const std::vector<RolloutResult>& results) {
+  if (!batch_active_ || batch_id != batch_id_) return;
+  const auto it = jobs_.find(job_id);
+  if (it == jobs_.end() || it->second.answers.size() != 2) return;  // a third worker decided first
+  Job& job = it->second;
+  if (results.size() != job.end - job.begin) return;
+  const WorkerId first = job.answers[0].worker;
+  const WorkerId second = job.answers[1].worker;
+  const bool first_right = same_results(job.answers[0].results, results);
+  const bool second_right = same_results(job.answers[1].results, results);
+  disputes_settled_ += 1;
+  if (first_right || second_right) verified_ += 1;
+  // refused first: their results held back must not become final with this job, which may be the batch's last
+  constexpr const char* kWhy = "this worker returned results that the coordinator, computing them itself, did not";
+  if (!first_right) refuse_wrong(first, kWhy);
+  if (!second_right) refuse_wrong(second, kWhy);
+  accept(job, results, kCoordinatorAnswer, true);  // ends the job
 }
 
 wire::Job Dispatcher::job_message(const Job& job, Worker& worker) const {
@@ -572,6 +609,7 @@ void Dispatcher::abandon_batch() {
   }
   job_times_.clear();
   backup_after_ = 0;
+  disputes_.clear();
   jobs_.clear();
   queue_.clear();
   tasks_.clear();
@@ -606,9 +644,8 @@ std::vector<std::pair<size_t, size_t>> Dispatcher::take_ready_ranges() {
 }
 
 size_t Dispatcher::ready_workers() const {
-  return static_cast<size_t>(std::count_if(workers_.begin(), workers_.end(), [](const auto& w) {
-    return w.second.ready && !w.second.view.demoted;
-  }));
+  return static_cast<size_t>(std::count_if(workers_.begin(), workers_.end(),
+                                           [](const auto& w) { return w.second.ready && !w.second.view.demoted; }));
 }
 
 int64_t Dispatcher::in_flight() const {

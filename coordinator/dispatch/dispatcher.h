@@ -22,7 +22,8 @@
 // Hellos), and every result of the batch taken from it and not yet reported final is computed again. Unchecked
 // results of workers that are not local are reported final (take_ready_ranges) only once the batch is whole, as a
 // wrong one may still be found. A job that no other worker is there to check is taken unverified (counted); one
-// whose two answers differ waits for a third worker (disputes_waiting).
+// whose two answers differ, with no third worker there to decide, is handed to the coordinator (take_disputes),
+// whose own answer (settle_dispute) decides as a local worker's does: a mismatch is always settled.
 
 #include <cstdint>
 #include <deque>
@@ -37,8 +38,8 @@
 
 #include "dispatch/drop_reason.h"
 #include "rollout_task.h"
-#include "wire_timing.h"
 #include "wire.pb.h"
+#include "wire_timing.h"
 
 namespace poet {
 
@@ -49,14 +50,14 @@ struct DispatchSettings {
   // send something to each worker at least this often (and ask the same of them)
   Millis heartbeat_ms = wire_timing::kHeartbeatMs;
   Millis liveness_ms = wire_timing::kLivenessMs;  // a worker silent this long is dead; its jobs go back to the queue
-  int max_attempts = 3;        // a task whose worker died this many times stops the run (the first + 2 retries)
-  int jobs_ahead = 2;          // jobs a worker holds at once: one running, one arriving
-  int max_chunk = 64;          // tasks per job at most
+  int max_attempts = 3;  // a task whose worker died this many times stops the run (the first + 2 retries)
+  int jobs_ahead = 2;    // jobs a worker holds at once: one running, one arriving
+  int max_chunk = 64;    // tasks per job at most
   // A job is backed up once held longer than backup_factor × the median time of this batch's finished jobs (at
   // least backup_min_ms), or than liveness_ms while none has finished. 0: never.
   double backup_factor = 4;
   Millis backup_min_ms = 1000;
-  int max_leases = 3;  // holders of one job at once: the first and its backups
+  int max_leases = 3;               // holders of one job at once: the first and its backups
   size_t max_workers = 4096;        // Hellos beyond this many connected workers are refused
   uint64_t fingerprint_digest = 0;  // workers of another build are refused (0: accept any, for tests)
   std::string local_token;          // a Hello carrying it comes from a local worker: proven from the start
@@ -79,9 +80,9 @@ struct WorkerView {
   int64_t results_done = 0;
   Millis last_heard = 0;
   size_t jobs_held = 0;
-  bool local = false;     // started by this coordinator (showed local_token)
-  bool proven = false;    // local, or has returned a valid result
-  bool demoted = false;   // not proven, and let a lease expire or returned an error: given no more jobs
+  bool local = false;    // started by this coordinator (showed local_token)
+  bool proven = false;   // local, or has returned a valid result
+  bool demoted = false;  // not proven, and let a lease expire or returned an error: given no more jobs
 };
 
 class Dispatcher {
@@ -97,6 +98,19 @@ class Dispatcher {
   bool heard_from(const WorkerId& id, Millis now);
   // A worker that left (Goodbye, or its socket is gone): its jobs go back to the front of the queue.
   void remove_worker(const WorkerId& id, bool died);
+
+  // A job two workers answered differently, with no connected worker able to decide: its tasks, for the
+  // coordinator to run itself. Each dispute is handed out once; a third worker's answer may still settle it first.
+  struct Dispute {
+    uint64_t batch_id = 0;
+    uint64_t job_id = 0;
+    std::vector<RolloutTask> tasks;
+  };
+  std::vector<Dispute> take_disputes();
+  // The coordinator's results for a dispute: the worker (or both) whose answer differs is refused, as one found
+  // wrong by a third worker is, and the results are final. Ignored when the dispute was settled meanwhile or its
+  // batch is over.
+  void settle_dispute(uint64_t batch_id, uint64_t job_id, const std::vector<RolloutResult>& results);
 
   // Workers silent for liveness_ms are removed (their jobs re-queued, counted as a death for each job).
   std::vector<WorkerId> expire(Millis now);
@@ -127,15 +141,17 @@ class Dispatcher {
   std::vector<WorkerView> workers() const;
   // Frames and Hellos refused or dropped, by reason's name (drop_reason.h).
   const std::map<std::string, int64_t>& dropped() const { return dropped_; }
-  int64_t workers_joined() const { return joined_; }  // Welcomes given
-  int64_t workers_lost() const { return lost_; }      // workers removed for silence or a failed send
-  int64_t backup_jobs() const { return backups_; }    // jobs sent to a second worker
+  int64_t workers_joined() const { return joined_; }          // Welcomes given
+  int64_t workers_lost() const { return lost_; }              // workers removed for silence or a failed send
+  int64_t backup_jobs() const { return backups_; }            // jobs sent to a second worker
   int64_t leases_expired() const { return leases_expired_; }  // jobs taken back from workers not yet proven
   int64_t workers_demoted() const { return demoted_; }
   int64_t verified_jobs() const { return verified_; }      // jobs answered alike by two workers
   int64_t unverified_jobs() const { return unverified_; }  // chosen for a check no other worker was there to make
-  // Jobs two workers answered differently that wait for a third worker to decide (none connected may).
+  // Jobs two workers answered differently that wait for a third answer (the coordinator's when no worker
+  // connected may give it).
   int64_t disputes_waiting() const { return disputes_waiting_; }
+  int64_t disputes_settled() const { return disputes_settled_; }  // decided by the coordinator's own answer
   // Workers refused for a wrong result, with their names, in order (the log and /metrics read them).
   const std::vector<std::string>& wrong_workers() const { return wrong_workers_; }
   void count_drop(DropReason reason) { dropped_[name(reason)] += 1; }
@@ -157,12 +173,13 @@ class Dispatcher {
     int deaths = 0;             // proven workers that died holding it
     std::vector<Lease> leases;  // its holders: none while queued, more once backed up
     bool queued = false;
-    bool tainted = false;       // a worker not proven failed it: proven workers take it while any is connected
-    bool verify = false;        // chosen for a check: an answer from a worker that is not local needs a second
-    std::set<WorkerId> failed;  // workers that returned an error or let their lease expire: not sent to them again
+    bool tainted = false;         // a worker not proven failed it: proven workers take it while any is connected
+    bool verify = false;          // chosen for a check: an answer from a worker that is not local needs a second
+    std::set<WorkerId> failed;    // workers that returned an error or let their lease expire: not sent to them again
     std::set<WorkerId> refusing;  // proven workers that returned an error for it
     std::set<WorkerId> missing_theta;  // workers that said they lacked its θ (once each is believed)
-    std::vector<Answer> answers;  // answers awaiting a check: one, or two that differ
+    std::vector<Answer> answers;       // answers awaiting a check: one, or two that differ
+    bool disputed = false;             // handed to the coordinator to decide (take_disputes)
   };
   struct Worker {
     WorkerView view;
@@ -193,8 +210,9 @@ class Dispatcher {
   // A valid answer: taken, held for a check, compared, or deciding between two.
   void on_answer(Worker& worker, Job& job, std::vector<RolloutResult> results);
   void accept(Job& job, const std::vector<RolloutResult>& results, const WorkerId& from, bool final_now);
-  // Refuses a worker found wrong: removed, its Hellos refused, and the batch's results taken from it redone.
-  void refuse_wrong(WorkerId id);
+  // Refuses a worker found wrong: removed, its Hellos refused (told why), and the batch's results taken from it
+  // redone.
+  void refuse_wrong(WorkerId id, const char* why = "this worker returned results that two other workers did not");
   // Jobs awaiting a second answer that no connected worker can give are taken as they are; those awaiting a
   // third are counted (disputes_waiting); jobs refused by every proven worker connected stop the run.
   void settle_unverifiable();
@@ -238,7 +256,9 @@ class Dispatcher {
   int64_t verified_ = 0;
   int64_t unverified_ = 0;
   int64_t disputes_waiting_ = 0;
-  std::set<WorkerId> refused_;  // found wrong: their Hellos and messages are refused
+  int64_t disputes_settled_ = 0;
+  std::vector<uint64_t> disputes_;  // jobs to hand to the coordinator (take_disputes)
+  std::set<WorkerId> refused_;      // found wrong: their Hellos and messages are refused
   std::vector<std::string> wrong_workers_;
   std::vector<Outgoing> refusals_;  // Refused messages to send
 };

@@ -7,6 +7,7 @@
 #include <zmq.hpp>
 
 #include "evaluator/curve_authenticator.h"
+#include "rollout_task.h"
 #include "text_format.h"
 
 namespace poet {
@@ -66,6 +67,21 @@ RemoteEvaluator::~RemoteEvaluator() {
   }
   wake_.notify();
   if (thread_.joinable()) thread_.join();
+  for (std::thread& settler : settlers_) settler.join();
+}
+
+void RemoteEvaluator::settle(Dispatcher::Dispute dispute) {
+  std::vector<RolloutResult> results;
+  results.reserve(dispute.tasks.size());
+  for (const RolloutTask& task : dispute.tasks) {
+    results.push_back(run_task(task, stop_));
+    if (results.back().stopped) return;  // the run stops: the batch is abandoned
+  }
+  {
+    std::lock_guard lock(mutex_);
+    dispatcher_.settle_dispute(dispute.batch_id, dispute.job_id, results);
+  }
+  wake_.notify();
 }
 
 void RemoteEvaluator::on_snapshot(std::function<void(const Dispatcher&)> publish) {
@@ -77,9 +93,10 @@ void RemoteEvaluator::log_summary() {
   std::lock_guard lock(mutex_);
   const Dispatcher& d = dispatcher_;
   if (d.settings().verify_fraction > 0)
-    spdlog::info("verification: {} jobs checked by a second worker, {} unverified (no other worker), {} worker(s) "
-                 "refused for wrong results",
-                 d.verified_jobs(), d.unverified_jobs(), d.wrong_workers().size());
+    spdlog::info(
+        "verification: {} jobs checked by a second worker, {} unverified (no other worker), {} worker(s) "
+        "refused for wrong results",
+        d.verified_jobs(), d.unverified_jobs(), d.wrong_workers().size());
   if (d.workers_demoted() > 0 || d.leases_expired() > 0)
     spdlog::info("{} worker(s) demoted, {} lease(s) expired on workers that had returned no result",
                  d.workers_demoted(), d.leases_expired());
@@ -161,7 +178,6 @@ void RemoteEvaluator::loop() {
       });
     }
     const int64_t demoted_before = dispatcher_.workers_demoted();
-    const size_t wrong_before = dispatcher_.wrong_workers().size();
     receive_all(now);
     for (const auto& [first, end] : dispatcher_.take_ready_ranges())
       if (ready_) (*ready_)(first, dispatcher_.results(first, end));
@@ -183,19 +199,24 @@ void RemoteEvaluator::loop() {
     for (const Outgoing& message : dispatcher_.outgoing(now)) send(message);
     if (const int64_t demoted = dispatcher_.workers_demoted() - demoted_before; demoted > 0) {
       if (const auto held_back = log_demoted_.admit(now))
-        spdlog::warn("{} worker(s) that never returned a result let a lease expire or returned an error: given "
-                     "no more jobs ({} so far){}",
-                     demoted, dispatcher_.workers_demoted(), LogThrottle::held_back_note(*held_back));
+        spdlog::warn(
+            "{} worker(s) that never returned a result let a lease expire or returned an error: given "
+            "no more jobs ({} so far){}",
+            demoted, dispatcher_.workers_demoted(), LogThrottle::held_back_note(*held_back));
     }
-    if (dispatcher_.disputes_waiting() > 0 && now - last_dispute_note_ >= 10'000) {  // while it lasts
-      spdlog::warn("{} job(s) answered differently by two workers wait for a third worker to decide",
-                   dispatcher_.disputes_waiting());
-      last_dispute_note_ = now;
+    for (Dispatcher::Dispute& dispute : dispatcher_.take_disputes()) {
+      spdlog::warn(
+          "two workers answered job {} differently and no other worker can decide: the coordinator runs "
+          "its {} task(s) itself",
+          dispute.job_id, dispute.tasks.size());
+      settlers_.emplace_back([this, d = std::move(dispute)]() mutable { settle(std::move(d)); });
     }
-    for (size_t i = wrong_before; i < dispatcher_.wrong_workers().size(); ++i)
-      spdlog::error("worker {} returned results that two other workers did not: refused, and its results of this "
-                    "batch are computed again",
-                    dispatcher_.wrong_workers()[i]);
+    // from every path: this thread's answers and a settler's (settle)
+    for (size_t& i = wrong_logged_; i < dispatcher_.wrong_workers().size(); ++i)
+      spdlog::error(
+          "worker {} returned results that two other answers did not (two workers', or a worker's and the "
+          "coordinator's own): refused, and its results of this batch are computed again",
+          dispatcher_.wrong_workers()[i]);
     if (const int64_t backups = dispatcher_.backup_jobs() - backups_before; backups > 0) {
       if (const auto held_back = log_backups_.admit(now))
         spdlog::warn("{} job(s) held far longer than this batch's jobs take: sent to a second worker too{}", backups,

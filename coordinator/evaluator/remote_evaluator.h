@@ -14,6 +14,7 @@
 #include <stop_token>
 #include <string>
 #include <thread>
+#include <vector>
 
 #include "dispatch/dispatcher.h"
 #include "evaluator/evaluator.h"
@@ -72,6 +73,8 @@ class RemoteEvaluator final : public Evaluator {
   void handle(const std::string& peer, const std::string& payload, Millis now);
   void send(const Outgoing& message);
   void note_drop(DropReason reason, const std::string& who);  // counts, and logs at most once a second
+  // Runs a dispute's tasks on a thread of its own (the socket thread keeps answering) and settles it.
+  void settle(Dispatcher::Dispute dispute);
 
   std::unique_ptr<zmq::context_t> context_;
   std::unique_ptr<CurveAuthenticator> authenticator_;  // with CURVE only
@@ -96,9 +99,10 @@ class RemoteEvaluator final : public Evaluator {
   LogThrottle log_lost_{5};
   LogThrottle log_backups_{1};
   LogThrottle log_demoted_{1};
-  Millis last_dispute_note_ = 0;
   LogThrottle log_refused_{5};
+  size_t wrong_logged_ = 0;  // workers refused for wrong results that the log has named
   std::thread thread_;
+  std::vector<std::thread> settlers_;  // the coordinator's own runs of disputed jobs (rare: each refuses a worker)
 };
 
 }  // namespace poet

@@ -39,6 +39,7 @@ struct DispatchSnapshot {
   int64_t verified_jobs = 0;                      // jobs two workers answered alike
   int64_t unverified_jobs = 0;                    // jobs chosen for a check no other worker was there to make
   int64_t wrong_workers = 0;                      // workers refused for wrong results
+  int64_t disputes_settled = 0;                   // disputes the coordinator decided by running the job itself
 };
 
 // What the coordinator is doing, for /status's "state".

@@ -93,8 +93,13 @@ std::string prometheus_text(const BoardView& v) {
        dispatch.verified_jobs},
       {"poet_unverified_jobs_total", "counter",
        "Jobs chosen for verification that no other worker was connected to check.", dispatch.unverified_jobs},
-      {"poet_wrong_workers_total", "counter", "Workers refused because their results differed from two other workers'.",
+      {"poet_wrong_workers_total", "counter",
+       "Workers refused because their results differed from two other answers (another worker's or the "
+       "coordinator's own).",
        dispatch.wrong_workers},
+      {"poet_disputes_settled_total", "counter",
+       "Jobs two workers answered differently that the coordinator ran itself to decide, no other worker being there.",
+       dispatch.disputes_settled},
   };
   for (const Series& one : series) {
     family(one.name, one.type, one.help);

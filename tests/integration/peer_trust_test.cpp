@@ -23,7 +23,24 @@ namespace {
 using namespace poet::testing;
 namespace fs = std::filesystem;
 using namespace std::chrono_literals;
-using PeerTrustTest = CoordinatorRunTest;
+
+class PeerTrustTest : public CoordinatorRunTest {
+ protected:
+  // A worker that returns wrong results (a reward off by one), named the-liar.
+  pid_t spawn_liar(const std::string& endpoint) {
+    return spawn(POET_WORKER_BIN,
+                 {"--connect", endpoint, "--threads", "1", "--fault", "wrong-results", "--name", "the-liar"}, "liar");
+  }
+  // The coordinator's /metrics once it has refused a worker for wrong results (or after 30 s).
+  static std::map<std::string, double> metrics_once_a_worker_is_refused(const std::string& port) {
+    std::map<std::string, double> m;
+    for (int i = 0; i < 600 && m["poet_wrong_workers_total"] < 1; ++i) {
+      m = metrics(std::stoi(port));
+      std::this_thread::sleep_for(50ms);
+    }
+    return m;
+  }
+};
 
 // Peers that say Hello, answer the Welcome and then only heartbeat, whatever they are sent, until destroyed.
 class SilentPeers {
@@ -170,21 +187,38 @@ TEST_F(PeerTrustTest, VerificationFindsAWorkerThatLiesAndTheRunEndsTheSame) {
     honest.push_back(spawn(POET_WORKER_BIN, {"--connect", endpoint, "--threads", "1", "--log-level", "debug"}, name));
     await_log(name, "(welcomed) by the coordinator");
   }
-  const pid_t liar =
-      spawn(POET_WORKER_BIN,
-            {"--connect", endpoint, "--threads", "1", "--fault", "wrong-results", "--name", "the-liar"}, "liar");
-  std::map<std::string, double> m;
-  for (int i = 0; i < 600 && m["poet_wrong_workers_total"] < 1; ++i) {
-    m = metrics(std::stoi(port));
-    std::this_thread::sleep_for(50ms);
-  }
-  EXPECT_EQ(m["poet_wrong_workers_total"], 1);
+  const pid_t liar = spawn_liar(endpoint);
+  const std::map<std::string, double> m = metrics_once_a_worker_is_refused(port);
+  EXPECT_EQ(m.at("poet_wrong_workers_total"), 1);
   EXPECT_EQ(wait(pid), 0) << read(root_ / "V.err");
   expect_same_run(reference, root_ / "V");
   const std::string log = read(root_ / "V.err");
-  EXPECT_TRUE(contains(log, "worker the-liar returned results that two other workers did not")) << log;
+  EXPECT_TRUE(contains(log, "worker the-liar returned results that two other answers did not")) << log;
   EXPECT_EQ(wait(liar), 2) << "refused: " << read(root_ / "liar.err");
   for (pid_t h : honest) EXPECT_EQ(wait(h), 0);
+}
+
+// One honest worker and one liar, and no third worker: each mismatch is settled by the coordinator running the
+// job itself; the liar is refused and the run ends as the threads' run does.
+TEST_F(PeerTrustTest, WithNoThirdWorkerTheCoordinatorSettlesAMismatch) {
+  const fs::path reference = threads_run();
+  const pid_t pid = coordinator(root_ / "M", {"--listen", "tcp://127.0.0.1:*", "--verify-fraction", "1"}, "M");
+  const std::string endpoint = await_log("M", "workers connect to (tcp://[0-9.]+:[0-9]+)");
+  const std::string port = await_log("M", "status: http://127.0.0.1:([0-9]+)/status");
+  ASSERT_FALSE(endpoint.empty());
+  const pid_t honest = spawn(POET_WORKER_BIN, {"--connect", endpoint, "--threads", "1"}, "honest");
+  await_log("honest", "(welcomed) by the coordinator");
+  const pid_t liar = spawn_liar(endpoint);
+  const std::map<std::string, double> m = metrics_once_a_worker_is_refused(port);
+  EXPECT_EQ(m.at("poet_wrong_workers_total"), 1);
+  EXPECT_GE(m.at("poet_disputes_settled_total"), 1);
+  EXPECT_EQ(wait(pid), 0) << read(root_ / "M.err");
+  expect_same_run(reference, root_ / "M");
+  const std::string log = read(root_ / "M.err");
+  EXPECT_TRUE(contains(log, "no other worker can decide: the coordinator runs")) << log;
+  EXPECT_TRUE(contains(log, "worker the-liar returned results that two other answers did not")) << log;
+  EXPECT_EQ(wait(liar), 2) << "refused: " << read(root_ / "liar.err");
+  EXPECT_EQ(wait(honest), 0);
 }
 
 }  // namespace

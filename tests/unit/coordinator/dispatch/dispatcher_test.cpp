@@ -354,7 +354,6 @@ TEST(Dispatcher, NoBackupsWhenTurnedOffOrWhileJobsWait) {
   EXPECT_EQ(e.backup_jobs(), 0);
 }
 
-
 // ---------------------------------------------------------------------------------------------------------
 // Workers not started by this coordinator earn trust by returning results.
 
@@ -454,6 +453,14 @@ TEST(Dispatcher, AnErrorStopsTheRunWhenTwoProvenWorkersAgree) {
   EXPECT_TRUE(contains(*d.failure(), "and so did 1 other worker")) << *d.failure();
 }
 
+// answer(), except that the worker `liar` adds 1 to every reward.
+wire::Result answer_lying_as(const Outgoing& job, const WorkerId& liar) {
+  wire::Result r = answer(job.message.job());
+  if (job.worker == liar)
+    for (wire::TaskResult& t : *r.mutable_results()) t.set_total_reward(t.total_reward() + 1);
+  return r;
+}
+
 TEST(Dispatcher, AWrongWorkerIsFoundByAThirdRunRefusedAndItsResultsRedone) {
   Dispatcher d(checking_every_job());
   for (const char* id : {"liar", "b", "c"}) join(d, id, stranger_hello(id), 0);
@@ -464,11 +471,7 @@ TEST(Dispatcher, AWrongWorkerIsFoundByAThirdRunRefusedAndItsResultsRedone) {
   for (int round = 0; round < 1000 && !d.batch_done() && !d.failure(); ++round) {
     for (const Outgoing& o : out) {
       if (o.message.has_refused()) refused_sent = refused_sent || o.worker == "liar";
-      if (!o.message.has_job()) continue;
-      wire::Result r = answer(o.message.job());
-      if (o.worker == "liar")
-        for (wire::TaskResult& t : *r.mutable_results()) t.set_total_reward(t.total_reward() + 1);
-      d.on_result(o.worker, r, now);
+      if (o.message.has_job()) d.on_result(o.worker, answer_lying_as(o, "liar"), now);
     }
     now += 10;
     for (const WorkerView& w : d.workers()) d.heard_from(w.id, now);
@@ -486,6 +489,49 @@ TEST(Dispatcher, AWrongWorkerIsFoundByAThirdRunRefusedAndItsResultsRedone) {
   for (const auto& [first, end] : d.take_ready_ranges())
     for (size_t t = first; t < end; ++t) reported[t] += 1;
   for (size_t t = 0; t < 30; ++t) EXPECT_EQ(reported[t], 1) << t;
+  expect_task_order(d.take_results());
+}
+
+// One liar and one honest worker: no third worker can decide, so every dispute is handed to the coordinator, whose
+// own answer (here the honest one: reward = the task's course seed) refuses the liar; the batch ends right.
+TEST(Dispatcher, WithNoThirdWorkerTheCoordinatorSettlesAMismatchItself) {
+  Dispatcher d(checking_every_job());
+  for (const char* id : {"liar", "honest"}) join(d, id, stranger_hello(id), 0);
+  d.start_batch(batch(12));
+  Millis now = 1;
+  std::vector<Outgoing> out = d.outgoing(now);
+  int disputes = 0;
+  for (int round = 0; round < 1000 && !d.batch_done() && !d.failure(); ++round) {
+    for (const Outgoing& o : out)
+      if (o.message.has_job()) d.on_result(o.worker, answer_lying_as(o, "liar"), now);
+    now += 10;
+    for (const WorkerView& w : d.workers()) d.heard_from(w.id, now);
+    out = d.outgoing(now);
+    for (const Dispatcher::Dispute& dispute : d.take_disputes()) {
+      disputes += 1;
+      EXPECT_TRUE(d.take_disputes().empty()) << "a dispute is handed out once";
+      std::vector<RolloutResult> own;
+      for (const RolloutTask& task : dispute.tasks) {
+        RolloutResult r;
+        r.total_reward = double(task.env.seed);
+        r.steps = 10;
+        own.push_back(r);
+      }
+      const int64_t settled = d.disputes_settled();
+      d.settle_dispute(dispute.batch_id + 1, dispute.job_id, own);  // another batch's: ignored
+      EXPECT_EQ(d.disputes_settled(), settled);
+      d.settle_dispute(dispute.batch_id, dispute.job_id, own);
+      d.settle_dispute(dispute.batch_id, dispute.job_id, own);  // settled already: ignored
+    }
+  }
+  ASSERT_FALSE(d.failure()) << *d.failure();
+  ASSERT_TRUE(d.batch_done()) << "disputes waiting: " << d.disputes_waiting();
+  // the first settlement refuses the liar; a dispute handed out with it then has the honest answer alone
+  EXPECT_GE(d.disputes_settled(), 1);
+  EXPECT_LE(d.disputes_settled(), disputes);
+  ASSERT_EQ(d.wrong_workers().size(), 1u);
+  EXPECT_EQ(d.wrong_workers()[0], "liar");
+  EXPECT_TRUE(d.on_hello("liar", stranger_hello("liar"), now).has_refused());
   expect_task_order(d.take_results());
 }
 
