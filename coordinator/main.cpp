@@ -258,6 +258,7 @@ std::optional<Rollouts> make_rollouts(const Options& options, StopSignals& signa
     curve = curve_server(options.curve_keys, options.local_workers > 0);
     if (!curve) return std::nullopt;
     curve->skipped_key_file = [&board] { board.count_skipped_key_file(); };
+    curve->refused_keys_file = std::filesystem::path(options.run_dir) / kRefusedKeysFile;
     worker_args.insert(worker_args.begin(), {"--curve-keys", options.curve_keys});
   }
   Expected<std::unique_ptr<RemoteEvaluator>> remote =

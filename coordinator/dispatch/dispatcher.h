@@ -154,6 +154,7 @@ class Dispatcher {
   int64_t disputes_settled() const { return disputes_settled_; }  // decided by the coordinator's own answer
   // Workers refused for a wrong result, with their names, in order (the log and /metrics read them).
   const std::vector<std::string>& wrong_workers() const { return wrong_workers_; }
+  const std::set<WorkerId>& refused_workers() const { return refused_; }  // the same, by routing id
   void count_drop(DropReason reason) { dropped_[name(reason)] += 1; }
   const DispatchSettings& settings() const { return settings_; }
 

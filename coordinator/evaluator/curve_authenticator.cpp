@@ -4,15 +4,19 @@
 
 #include <algorithm>
 #include <array>
+#include <sstream>
 #include <vector>
 
 #include "curve_keys.h"
+#include "text_file.h"
 
 namespace poet {
 namespace {
 
 constexpr char kZapEndpoint[] = "inproc://zeromq.zap.01";
-constexpr size_t kRequestFrames = 7;  // version, request id, domain, address, identity, mechanism, key
+constexpr size_t kRequestFrames = 7;
+constexpr std::uintmax_t kMaxRefusedKeysBytes =
+    1 << 20;  // 41 bytes a key: some 25,000 keys  // version, request id, domain, address, identity, mechanism, key
 
 std::string z85(const zmq::message_t& key) {
   if (key.size() != 32) return "(not a 32-byte key)";
@@ -24,10 +28,24 @@ std::string z85(const zmq::message_t& key) {
 }  // namespace
 
 CurveAuthenticator::CurveAuthenticator(zmq::context_t& context, std::filesystem::path key_dir,
-                                       std::function<void()> skipped_key_file)
+                                       std::function<void()> skipped_key_file, std::filesystem::path refused_keys_file)
     : socket_(context, zmq::socket_type::rep),
       key_dir_(std::move(key_dir)),
-      skipped_key_file_(std::move(skipped_key_file)) {
+      skipped_key_file_(std::move(skipped_key_file)),
+      refused_keys_file_(std::move(refused_keys_file)) {
+  if (!refused_keys_file_.empty() && std::filesystem::exists(refused_keys_file_)) {
+    const Expected<std::string> text = read_text_file(refused_keys_file_, kMaxRefusedKeysBytes);
+    if (!text) {
+      spdlog::warn("CURVE: {}: {}; no worker key is refused from it", refused_keys_file_.string(), text.error());
+    } else {
+      std::istringstream lines(*text);
+      for (std::string line; std::getline(lines, line);)
+        if (is_z85_key(line)) refused_keys_.insert(line);
+      if (!refused_keys_.empty())
+        spdlog::info("CURVE: {} worker key(s) refused for wrong results earlier in this run ({})", refused_keys_.size(),
+                     refused_keys_file_.string());
+    }
+  }
   socket_.set(zmq::sockopt::linger, 0);
   socket_.bind(kZapEndpoint);
   // the files already bad at start are skipped, logged and counted then, as those that turn bad later are
@@ -54,7 +72,9 @@ bool CurveAuthenticator::answer_one(std::string& key, std::string& reason) {
     reason = authorized.error();
   } else {
     note_bad_files(authorized->bad_files);
-    if (!std::binary_search(authorized->keys.begin(), authorized->keys.end(), key))
+    if (refused_keys_.contains(key))
+      reason = "its public key was refused in this run: a worker holding it returned wrong results";
+    else if (!std::binary_search(authorized->keys.begin(), authorized->keys.end(), key))
       reason = "its public key is not in " + (key_dir_ / "authorized").string();
   }
   const std::string request_id = request.size() > 1 ? request[1].to_string() : "";
@@ -66,6 +86,15 @@ bool CurveAuthenticator::answer_one(std::string& key, std::string& reason) {
   socket_.send(zmq::buffer(key), zmq::send_flags::sndmore);  // user id: the key
   socket_.send(zmq::str_buffer(""), zmq::send_flags::none);  // no metadata
   return true;
+}
+
+void CurveAuthenticator::refuse(const std::string& key) {
+  if (!refused_keys_.insert(key).second || refused_keys_file_.empty()) return;
+  std::string text;
+  for (const std::string& k : refused_keys_) text += k + "\n";
+  if (const auto error = write_file_atomically(refused_keys_file_, text))
+    spdlog::error("CURVE: {}: {}; the key stays refused until the coordinator stops", refused_keys_file_.string(),
+                  *error);
 }
 
 void CurveAuthenticator::note_bad_files(const std::map<std::string, std::string>& bad_files) {

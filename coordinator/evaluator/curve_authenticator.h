@@ -3,7 +3,9 @@
 // public key is one of DIR/authorized/*.key. The folder is read at each handshake, so a key copied in takes effect
 // for the next connection, without a restart. A worker whose key is refused never gets a connection: it can
 // neither be sent work nor submit any. A file there that holds no key (half-copied, garbage), at start or later, is
-// skipped: logged once and counted, while the other keys go on working.
+// skipped: logged once and counted, while the other keys go on working. A key refused for wrong results (refuse)
+// stays refused for the run, whatever socket it comes back on, and across a resume: the keys are kept in a file of
+// the run directory, read at start.
 
 #include <cstdint>
 #include <filesystem>
@@ -22,7 +24,10 @@ class CurveAuthenticator {
   // to hold no key (again if it is fixed and then spoiled again): here for those bad at start, then on the thread
   // that calls answer_all.
   CurveAuthenticator(zmq::context_t& context, std::filesystem::path key_dir,
-                     std::function<void()> skipped_key_file = {});
+                     std::function<void()> skipped_key_file = {}, std::filesystem::path refused_keys_file = {});
+
+  // Refuses key (Z85) from now on, in this run and after a resume; written to refused_keys_file when given.
+  void refuse(const std::string& key);
 
   zmq::socket_t& socket() { return socket_; }
 
@@ -48,6 +53,8 @@ class CurveAuthenticator {
   std::filesystem::path key_dir_;
   std::function<void()> skipped_key_file_;
   std::set<std::string> bad_files_;  // the paths logged already
+  std::filesystem::path refused_keys_file_;
+  std::set<std::string> refused_keys_;  // Z85
 };
 
 }  // namespace poet

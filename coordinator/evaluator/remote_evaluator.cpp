@@ -38,8 +38,8 @@ Expected<std::unique_ptr<RemoteEvaluator>> RemoteEvaluator::bind(const std::stri
   try {
     evaluator->context_ = std::make_unique<zmq::context_t>(1);
     if (curve)
-      evaluator->authenticator_ =
-          std::make_unique<CurveAuthenticator>(*evaluator->context_, curve->key_dir, curve->skipped_key_file);
+      evaluator->authenticator_ = std::make_unique<CurveAuthenticator>(
+          *evaluator->context_, curve->key_dir, curve->skipped_key_file, curve->refused_keys_file);
     evaluator->socket_ = std::make_unique<zmq::socket_t>(*evaluator->context_, zmq::socket_type::router);
     zmq::socket_t& socket = *evaluator->socket_;
     if (curve) {
@@ -211,6 +211,12 @@ void RemoteEvaluator::loop() {
           dispute.job_id, dispute.tasks.size());
       settlers_.emplace_back([this, d = std::move(dispute)]() mutable { settle(std::move(d)); });
     }
+    if (authenticator_) {  // a worker found wrong: its key too, so that it cannot come back on a new socket
+      for (const WorkerId& id : dispatcher_.refused_workers()) {
+        if (!keys_refused_for_.insert(id).second) continue;
+        if (const auto key = peer_keys_.find(id); key != peer_keys_.end()) authenticator_->refuse(key->second);
+      }
+    }
     // from every path: this thread's answers and a settler's (settle)
     for (size_t& i = wrong_logged_; i < dispatcher_.wrong_workers().size(); ++i)
       spdlog::error(
@@ -243,6 +249,12 @@ void RemoteEvaluator::receive_all(Millis now) {
       frames.push_back(std::move(frame));
     }
     const std::string id = peer.to_string();
+    if (authenticator_ && !frames.empty() && !peer_keys_.contains(id)) {
+      try {
+        peer_keys_[id] = frames[0].gets("User-Id");  // the key the ZAP handler admitted this connection with
+      } catch (const zmq::error_t&) {
+      }
+    }
     if (frames.size() != 1) {
       note_drop(DropReason::kMalformed, "peer " + peer_id_text(id));
       continue;

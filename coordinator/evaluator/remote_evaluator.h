@@ -11,9 +11,11 @@
 #include <memory>
 #include <mutex>
 #include <optional>
+#include <set>
 #include <stop_token>
 #include <string>
 #include <thread>
+#include <unordered_map>
 #include <vector>
 
 #include "dispatch/dispatcher.h"
@@ -37,6 +39,7 @@ struct CurveServer {
   std::string secret_key;  // Z85
   std::filesystem::path key_dir;
   std::function<void()> skipped_key_file;  // told of each file of authorized/ that holds no key (curve_authenticator.h)
+  std::filesystem::path refused_keys_file;  // the keys of workers refused for wrong results, kept across a resume
 };
 
 class RemoteEvaluator final : public Evaluator {
@@ -101,6 +104,10 @@ class RemoteEvaluator final : public Evaluator {
   LogThrottle log_demoted_{1};
   LogThrottle log_refused_{5};
   size_t wrong_logged_ = 0;  // workers refused for wrong results that the log has named
+  // With CURVE: each worker's public key (the ZAP handler's User-Id on its messages), so that a worker refused for
+  // wrong results is refused by its key, whatever socket it comes back on.
+  std::unordered_map<WorkerId, std::string> peer_keys_;
+  std::set<WorkerId> keys_refused_for_;  // the refused workers whose key is refused already
   std::thread thread_;
   std::vector<std::thread> settlers_;  // the coordinator's own runs of disputed jobs (rare: each refuses a worker)
 };

@@ -12,6 +12,8 @@
 //   policies/pair-<id>.best.json     its best θ with its best score        } active, and once after it retires
 //   wall_times.csv          the machine time at each saved iteration (run/wall_times.h; the coordinator writes it,
 //                           outside the run's determinism)
+//   refused_keys.txt        with CURVE workers: the public keys refused for wrong results, one per line, kept for
+//                           the run across resumes (curve_authenticator.h; the coordinator's, not the run's state)
 // The checkpoint records the sizes of the two logs and their CRC-32; resume truncates them back, so after a crash
 // the logs hold exactly the iterations the restored state has seen and a resumed run writes the same bytes as an
 // uninterrupted one, and refuses logs whose bytes differ from those the checkpoint has seen. The logs are the
@@ -46,6 +48,7 @@ inline constexpr char kEventsFile[] = "events.jsonl";
 inline constexpr char kStatsFile[] = "pair_stats.csv";
 inline constexpr char kEnvsDir[] = "envs";
 inline constexpr char kPoliciesDir[] = "policies";
+inline constexpr char kRefusedKeysFile[] = "refused_keys.txt";
 
 // The header line of pair_stats.csv, and one row (both with their newline). Doubles are written in the shortest
 // form that reads back to the same bits; an environment name with a comma, quote or newline is quoted.

@@ -215,6 +215,62 @@ TEST_F(HostilePeersTest, AMalformedKeyFileIsSkippedLoggedOnceAndCounted) {
   EXPECT_EQ(wait(intruder), 0);
 }
 
+// A worker refused for wrong results under CURVE stays refused by its key: the same key on a new socket, from a new
+// process, is refused at the handshake, in this run and after a resume (the key is kept in the run directory).
+TEST_F(HostilePeersTest, AWorkerRefusedForWrongResultsStaysRefusedByItsKey) {
+  const fs::path keys = root_ / "keys";
+  const fs::path liar_keys = root_ / "intruder";
+  make_keys();
+  fs::copy_file(liar_keys / "worker.key", keys / "authorized" / "liar.key");
+  std::string liar_key = read(liar_keys / "worker.key");
+  liar_key.erase(liar_key.find_last_not_of("\n") + 1);
+  std::ofstream(config_, std::ios::trunc) << config_with("iterations: 6", "iterations: 100000");  // still going
+  const fs::path dir = root_ / "C";
+  const std::vector<std::string> listen = {"--listen",    "tcp://127.0.0.1:*", "--curve-keys",
+                                           keys.string(), "--verify-fraction", "1"};
+  const pid_t pid = coordinator(dir, listen, "C");
+  const std::string endpoint = await_log("C", "workers connect to (tcp://[0-9.]+:[0-9]+)");
+  ASSERT_FALSE(endpoint.empty());
+  const pid_t honest =
+      spawn(POET_WORKER_BIN, {"--connect", endpoint, "--curve-keys", keys.string(), "--threads", "1"}, "honest");
+  await_log("honest", "(welcomed) by the coordinator");
+  const pid_t liar = spawn(POET_WORKER_BIN,
+                           {"--connect", endpoint, "--curve-keys", liar_keys.string(), "--threads", "1", "--fault",
+                            "wrong-results", "--name", "the-liar"},
+                           "liar");
+  EXPECT_EQ(wait(liar), 2) << "refused for wrong results: " << read(root_ / "liar.err");
+  EXPECT_TRUE(contains(read(dir / "refused_keys.txt"), liar_key)) << read(dir / "refused_keys.txt");
+
+  // the same key again, an honest process this time: refused at the handshake
+  const auto again = [&](const std::string& at, const std::string& name) {
+    const pid_t worker =
+        spawn(POET_WORKER_BIN, {"--connect", at, "--curve-keys", liar_keys.string(), "--threads", "1"}, name);
+    await_log(name, "(refused this worker's CURVE key)");
+    ASSERT_EQ(::kill(worker, SIGTERM), 0);
+    EXPECT_EQ(wait(worker), 0);
+    EXPECT_FALSE(contains(read(root_ / (name + ".err")), "welcomed")) << name << " got in";
+  };
+  again(endpoint, "again");
+  EXPECT_TRUE(contains(read(root_ / "C.err"), "a worker holding it returned wrong results")) << read(root_ / "C.err");
+
+  // and after a resume
+  ASSERT_EQ(::kill(pid, SIGINT), 0);
+  EXPECT_EQ(wait(pid), 130);
+  std::vector<std::string> resume = {"--run-dir",        dir.string(),  "--resume",      "--quiet",
+                                     "--status-address", "127.0.0.1:0", "--liveness-ms", "1000"};
+  resume.insert(resume.end(), listen.begin(), listen.end());
+  const pid_t resumed = spawn(POET_COORDINATOR_BIN, resume, "R");
+  const std::string endpoint_after = await_log("R", "workers connect to (tcp://[0-9.]+:[0-9]+)");
+  ASSERT_FALSE(endpoint_after.empty());
+  EXPECT_TRUE(contains(read(root_ / "R.err"), "1 worker key(s) refused for wrong results earlier"))
+      << read(root_ / "R.err");
+  again(endpoint_after, "after-resume");
+  ASSERT_EQ(::kill(resumed, SIGINT), 0);
+  EXPECT_EQ(wait(resumed), 130);
+  ASSERT_EQ(::kill(honest, SIGTERM), 0);
+  EXPECT_EQ(wait(honest), 0);
+}
+
 TEST_F(HostilePeersTest, CurveKeyProblemsAreRefusedAtStart) {
   const fs::path keys = root_ / "keys";
   fs::create_directories(keys);
