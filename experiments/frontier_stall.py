@@ -29,10 +29,15 @@ def conditions(e):
     return (stump_top >= 2.4) + (gap_top >= 6.0) + (roughness >= 4.5)
 
 
+def genes_by_env(events):
+    """Each environment's 5-vector (spec §1.4), from the child events that made it."""
+    return {e["env"]: e["e"] for e in events if e["event"] == "child"}
+
+
 def blocks(run, block):
     events = run._events
     genes = {0: [0.0] * 5}
-    genes_of_env = {e["env"]: e["e"] for e in events if e["event"] == "child"}
+    genes_of_env = genes_by_env(events)
     active = {0}
     rows = {}
     for e in events:
@@ -61,7 +66,7 @@ def blocks(run, block):
 
 def frontier_pairs(run):
     events = run._events
-    genes_of_env = {e["env"]: e["e"] for e in events if e["event"] == "child"}
+    genes_of_env = genes_by_env(events)
     happened = {}
     for e in events:
         if e["event"] in ("solved", "pair_retired"):

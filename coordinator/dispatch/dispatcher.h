@@ -135,6 +135,7 @@ class Dispatcher {
   const std::optional<std::string>& failure() const { return failure_; }
 
   size_t worker_count() const { return workers_.size(); }
+  bool has_worker(const WorkerId& id) const { return workers_.contains(id); }
   size_t ready_workers() const;  // those that may be sent jobs
   int64_t queue_depth() const { return static_cast<int64_t>(queue_.size()); }
   int64_t in_flight() const;

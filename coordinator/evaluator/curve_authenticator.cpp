@@ -14,9 +14,8 @@ namespace poet {
 namespace {
 
 constexpr char kZapEndpoint[] = "inproc://zeromq.zap.01";
-constexpr size_t kRequestFrames = 7;
-constexpr std::uintmax_t kMaxRefusedKeysBytes =
-    1 << 20;  // 41 bytes a key: some 25,000 keys  // version, request id, domain, address, identity, mechanism, key
+constexpr size_t kRequestFrames = 7;  // version, request id, domain, address, identity, mechanism, key
+constexpr std::uintmax_t kMaxRefusedKeysBytes = 1 << 20;  // 41 bytes a key: some 25,000 keys
 
 std::string z85(const zmq::message_t& key) {
   if (key.size() != 32) return "(not a 32-byte key)";

@@ -196,6 +196,16 @@ void RemoteEvaluator::loop() {
       shutting_down_ = true;
     }
     const int64_t backups_before = dispatcher_.backup_jobs();
+    if (authenticator_) {  // a worker found wrong (by an answer or a settler): its key too, before it is told,
+      // so that it cannot come back on a new socket
+      for (const WorkerId& id : dispatcher_.refused_workers()) {
+        if (!keys_refused_for_.insert(id).second) continue;
+        if (const auto key = peer_keys_.find(id); key != peer_keys_.end()) authenticator_->refuse(key->second);
+      }
+      // bounded: the keys of peers that are gone are forgotten once they outnumber the worker limit
+      if (peer_keys_.size() > 2 * dispatcher_.settings().max_workers)
+        std::erase_if(peer_keys_, [&](const auto& peer) { return !dispatcher_.has_worker(peer.first); });
+    }
     for (const Outgoing& message : dispatcher_.outgoing(now)) send(message);
     if (const int64_t demoted = dispatcher_.workers_demoted() - demoted_before; demoted > 0) {
       if (const auto held_back = log_demoted_.admit(now))
@@ -210,12 +220,6 @@ void RemoteEvaluator::loop() {
           "its {} task(s) itself",
           dispute.job_id, dispute.tasks.size());
       settlers_.emplace_back([this, d = std::move(dispute)]() mutable { settle(std::move(d)); });
-    }
-    if (authenticator_) {  // a worker found wrong: its key too, so that it cannot come back on a new socket
-      for (const WorkerId& id : dispatcher_.refused_workers()) {
-        if (!keys_refused_for_.insert(id).second) continue;
-        if (const auto key = peer_keys_.find(id); key != peer_keys_.end()) authenticator_->refuse(key->second);
-      }
     }
     // from every path: this thread's answers and a settler's (settle)
     for (size_t& i = wrong_logged_; i < dispatcher_.wrong_workers().size(); ++i)

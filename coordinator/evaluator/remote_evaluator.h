@@ -105,7 +105,8 @@ class RemoteEvaluator final : public Evaluator {
   LogThrottle log_refused_{5};
   size_t wrong_logged_ = 0;  // workers refused for wrong results that the log has named
   // With CURVE: each worker's public key (the ZAP handler's User-Id on its messages), so that a worker refused for
-  // wrong results is refused by its key, whatever socket it comes back on.
+  // wrong results is refused by its key, whatever socket it comes back on. Pruned to the connected workers when it
+  // outgrows twice the worker limit.
   std::unordered_map<WorkerId, std::string> peer_keys_;
   std::set<WorkerId> keys_refused_for_;  // the refused workers whose key is refused already
   std::thread thread_;
