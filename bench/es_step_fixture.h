@@ -15,7 +15,7 @@ namespace poet {
 
 struct EsStepFixture {
   static constexpr int kPerturbations = 64;
-  EpisodeSettings episodes{WalkerOptions{}, 2000, false, 1};
+  EpisodeSettings episodes{WalkerOptions{}, 2000, false, 1, std::nullopt};
   EsSettings es;
   EnvDef env{*named_course("r1"), 17};
   std::vector<double> theta;

@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # What verification costs: the same run with two workers over --listen at several --verify-fraction values, its
-# wall time, the jobs checked by a second worker, and whether the checkpoint is the same as without checks.
+# wall time, the answers checked (by a second worker or the coordinator itself), and whether the checkpoint is the
+# same as without checks.
 # Usage: bash bench/verification.sh BUILD_DIR [CONFIG] [ITERATIONS] [FRACTIONS...]
 #   defaults: deploy/configs/small.textproto, 3 iterations, fractions 0 0.05 0.25 1
 set -euo pipefail
@@ -18,7 +19,7 @@ trap 'kill $(jobs -p) 2>/dev/null || true; rm -rf "$work"' EXIT
 port=$(python3 -c 'import socket; s=socket.socket(); s.bind(("127.0.0.1", 0)); print(s.getsockname()[1])')
 
 echo "config $config, $iterations iterations, 2 workers of 1 thread each on loopback; load before: $(cut -d' ' -f1-3 /proc/loadavg)"
-echo "| --verify-fraction | wall s | jobs checked | unverified | same checkpoint as 0 |"
+echo "| --verify-fraction | wall s | answers checked | by the coordinator | same checkpoint as 0 |"
 echo "|---|---|---|---|---|"
 for fraction in "${fractions[@]}"; do
   dir=$work/run-$fraction
@@ -30,11 +31,11 @@ for fraction in "${fractions[@]}"; do
   wait "$pid"
   end=$(date +%s.%N)
   wait
-  summary=$(grep -o 'verification: [0-9]* jobs checked by a second worker, [0-9]* unverified' "$work/log-$fraction" | tail -1 || true)
-  checked=$(sed -n 's/.*verification: \([0-9]*\) jobs checked.*/\1/p' <<< "$summary")
-  unverified=$(sed -n 's/.* \([0-9]*\) unverified/\1/p' <<< "$summary")
+  summary=$(grep -o 'verification: [0-9]* answers checked ([0-9]* by the coordinator' "$work/log-$fraction" | tail -1 || true)
+  checked=$(sed -n 's/.*verification: \([0-9]*\) answers checked.*/\1/p' <<< "$summary")
+  by_coordinator=$(sed -n 's/.*(\([0-9]*\) by the coordinator/\1/p' <<< "$summary")
   same="(the reference)"
   [[ $fraction != "${fractions[0]}" ]] && { cmp -s "$work/run-${fractions[0]}/checkpoint.pb" "$dir/checkpoint.pb" && same=yes || same=NO; }
-  printf '| %s | %.1f | %s | %s | %s |\n' "$fraction" "$(echo "$end - $start" | bc)" "${checked:-0}" "${unverified:-0}" "$same"
+  printf '| %s | %.1f | %s | %s | %s |\n' "$fraction" "$(echo "$end - $start" | bc)" "${checked:-0}" "${by_coordinator:-0}" "$same"
 done
 echo "load after: $(cut -d' ' -f1-3 /proc/loadavg)"

@@ -15,4 +15,9 @@ std::string make_local_token() {
   return token;
 }
 
+uint64_t make_verify_secret() {
+  std::random_device device;
+  return (static_cast<uint64_t>(device()) << 32) | device();
+}
+
 }  // namespace poet

@@ -40,6 +40,8 @@
 #include "local_token.h"
 #include "poet/engine.h"
 #include "policy/policy_file.h"
+#include "run/checkpoint_anchors.h"
+#include "run/checkpoint_file.h"
 #include "run/event_json.h"
 #include "run/phase_timer.h"
 #include "run/progress_display.h"
@@ -48,6 +50,7 @@
 #include "run/wall_times.h"
 #include "status/status_server.h"
 #include "stop_signals.h"
+#include "text_file.h"
 #include "tool_flags.h"
 #include "wire_timing.h"
 
@@ -75,7 +78,6 @@ struct Options {
   std::string curve_keys;                                  // CURVE key directory; empty: no authentication
   std::string start_from;                 // a policy file for the first pair's θ; empty: the init stream
   std::optional<double> verify_fraction;  // default: kListenVerifyFraction with --listen and no CURVE
-  uint64_t verify_seed = 1;
 };
 
 // Workers that connect to --listen without CURVE may be anyone's: this fraction of their jobs is checked by a
@@ -229,7 +231,7 @@ std::optional<CurveServer> curve_server(const std::filesystem::path& dir, bool l
     spdlog::warn("--curve-keys: no key in {}: no worker can connect until one is added", (dir / "authorized").string());
   spdlog::info("CURVE on: workers need one of the {} keys in {}", authorized_keys.size(),
                (dir / "authorized").string());
-  return CurveServer{keys->secret_key, dir, {}};  // skipped_key_file: set by the caller
+  return CurveServer{keys->secret_key, dir, {}, {}};  // the callbacks and files: set by the caller
 }
 
 // The evaluator, its socket bound (a port in use or a bad endpoint fails here, before any file is written); local
@@ -247,7 +249,7 @@ std::optional<Rollouts> make_rollouts(const Options& options, StopSignals& signa
   settings.local_token = make_local_token();
   settings.verify_fraction = options.verify_fraction.value_or(
       !options.listen.empty() && options.curve_keys.empty() ? kListenVerifyFraction : 0.0);
-  settings.verify_seed = options.verify_seed;
+  settings.verify_secret = make_verify_secret();
   if (settings.verify_fraction > 0)
     spdlog::info("verification: {:g} of the jobs of workers not started here also run on a second worker",
                  settings.verify_fraction);
@@ -315,7 +317,8 @@ int run(const Options& options, StopSignals& signals) {
   }
   std::optional<std::pair<RunDirectory, RunState>> opened = options.resume ? resume_run(options) : start_run(options);
   if (!opened) return kExitUsage;
-  auto& [dir, state] = *opened;
+  RunDirectory& dir = opened->first;  // both replaced in place when the run goes back (go_back)
+  RunState& state = opened->second;
   for (const std::string& repair : dir.repairs()) spdlog::warn("{}", repair);
   std::string wall_warning;
   WallTimes wall_times = WallTimes::open(options.run_dir, state.next_iteration, &wall_warning);
@@ -358,9 +361,9 @@ int run(const Options& options, StopSignals& signals) {
       snapshot.leases_expired = d.leases_expired();
       snapshot.workers_demoted = d.workers_demoted();
       snapshot.verified_jobs = d.verified_jobs();
-      snapshot.unverified_jobs = d.unverified_jobs();
       snapshot.wrong_workers = static_cast<int64_t>(d.wrong_workers().size());
-      snapshot.disputes_settled = d.disputes_settled();
+      snapshot.coordinator_checks = d.coordinator_checks();
+      snapshot.rollbacks = d.rollbacks();
       const bool waiting = d.ready_workers() == 0 && d.queue_depth() > 0;
       board.publish_dispatch(std::move(snapshot));
       board.set_state(waiting ? RunPhase::kWaitingForWorkers : RunPhase::kRunning,
@@ -372,6 +375,19 @@ int run(const Options& options, StopSignals& signals) {
   PhaseTimer phase_timer(elapsed);
   const int interval = state.settings.checkpoint_interval;
   int saved_iteration = state.next_iteration;
+  CheckpointAnchors anchors;
+  const bool verified = rollouts->remote && rollouts->remote->verifies();
+  auto keep_anchor = [&] {
+    if (!verified) return;
+    Expected<std::string> bytes = read_text_file(dir.path() / kCheckpointFile, kMaxCheckpointBytes);
+    if (!bytes) {  // then an older one stands in, which only costs more recomputation
+      spdlog::warn("{}: {}", (dir.path() / kCheckpointFile).string(), bytes.error());
+      return;
+    }
+    anchors.add({rollouts->remote->batch_id(), state.next_iteration, std::move(*bytes)});
+    const std::vector<uint64_t> needed = rollouts->remote->unchecked_since();
+    anchors.prune(needed);
+  };
   auto save = [&]() {
     if (auto error = dir.save(state)) {
       progress.finish();
@@ -379,11 +395,40 @@ int run(const Options& options, StopSignals& signals) {
       return false;
     }
     saved_iteration = state.next_iteration;
+    keep_anchor();
     // the times are the run's record of its machine, not its state: a failed write is reported, not fatal
     if (auto error = wall_times.record(state.next_iteration - 1, elapsed(), phase_timer.take()))
       spdlog::warn("{}", *error);
     return true;
   };
+
+  // Going back: with verification, each checkpoint a rollback may need is kept in memory (checkpoint_anchors.h);
+  // when a worker found wrong had unchecked answers taken, the run returns to the newest saved before them and
+  // computes again from there without it: deterministic, so the numbers end as if it never joined.
+  auto go_back = [&](uint64_t first_bad) -> std::optional<std::string> {
+    const CheckpointAnchor* anchor = anchors.before(first_bad);
+    if (anchor == nullptr) return "no checkpoint precedes batch " + std::to_string(first_bad);
+    progress.finish();
+    spdlog::warn(
+        "a worker found wrong had unchecked answers taken since batch {}: the run goes back to its checkpoint at "
+        "iteration {} and computes again from there without it",
+        first_bad, anchor->next_iteration);
+    if (auto error = write_file_atomically(dir.path() / kCheckpointFile, anchor->bytes))
+      return (dir.path() / kCheckpointFile).string() + ": " + *error;
+    rollouts->remote->forget_batches_from(anchor->last_batch + 1);
+    anchors.keep_until(*anchor);
+    opened.reset();  // its lock released, for the resume to take
+    Expected<std::pair<RunDirectory, RunState>> resumed = RunDirectory::resume(options.run_dir);
+    if (!resumed) return resumed.error();
+    opened.emplace(std::move(*resumed));
+    std::string warning;
+    wall_times = WallTimes::open(options.run_dir, state.next_iteration, &warning);
+    if (!warning.empty()) spdlog::warn("{}", warning);
+    saved_iteration = state.next_iteration;
+    board.publish_run(state, saved_iteration);
+    return std::nullopt;
+  };
+  keep_anchor();
 
   signals.loop_started();
   while (!run_complete(state) && !signals.stop_requested()) {
@@ -402,6 +447,13 @@ int run(const Options& options, StopSignals& signals) {
       progress.finish();
       spdlog::error("{} (the checkpoint at iteration {} precedes the divergence)", e.what(), saved_iteration);
       return kExitError;
+    }
+    if (const std::optional<uint64_t> first_bad = rollouts->remote ? rollouts->remote->take_rollback() : std::nullopt) {
+      if (auto error = go_back(*first_bad)) {
+        spdlog::error("going back: {}", *error);
+        return kExitError;
+      }
+      continue;
     }
     dir.append(report);
     if (!report.events.empty() && spdlog::should_log(spdlog::level::info)) progress.clear();
@@ -479,7 +531,6 @@ int main(int argc, char** argv) {
                      "match bit for bit, and a worker found wrong is refused (default 0.05 with --listen without "
                      "--curve-keys, else 0)")
           ->check(CLI::Range(0.0, 1.0));
-  app.add_option("--verify-seed", options.verify_seed, "Which jobs are checked (default 1)")->group("");
   app.add_option("--worker-binary", options.worker_binary, "poet-worker for --local-workers (default: beside this)");
   app.add_option("--worker-arg", options.worker_args, "An argument for every local worker (repeatable)")
       ->group("");  // for tests: fault switches

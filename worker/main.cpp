@@ -15,8 +15,8 @@
 #include <algorithm>
 #include <atomic>
 #include <climits>
-#include <cstdlib>
 #include <csignal>
+#include <cstdlib>
 #include <exception>
 #include <filesystem>
 #include <optional>
@@ -90,6 +90,16 @@ int main(int argc, char** argv) {
                  "error-on-job (answer every Job with an error) or wrong-results (returns off by one)")
       ->check(CLI::IsMember({"crash-on-job", "ignore-jobs", "error-on-job", "wrong-results"}))
       ->group("");  // hidden from --help
+  LieShape& lie = settings.session.lie;
+  app.add_option("--lie-after", lie.honest_jobs, "wrong-results: answer the first N jobs honestly")
+      ->check(CLI::NonNegativeNumber)
+      ->group("");
+  app.add_option("--lie-fraction", lie.fraction, "wrong-results: then lie on this fraction of the jobs (default 1)")
+      ->check(CLI::Range(0.0, 1.0))
+      ->group("");
+  app.add_flag("--lie-where-predicted-unchecked", lie.where_predicted_unchecked,
+               "wrong-results: lie only where a public rule of the batch and job ids predicts no check")
+      ->group("");
   int parent_pid = 0;
   app.add_option("--parent-pid", parent_pid,
                  "Exit when process PID, the coordinator that started this worker, is gone (--local-workers)")

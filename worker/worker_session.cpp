@@ -7,6 +7,7 @@
 #include <utility>
 
 #include "build_fingerprint.h"
+#include "rng.h"
 
 namespace poet::worker {
 namespace {
@@ -222,13 +223,23 @@ Actions WorkerSession::on_job_finished(const JobOutcome& outcome, TimePoint now)
     spdlog::warn("job {} failed: {}", outcome.job_id, *outcome.error);
     result.set_error(*outcome.error);
   } else {
+    const bool lie = settings_.fault == Fault::kWrongResults && lies_on(outcome.job_id);
+    if (lie) spdlog::info("--fault wrong-results: a wrong answer to job {}", outcome.job_id);
     for (const RolloutResult& r : outcome.results) {
       *result.add_results() = to_wire(r);
-      if (settings_.fault == Fault::kWrongResults) result.mutable_results()->rbegin()->set_total_reward(r.total_reward + 1);
+      if (lie) result.mutable_results()->rbegin()->set_total_reward(r.total_reward + 1);
     }
   }
   send(actions, std::move(message), now);
   return actions;
+}
+
+bool WorkerSession::lies_on(uint64_t job_id) {
+  const LieShape& shape = settings_.lie;
+  if (jobs_answered_++ < shape.honest_jobs) return false;
+  const auto unit = [](uint64_t key) { return static_cast<double>(key >> 11) * 0x1.0p-53; };
+  if (shape.fraction < 1 && unit(stream_key(0, "lie", {job_id})) >= shape.fraction) return false;
+  return !shape.where_predicted_unchecked || unit(stream_key(1, "verify", {batch_.value_or(0), job_id})) >= 0.05;
 }
 
 Actions WorkerSession::on_send_failed(const wire::WorkerMessage& message, TimePoint now) {

@@ -12,14 +12,14 @@
 //   Refused (exit 2), Shutdown (exit 0) or a stop (Goodbye, exit 0) ──▶ finished
 //
 // Greeting: Hello now and every second until a Welcome (a connection that brings none within greeting_timeout
-// is closed and a fresh one opened after the backoff: libzmq can leave a refused handshake hanging) (sooner when a Hello could not be sent because the
-// connection is not up yet); a Heartbeat answers the Welcome at once (ready for jobs). Welcomed: Heartbeat
-// whenever nothing was sent for heartbeat_ms; a Rejoin (the coordinator restarted) drops the jobs and goes back
-// to greeting with a Hello at once; a Job is decoded
-// at once (θs into the cache, tasks checked) and either handed to the runner or answered with an error Result.
-// Anything that fails to parse, is larger than the cap or comes when its kind makes no sense is counted and
-// dropped, with a log line at most once a second. Without a Welcome for still_trying_first, and then after gaps
-// that double up to still_trying_max, the loop is told to say that the worker is still trying, and where.
+// is closed and a fresh one opened after the backoff: libzmq can leave a refused handshake hanging) (sooner when a
+// Hello could not be sent because the connection is not up yet); a Heartbeat answers the Welcome at once (ready for
+// jobs). Welcomed: Heartbeat whenever nothing was sent for heartbeat_ms; a Rejoin (the coordinator restarted) drops the
+// jobs and goes back to greeting with a Hello at once; a Job is decoded at once (θs into the cache, tasks checked) and
+// either handed to the runner or answered with an error Result. Anything that fails to parse, is larger than the cap or
+// comes when its kind makes no sense is counted and dropped, with a log line at most once a second. Without a Welcome
+// for still_trying_first, and then after gaps that double up to still_trying_max, the loop is told to say that the
+// worker is still trying, and where.
 
 #include <chrono>
 #include <cstddef>
@@ -47,15 +47,24 @@ inline constexpr size_t kMaxFrameBytes = size_t{64} << 20;
 // Test-only misbehaviour, for the coordinator's tests (--fault).
 enum class Fault {
   kNone,
-  kCrashOnJob,  // abort() on receiving a Job: the coordinator's poison-job rule must stop it killing every worker
-  kIgnoreJobs,  // never answer a Job, but keep heartbeating: the coordinator's lease must expire
-  kErrorOnJob,  // answer every Job with an error Result: one such peer must not stop the run
+  kCrashOnJob,    // abort() on receiving a Job: the coordinator's poison-job rule must stop it killing every worker
+  kIgnoreJobs,    // never answer a Job, but keep heartbeating: the coordinator's lease must expire
+  kErrorOnJob,    // answer every Job with an error Result: one such peer must not stop the run
   kWrongResults,  // answer every Job with well-formed results whose returns are off by one: verification's liar
 };
 
+// How a kWrongResults worker chooses the answers it lies on: the shapes of liar verification must catch.
+struct LieShape {
+  int64_t honest_jobs = 0;  // answers its first this many jobs honestly (sitting out a probation)
+  double fraction = 1;      // then lies on this fraction of its jobs, drawn from the job id
+  // and only where a public rule of the batch and job ids (the kind a coordinator without a secret might use,
+  // at 5 %) predicts no check
+  bool where_predicted_unchecked = false;
+};
+
 struct SessionSettings {
-  uint32_t threads = 1;  // told to the coordinator in Hello
-  std::string name;      // for people: "host:pid" by default (main.cpp)
+  uint32_t threads = 1;     // told to the coordinator in Hello
+  std::string name;         // for people: "host:pid" by default (main.cpp)
   std::string local_token;  // told in Hello: from the coordinator that started this worker (--local-workers)
   Millis hello_interval{1000};
   // A connection that brings no Welcome this long is replaced by a fresh one (a handshake libzmq left hanging).
@@ -67,6 +76,7 @@ struct SessionSettings {
   Millis still_trying_max{60000};   // the gap between such lines doubles up to this
   size_t max_frame_bytes = kMaxFrameBytes;
   Fault fault = Fault::kNone;
+  LieShape lie;  // with kWrongResults
 };
 
 // What the socket loop must do after a call, in this order. A call that ends the session sets exit_code; the
@@ -154,6 +164,8 @@ class WorkerSession {
   void finish(Actions& actions, int exit_code);
   void drop(uint64_t DropCounts::*reason, std::string_view what, TimePoint now);
 
+  bool lies_on(uint64_t job_id);  // --fault wrong-results: whether this job's answer is a lie (LieShape)
+
   SessionSettings settings_;
   SessionState state_ = SessionState::kGreeting;
   Millis heartbeat_{wire_timing::kHeartbeatMs};  // from Welcome
@@ -164,13 +176,14 @@ class WorkerSession {
   TimePoint last_received_{};
   TimePoint welcomed_at_{};
   TimePoint reconnect_at_{};
-  TimePoint greeting_since_{};  // this connection's first Hello
+  TimePoint greeting_since_{};    // this connection's first Hello
   TimePoint unwelcomed_since_{};  // the still-trying lines: since when (epoch: not started), the next, the gap after
   TimePoint next_still_trying_{};
   Millis still_trying_gap_{};
   // θs of the current batch only: a Job of another batch clears them (queued jobs hold their own θs)
   ThetaCache thetas_;
   std::optional<uint64_t> batch_;
+  int64_t jobs_answered_ = 0;  // for --fault wrong-results' LieShape
   DropCounts drops_;
   uint64_t drops_unlogged_ = 0;
   std::optional<TimePoint> last_drop_log_;

@@ -173,8 +173,38 @@ void Dispatcher::new_jobs(size_t begin, size_t end, size_t per_job, int deaths, 
 
 bool Dispatcher::chosen_for_check(const Job& job) const {
   if (settings_.verify_fraction <= 0) return false;
-  const uint64_t key = stream_key(settings_.verify_seed, "verify", {batch_id_, job.begin, job.end});
+  const uint64_t key = stream_key(settings_.verify_secret, "verify", {batch_id_, job.begin, job.end});
   return static_cast<double>(key >> 11) * 0x1.0p-53 < settings_.verify_fraction;
+}
+
+bool Dispatcher::on_probation(const Worker& worker) const {
+  return settings_.verify_fraction > 0 && !worker.view.local && !worker.view.proven;
+}
+
+void Dispatcher::pass_check(const WorkerId& id) {
+  const auto it = workers_.find(id);
+  if (it == workers_.end()) return;
+  WorkerView& view = it->second.view;
+  view.checks_passed += 1;
+  if (!view.proven && view.checks_passed >= settings_.probation_checks) {
+    view.proven = true;
+    view.demoted = false;
+  }
+}
+
+void Dispatcher::note_unchecked(const WorkerId& id) {
+  if (settings_.verify_fraction > 0) unchecked_since_.emplace(id, batch_id_);  // the first one only
+}
+
+std::vector<uint64_t> Dispatcher::unchecked_since() const {
+  std::vector<uint64_t> out;
+  for (const auto& [id, batch] : unchecked_since_) out.push_back(batch);
+  if (rollback_from_) out.push_back(*rollback_from_);  // asked for, not yet taken
+  return out;
+}
+
+void Dispatcher::forget_batches_from(uint64_t batch) {
+  std::erase_if(unchecked_since_, [&](const auto& entry) { return entry.second >= batch; });
 }
 
 size_t Dispatcher::proven_workers() const {
@@ -234,7 +264,7 @@ void Dispatcher::on_result(const WorkerId& id, const wire::Result& result, Milli
     release(j.id, w, /*died=*/true);
     return;
   }
-  if (!w.view.proven) {
+  if (!w.view.proven && settings_.verify_fraction <= 0) {  // with verification, probation proves it
     w.view.proven = true;
     w.view.demoted = false;
   }
@@ -275,9 +305,11 @@ void Dispatcher::on_error(Worker& worker, Job& job, const std::string& error) {
 }
 
 void Dispatcher::on_answer(Worker& worker, Job& job, std::vector<RolloutResult> results) {
-  const bool check = job.verify && (!worker.view.local || !job.answers.empty());
+  const bool check = (job.verify || on_probation(worker)) && (!worker.view.local || !job.answers.empty());
   if (!check) {
-    accept(job, results, worker.view.id, settings_.verify_fraction <= 0 || worker.view.local);
+    const bool trusted = settings_.verify_fraction <= 0 || worker.view.local;
+    if (!trusted) note_unchecked(worker.view.id);
+    accept(job, results, worker.view.id, trusted);
     return;
   }
   if (job.answers.empty()) {
@@ -288,6 +320,8 @@ void Dispatcher::on_answer(Worker& worker, Job& job, std::vector<RolloutResult> 
   if (job.answers.size() == 1) {
     if (same_results(job.answers[0].results, results)) {
       verified_ += 1;
+      pass_check(job.answers[0].worker);
+      pass_check(worker.view.id);
       accept(job, results, job.answers[0].worker, true);
       return;
     }
@@ -310,6 +344,8 @@ void Dispatcher::on_answer(Worker& worker, Job& job, std::vector<RolloutResult> 
     return;
   }
   verified_ += 1;
+  pass_check(first ? job.answers[0].worker : job.answers[1].worker);
+  pass_check(worker.view.id);
   // refused first: its results held back must not become final with this job, which may be the batch's last
   refuse_wrong(first ? job.answers[1].worker : job.answers[0].worker);
   accept(job, results, worker.view.id, true);  // ends the job
@@ -340,6 +376,14 @@ void Dispatcher::accept(Job& job, const std::vector<RolloutResult>& results, con
 
 void Dispatcher::refuse_wrong(const WorkerId id, const char* why) {  // a copy: the answers it may name are erased
   if (!refused_.insert(id).second) return;
+  // unchecked answers of an earlier batch are final: the run must go back to before them
+  if (const auto since = unchecked_since_.find(id); since != unchecked_since_.end()) {
+    if (since->second < batch_id_ && (!rollback_from_ || since->second < *rollback_from_)) {
+      rollback_from_ = since->second;
+      rollbacks_ += 1;
+    }
+    unchecked_since_.erase(since);
+  }
   // its answers awaiting a check are worth nothing: those jobs wait for answers from others
   for (auto& [job_id, job] : jobs_) {
     const size_t before = job.answers.size();
@@ -416,7 +460,7 @@ bool Dispatcher::may_take(const Job& job, const Worker& worker) const {
     return false;
   if (worker.view.proven || !job.tainted) return true;
   // a job a worker not proven failed goes to a worker not proven only when no proven one may take it, and never
-  // as a check (settle_unverifiable takes the answer as it is instead)
+  // as a check (the coordinator checks it instead)
   return job.answers.empty() && !proven_can_take(job);
 }
 
@@ -453,12 +497,11 @@ bool Dispatcher::eligible_checker(const Job& job, const Worker& worker) const {
   return worker.ready && !worker.view.demoted && may_take(job, worker);
 }
 
-void Dispatcher::settle_unverifiable() {
-  std::vector<uint64_t> settle;
-  disputes_waiting_ = 0;
+void Dispatcher::check_unanswerable() {
+  coordinator_checks_waiting_ = 0;
   const size_t proven = proven_workers();
   for (const uint64_t id : queue_) {
-    const Job& job = jobs_.at(id);
+    Job& job = jobs_.at(id);
     // proven workers that refused it may now be all there are (the others left): the error rule says again
     if (!job.refusing.empty() && job.refusing.size() >= std::min<size_t>(2, std::max<size_t>(1, proven)) && !failure_)
       failure_ = "workers refused " + describe_task(job.begin) + " (" + std::to_string(job.refusing.size()) +
@@ -467,49 +510,43 @@ void Dispatcher::settle_unverifiable() {
     const bool someone =
         std::any_of(workers_.begin(), workers_.end(), [&](const auto& w) { return eligible_checker(job, w.second); });
     if (someone) continue;
-    if (job.answers.size() == 1) settle.push_back(id);
-    if (job.answers.size() == 2) {  // two workers disagree and no worker can decide: the coordinator does
-      disputes_waiting_ += 1;
-      if (!std::exchange(jobs_.at(id).disputed, true)) disputes_.push_back(id);
-    }
-  }
-  for (const uint64_t id : settle) {
-    Job& job = jobs_.at(id);
-    unverified_ += 1;
-    const Answer answer = job.answers[0];
-    accept(job, answer.results, answer.worker, false);
+    coordinator_checks_waiting_ += 1;
+    if (!std::exchange(job.to_coordinator, true)) to_coordinator_.push_back(id);
   }
 }
 
-std::vector<Dispatcher::Dispute> Dispatcher::take_disputes() {
-  std::vector<Dispute> out;
-  for (const uint64_t id : std::exchange(disputes_, {})) {
+std::vector<Dispatcher::CoordinatorCheck> Dispatcher::take_coordinator_checks() {
+  std::vector<CoordinatorCheck> out;
+  for (const uint64_t id : std::exchange(to_coordinator_, {})) {
     const auto it = jobs_.find(id);
-    if (!batch_active_ || it == jobs_.end() || it->second.answers.size() != 2) continue;
+    if (!batch_active_ || it == jobs_.end()) continue;
     const Job& job = it->second;
-    out.push_back({batch_id_, id,
+    out.push_back({batch_id_, id, job.answers.size() > 1,
                    std::vector<RolloutTask>(tasks_.begin() + static_cast<std::ptrdiff_t>(job.begin),
                                             tasks_.begin() + static_cast<std::ptrdiff_t>(job.end))});
   }
   return out;
 }
 
-void Dispatcher::settle_dispute(uint64_t batch_id, uint64_t job_id, const std::vector<RolloutResult>& results) {
+void Dispatcher::settle_by_coordinator(uint64_t batch_id, uint64_t job_id, const std::vector<RolloutResult>& results) {
   if (!batch_active_ || batch_id != batch_id_) return;
   const auto it = jobs_.find(job_id);
-  if (it == jobs_.end() || it->second.answers.size() != 2) return;  // a third worker decided first
+  if (it == jobs_.end()) return;  // a worker's answer settled it first
   Job& job = it->second;
   if (results.size() != job.end - job.begin) return;
-  const WorkerId first = job.answers[0].worker;
-  const WorkerId second = job.answers[1].worker;
-  const bool first_right = same_results(job.answers[0].results, results);
-  const bool second_right = same_results(job.answers[1].results, results);
-  disputes_settled_ += 1;
-  if (first_right || second_right) verified_ += 1;
+  coordinator_checks_ += 1;
+  std::vector<WorkerId> wrong;
+  for (const Answer& answer : job.answers) {
+    if (same_results(answer.results, results)) {
+      verified_ += 1;
+      pass_check(answer.worker);
+    } else {
+      wrong.push_back(answer.worker);
+    }
+  }
   // refused first: their results held back must not become final with this job, which may be the batch's last
-  constexpr const char* kWhy = "this worker returned results that the coordinator, computing them itself, did not";
-  if (!first_right) refuse_wrong(first, kWhy);
-  if (!second_right) refuse_wrong(second, kWhy);
+  for (const WorkerId& id : wrong)
+    refuse_wrong(id, "this worker returned results that the coordinator, computing them itself, did not");
   accept(job, results, kCoordinatorAnswer, true);  // ends the job
 }
 
@@ -544,7 +581,7 @@ std::vector<Outgoing> Dispatcher::outgoing(Millis now) {
   std::vector<Outgoing> out = std::exchange(refusals_, {});
   if (batch_active_) {
     expire_leases(now);
-    settle_unverifiable();
+    check_unanswerable();
   }
   // one job per worker per pass, so a batch spreads over every worker before any gets a second
   for (bool assigned = true; assigned && !failure_ && batch_active_;) {
@@ -575,6 +612,8 @@ void Dispatcher::start_batch(std::span<const RolloutTask> tasks) {
   abandon_batch();
   batch_active_ = true;
   batch_id_ += 1;
+  // a worker gone, with no answer held any more, can no longer be found wrong
+  std::erase_if(unchecked_since_, [&](const auto& entry) { return !workers_.contains(entry.first); });
   tasks_.assign(tasks.begin(), tasks.end());
   results_.assign(tasks.size(), RolloutResult{});
   have_result_.assign(tasks.size(), false);
@@ -609,7 +648,7 @@ void Dispatcher::abandon_batch() {
   }
   job_times_.clear();
   backup_after_ = 0;
-  disputes_.clear();
+  to_coordinator_.clear();
   jobs_.clear();
   queue_.clear();
   tasks_.clear();

@@ -5,8 +5,9 @@
 // backup jobs. Time is a parameter (milliseconds on any monotonic clock), so tests drive it with a fake clock. Not
 // thread-safe: the remote evaluator's socket thread owns it under its lock.
 //
-// Trust. A worker is proven once it has returned a valid result (or, started by this coordinator, from its Hello:
-// it showed local_token). Until then it holds one job at a time, and what it does cannot stop the run: its death,
+// Trust. A worker is proven once it has shown it computes right: started by this coordinator (its Hello showed
+// local_token), or, with verification on, once it passed probation_checks checks (without verification, once it
+// returned a valid result). Until then it holds one job at a time, and what it does cannot stop the run: its death,
 // an error it returns or a lease it lets expire only takes the job back (the job is then "tainted" and goes to
 // proven workers only, while any is connected), and the latter two demote it (no more jobs). So any number of
 // peers that say Hello, heartbeat and never answer delay a batch by at most about one lease: backup_factor × the
@@ -16,14 +17,18 @@
 // error only when two proven workers (or the only one) refuse the job: a real error repeats, runs being
 // deterministic.
 //
-// Verification. With verify_fraction > 0, a seeded fraction of jobs answered by a worker that is not local is also
-// run on a second, different worker, and the results must match bit for bit; on a mismatch a third run decides
-// (a local worker's answer decides at once). The worker found wrong is refused from then on (Refused, and its
+// Verification. With verify_fraction > 0, every answer of a worker on probation (not local, not yet proven) and a
+// fraction of the other answers of workers that are not local are also computed by a second, different worker, and
+// the results must match bit for bit; on a mismatch a third run decides (a local worker's answer decides at once).
+// Which jobs are checked is drawn from verify_secret, the batch and the job's tasks: a worker that does not know
+// the secret cannot tell which of its answers will be checked, so one lying on k answers after probation goes
+// unnoticed with probability (1 - verify_fraction)^k whichever it chooses. An answer that no connected worker can
+// check, or two that differ with no third worker to decide, go to the coordinator (take_coordinator_checks), whose
+// own results decide as a local worker's do. The worker found wrong is refused from then on (Refused, and its
 // Hellos), and every result of the batch taken from it and not yet reported final is computed again. Unchecked
-// results of workers that are not local are reported final (take_ready_ranges) only once the batch is whole, as a
-// wrong one may still be found. A job that no other worker is there to check is taken unverified (counted); one
-// whose two answers differ, with no third worker there to decide, is handed to the coordinator (take_disputes),
-// whose own answer (settle_dispute) decides as a local worker's does: a mismatch is always settled.
+// answers of workers that are not local are reported final (take_ready_ranges) only once the batch is whole, as a
+// wrong one may still be found; once they are, only going back to a state computed before them undoes them:
+// take_rollback names the first batch to compute again when a worker refused had unchecked answers made final.
 
 #include <cstdint>
 #include <deque>
@@ -62,7 +67,8 @@ struct DispatchSettings {
   uint64_t fingerprint_digest = 0;  // workers of another build are refused (0: accept any, for tests)
   std::string local_token;          // a Hello carrying it comes from a local worker: proven from the start
   double verify_fraction = 0;       // of the jobs answered by workers that are not local, also run on a second
-  uint64_t verify_seed = 0;         // which jobs are checked: a function of the seed, the batch and the job
+  uint64_t verify_secret = 0;       // which jobs are checked: drawn from it, the batch and the job; never sent
+  int probation_checks = 5;         // with verification: checks a worker that is not local passes to be proven
 };
 
 // A message for one worker.
@@ -80,9 +86,10 @@ struct WorkerView {
   int64_t results_done = 0;
   Millis last_heard = 0;
   size_t jobs_held = 0;
-  bool local = false;    // started by this coordinator (showed local_token)
-  bool proven = false;   // local, or has returned a valid result
-  bool demoted = false;  // not proven, and let a lease expire or returned an error: given no more jobs
+  int64_t checks_passed = 0;  // its answers that another worker or the coordinator computed alike
+  bool local = false;         // started by this coordinator (showed local_token)
+  bool proven = false;        // local, or passed probation (without verification: has returned a valid result)
+  bool demoted = false;       // not proven, and let a lease expire or returned an error: given no more jobs
 };
 
 class Dispatcher {
@@ -99,18 +106,30 @@ class Dispatcher {
   // A worker that left (Goodbye, or its socket is gone): its jobs go back to the front of the queue.
   void remove_worker(const WorkerId& id, bool died);
 
-  // A job two workers answered differently, with no connected worker able to decide: its tasks, for the
-  // coordinator to run itself. Each dispute is handed out once; a third worker's answer may still settle it first.
-  struct Dispute {
+  // A job whose answer no connected worker can check, or two answers that differ with no worker to decide: its
+  // tasks, for the coordinator to run itself. Each is handed out once; a worker's answer may still settle it first.
+  struct CoordinatorCheck {
     uint64_t batch_id = 0;
     uint64_t job_id = 0;
+    bool disputed = false;  // two answers that differ (otherwise one that no other worker can check)
     std::vector<RolloutTask> tasks;
   };
-  std::vector<Dispute> take_disputes();
-  // The coordinator's results for a dispute: the worker (or both) whose answer differs is refused, as one found
-  // wrong by a third worker is, and the results are final. Ignored when the dispute was settled meanwhile or its
-  // batch is over.
-  void settle_dispute(uint64_t batch_id, uint64_t job_id, const std::vector<RolloutResult>& results);
+  std::vector<CoordinatorCheck> take_coordinator_checks();
+  // The coordinator's results for such a job: a worker whose answer differs is refused, as one found wrong by a
+  // third worker is, those that agree pass a check, and the results are final. Ignored when the job was settled
+  // meanwhile or its batch is over.
+  void settle_by_coordinator(uint64_t batch_id, uint64_t job_id, const std::vector<RolloutResult>& results);
+
+  // Going back. batch_id() is the batch started last (0: none yet). take_rollback: the first batch whose final
+  // results may hold a lie — a worker was refused after unchecked answers of its from that batch on became final —
+  // once; the caller goes back to a state computed before that batch started. unchecked_since: for each worker
+  // that may still be found wrong, the first batch in which an unchecked answer of its became final (what the
+  // caller must be able to go back to; a rollback not yet taken among them). forget_batches_from: the caller went back
+  // to before `batch`; answers of that batch and later ones no longer count.
+  uint64_t batch_id() const { return batch_id_; }
+  std::optional<uint64_t> take_rollback() { return std::exchange(rollback_from_, std::nullopt); }
+  std::vector<uint64_t> unchecked_since() const;
+  void forget_batches_from(uint64_t batch);
 
   // Workers silent for liveness_ms are removed (their jobs re-queued, counted as a death for each job).
   std::vector<WorkerId> expire(Millis now);
@@ -147,12 +166,11 @@ class Dispatcher {
   int64_t backup_jobs() const { return backups_; }            // jobs sent to a second worker
   int64_t leases_expired() const { return leases_expired_; }  // jobs taken back from workers not yet proven
   int64_t workers_demoted() const { return demoted_; }
-  int64_t verified_jobs() const { return verified_; }      // jobs answered alike by two workers
-  int64_t unverified_jobs() const { return unverified_; }  // chosen for a check no other worker was there to make
-  // Jobs two workers answered differently that wait for a third answer (the coordinator's when no worker
-  // connected may give it).
-  int64_t disputes_waiting() const { return disputes_waiting_; }
-  int64_t disputes_settled() const { return disputes_settled_; }  // decided by the coordinator's own answer
+  int64_t verified_jobs() const { return verified_; }  // answers found right by a second worker or the coordinator
+  // Jobs whose answer waits for the coordinator's own (no connected worker may check or decide).
+  int64_t coordinator_checks_waiting() const { return coordinator_checks_waiting_; }
+  int64_t coordinator_checks() const { return coordinator_checks_; }  // settled by the coordinator's own answer
+  int64_t rollbacks() const { return rollbacks_; }                    // times take_rollback asked to go back
   // Workers refused for a wrong result, with their names, in order (the log and /metrics read them).
   const std::vector<std::string>& wrong_workers() const { return wrong_workers_; }
   const std::set<WorkerId>& refused_workers() const { return refused_; }  // the same, by routing id
@@ -181,7 +199,7 @@ class Dispatcher {
     std::set<WorkerId> refusing;  // proven workers that returned an error for it
     std::set<WorkerId> missing_theta;  // workers that said they lacked its θ (once each is believed)
     std::vector<Answer> answers;       // answers awaiting a check: one, or two that differ
-    bool disputed = false;             // handed to the coordinator to decide (take_disputes)
+    bool to_coordinator = false;       // handed to the coordinator to check (take_coordinator_checks)
   };
   struct Worker {
     WorkerView view;
@@ -215,13 +233,16 @@ class Dispatcher {
   // Refuses a worker found wrong: removed, its Hellos refused (told why), and the batch's results taken from it
   // redone.
   void refuse_wrong(WorkerId id, const char* why = "this worker returned results that two other workers did not");
-  // Jobs awaiting a second answer that no connected worker can give are taken as they are; those awaiting a
-  // third are counted (disputes_waiting); jobs refused by every proven worker connected stop the run.
-  void settle_unverifiable();
+  // Jobs awaiting an answer to check against that no connected worker can give go to the coordinator
+  // (take_coordinator_checks); jobs refused by every proven worker connected stop the run.
+  void check_unanswerable();
   bool eligible_checker(const Job& job, const Worker& worker) const;
   void demote(Worker& worker);
   void new_jobs(size_t begin, size_t end, size_t per_job, int deaths, bool front);
   bool chosen_for_check(const Job& job) const;
+  bool on_probation(const Worker& worker) const;
+  void pass_check(const WorkerId& id);      // an answer of its was found right
+  void note_unchecked(const WorkerId& id);  // an answer of its is taken unchecked
   size_t proven_workers() const;
   wire::Job job_message(const Job& job, Worker& worker) const;
   std::string describe_task(size_t index) const;
@@ -256,11 +277,14 @@ class Dispatcher {
   int64_t leases_expired_ = 0;
   int64_t demoted_ = 0;
   int64_t verified_ = 0;
-  int64_t unverified_ = 0;
-  int64_t disputes_waiting_ = 0;
-  int64_t disputes_settled_ = 0;
-  std::vector<uint64_t> disputes_;  // jobs to hand to the coordinator (take_disputes)
-  std::set<WorkerId> refused_;      // found wrong: their Hellos and messages are refused
+  int64_t coordinator_checks_waiting_ = 0;
+  int64_t coordinator_checks_ = 0;
+  int64_t rollbacks_ = 0;
+  std::vector<uint64_t> to_coordinator_;  // jobs to hand to the coordinator (take_coordinator_checks)
+  // by worker, connected or with answers held in this batch: the first batch an unchecked answer of its was taken in
+  std::map<WorkerId, uint64_t> unchecked_since_;
+  std::optional<uint64_t> rollback_from_;
+  std::set<WorkerId> refused_;  // found wrong: their Hellos and messages are refused
   std::vector<std::string> wrong_workers_;
   std::vector<Outgoing> refusals_;  // Refused messages to send
 };

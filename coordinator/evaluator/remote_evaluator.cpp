@@ -66,22 +66,51 @@ RemoteEvaluator::~RemoteEvaluator() {
     quit_ = true;
   }
   wake_.notify();
+  checks_changed_.notify_all();
   if (thread_.joinable()) thread_.join();
-  for (std::thread& settler : settlers_) settler.join();
+  if (checker_.joinable()) checker_.join();
 }
 
-void RemoteEvaluator::settle(Dispatcher::Dispute dispute) {
-  std::vector<RolloutResult> results;
-  results.reserve(dispute.tasks.size());
-  for (const RolloutTask& task : dispute.tasks) {
-    results.push_back(run_task(task, stop_));
-    if (results.back().stopped) return;  // the run stops: the batch is abandoned
+void RemoteEvaluator::check_loop() {
+  std::unique_lock lock(mutex_);
+  while (true) {
+    checks_changed_.wait(lock, [&] { return quit_ || !checks_.empty(); });
+    if (quit_) return;
+    const Dispatcher::CoordinatorCheck check = std::move(checks_.front());
+    checks_.pop_front();
+    if (check.batch_id != dispatcher_.batch_id()) continue;  // abandoned
+    lock.unlock();
+    std::vector<RolloutResult> results;
+    results.reserve(check.tasks.size());
+    for (const RolloutTask& task : check.tasks) {
+      results.push_back(run_task(task, stop_));
+      if (results.back().stopped) break;  // the run stops: the batch is abandoned
+    }
+    lock.lock();
+    if (!results.empty() && results.back().stopped) continue;
+    dispatcher_.settle_by_coordinator(check.batch_id, check.job_id, results);
+    wake_.notify();
   }
-  {
-    std::lock_guard lock(mutex_);
-    dispatcher_.settle_dispute(dispute.batch_id, dispute.job_id, results);
-  }
-  wake_.notify();
+}
+
+std::optional<uint64_t> RemoteEvaluator::take_rollback() {
+  std::lock_guard lock(mutex_);
+  return dispatcher_.take_rollback();
+}
+
+uint64_t RemoteEvaluator::batch_id() {
+  std::lock_guard lock(mutex_);
+  return dispatcher_.batch_id();
+}
+
+std::vector<uint64_t> RemoteEvaluator::unchecked_since() {
+  std::lock_guard lock(mutex_);
+  return dispatcher_.unchecked_since();
+}
+
+void RemoteEvaluator::forget_batches_from(uint64_t batch) {
+  std::lock_guard lock(mutex_);
+  dispatcher_.forget_batches_from(batch);
 }
 
 void RemoteEvaluator::on_snapshot(std::function<void(const Dispatcher&)> publish) {
@@ -94,9 +123,9 @@ void RemoteEvaluator::log_summary() {
   const Dispatcher& d = dispatcher_;
   if (d.settings().verify_fraction > 0)
     spdlog::info(
-        "verification: {} jobs checked by a second worker, {} unverified (no other worker), {} worker(s) "
-        "refused for wrong results",
-        d.verified_jobs(), d.unverified_jobs(), d.wrong_workers().size());
+        "verification: {} answers checked ({} by the coordinator itself), {} worker(s) refused for wrong results, "
+        "{} time(s) gone back to a checkpoint",
+        d.verified_jobs(), d.coordinator_checks(), d.wrong_workers().size(), d.rollbacks());
   if (d.workers_demoted() > 0 || d.leases_expired() > 0)
     spdlog::info("{} worker(s) demoted, {} lease(s) expired on workers that had returned no result",
                  d.workers_demoted(), d.leases_expired());
@@ -196,7 +225,7 @@ void RemoteEvaluator::loop() {
       shutting_down_ = true;
     }
     const int64_t backups_before = dispatcher_.backup_jobs();
-    if (authenticator_) {  // a worker found wrong (by an answer or a settler): its key too, before it is told,
+    if (authenticator_) {  // a worker found wrong (by an answer or the checker): its key too, before it is told,
       // so that it cannot come back on a new socket
       for (const WorkerId& id : dispatcher_.refused_workers()) {
         if (!keys_refused_for_.insert(id).second) continue;
@@ -214,14 +243,20 @@ void RemoteEvaluator::loop() {
             "no more jobs ({} so far){}",
             demoted, dispatcher_.workers_demoted(), LogThrottle::held_back_note(*held_back));
     }
-    for (Dispatcher::Dispute& dispute : dispatcher_.take_disputes()) {
-      spdlog::warn(
-          "two workers answered job {} differently and no other worker can decide: the coordinator runs "
-          "its {} task(s) itself",
-          dispute.job_id, dispute.tasks.size());
-      settlers_.emplace_back([this, d = std::move(dispute)]() mutable { settle(std::move(d)); });
+    for (Dispatcher::CoordinatorCheck& check : dispatcher_.take_coordinator_checks()) {
+      if (check.disputed)
+        spdlog::warn(
+            "two workers answered job {} differently and no other worker can decide: the coordinator runs "
+            "its {} task(s) itself",
+            check.job_id, check.tasks.size());
+      else
+        spdlog::debug("no other worker can check job {}: the coordinator runs its {} task(s) itself", check.job_id,
+                      check.tasks.size());
+      checks_.push_back(std::move(check));
+      if (!checker_.joinable()) checker_ = std::thread([this] { check_loop(); });
+      checks_changed_.notify_one();
     }
-    // from every path: this thread's answers and a settler's (settle)
+    // from every path: this thread's answers and the checker's (check_loop)
     for (size_t& i = wrong_logged_; i < dispatcher_.wrong_workers().size(); ++i)
       spdlog::error(
           "worker {} returned results that two other answers did not (two workers', or a worker's and the "

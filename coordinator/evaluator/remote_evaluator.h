@@ -6,6 +6,7 @@
 // whatever the number of workers, their speed, their joining and leaving.
 
 #include <condition_variable>
+#include <deque>
 #include <filesystem>
 #include <functional>
 #include <memory>
@@ -64,8 +65,14 @@ class RemoteEvaluator final : public Evaluator {
   // Tells every connected worker the run is over (they exit): the known ones at once, then any peer that speaks
   // within the next heartbeat interval. Returns after that interval (at most about two seconds).
   void shutdown_workers(const std::string& reason);
-  // Logs what the run's workers cost and did beyond their jobs: checks, unverified jobs, demotions, refusals.
+  // Logs what the run's workers cost and did beyond their jobs: checks, demotions, refusals, going back.
   void log_summary();
+  bool verifies() const { return dispatcher_.settings().verify_fraction > 0; }  // settings never change
+  // Going back (Dispatcher::take_rollback and the rest, under the lock), for the loop that keeps checkpoints.
+  std::optional<uint64_t> take_rollback();
+  uint64_t batch_id();
+  std::vector<uint64_t> unchecked_since();
+  void forget_batches_from(uint64_t batch);
   // Called on the socket thread about twice a second, with the dispatcher under the lock (for the status board).
   void on_snapshot(std::function<void(const Dispatcher&)> publish);
 
@@ -76,8 +83,9 @@ class RemoteEvaluator final : public Evaluator {
   void handle(const std::string& peer, const std::string& payload, Millis now);
   void send(const Outgoing& message);
   void note_drop(DropReason reason, const std::string& who);  // counts, and logs at most once a second
-  // Runs a dispute's tasks on a thread of its own (the socket thread keeps answering) and settles it.
-  void settle(Dispatcher::Dispute dispute);
+  // The coordinator's own runs of jobs no worker can check (Dispatcher::take_coordinator_checks), one at a time on
+  // a thread of their own, so that the socket thread keeps answering.
+  void check_loop();
 
   std::unique_ptr<zmq::context_t> context_;
   std::unique_ptr<CurveAuthenticator> authenticator_;  // with CURVE only
@@ -110,7 +118,9 @@ class RemoteEvaluator final : public Evaluator {
   std::unordered_map<WorkerId, std::string> peer_keys_;
   std::set<WorkerId> keys_refused_for_;  // the refused workers whose key is refused already
   std::thread thread_;
-  std::vector<std::thread> settlers_;  // the coordinator's own runs of disputed jobs (rare: each refuses a worker)
+  std::deque<Dispatcher::CoordinatorCheck> checks_;  // waiting for the checker (under mutex_)
+  std::condition_variable checks_changed_;
+  std::thread checker_;
 };
 
 }  // namespace poet

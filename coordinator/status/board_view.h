@@ -36,10 +36,10 @@ struct DispatchSnapshot {
   int64_t backup_jobs = 0;                        // jobs also sent to a second worker (dispatcher.h)
   int64_t leases_expired = 0;                     // jobs taken back from workers not yet proven
   int64_t workers_demoted = 0;                    // workers not proven given no more jobs
-  int64_t verified_jobs = 0;                      // jobs two workers answered alike
-  int64_t unverified_jobs = 0;                    // jobs chosen for a check no other worker was there to make
+  int64_t verified_jobs = 0;                      // answers found right by a second worker or the coordinator
   int64_t wrong_workers = 0;                      // workers refused for wrong results
-  int64_t disputes_settled = 0;                   // disputes the coordinator decided by running the job itself
+  int64_t coordinator_checks = 0;                 // jobs the coordinator ran itself, no worker able to check them
+  int64_t rollbacks = 0;                          // times the run went back to a checkpoint before a liar's answers
 };
 
 // What the coordinator is doing, for /status's "state".

@@ -89,17 +89,18 @@ std::string prometheus_text(const BoardView& v) {
       {"poet_workers_demoted_total", "counter",
        "Workers that never returned a result and let a lease expire or returned an error: given no more jobs.",
        dispatch.workers_demoted},
-      {"poet_verified_jobs_total", "counter", "Jobs run on two workers whose results matched bit for bit.",
-       dispatch.verified_jobs},
-      {"poet_unverified_jobs_total", "counter",
-       "Jobs chosen for verification that no other worker was connected to check.", dispatch.unverified_jobs},
+      {"poet_verified_jobs_total", "counter",
+       "Answers of workers found right, bit for bit, by a second worker or the coordinator.", dispatch.verified_jobs},
       {"poet_wrong_workers_total", "counter",
        "Workers refused because their results differed from two other answers (another worker's or the "
        "coordinator's own).",
        dispatch.wrong_workers},
-      {"poet_disputes_settled_total", "counter",
-       "Jobs two workers answered differently that the coordinator ran itself to decide, no other worker being there.",
-       dispatch.disputes_settled},
+      {"poet_coordinator_checks_total", "counter",
+       "Jobs the coordinator ran itself to check or decide between answers, no other worker being able to.",
+       dispatch.coordinator_checks},
+      {"poet_rollbacks_total", "counter",
+       "Times the run went back to a checkpoint computed before a worker found wrong had unchecked answers taken.",
+       dispatch.rollbacks},
   };
   for (const Series& one : series) {
     family(one.name, one.type, one.help);

@@ -364,12 +364,27 @@ wire::Hello stranger_hello(const std::string& name) {
   return h;
 }
 
+// The coordinator's own results for a job it checks: the honest ones (answer()).
+std::vector<RolloutResult> coordinators_results(const Dispatcher::CoordinatorCheck& check) {
+  std::vector<RolloutResult> own;
+  for (const RolloutTask& task : check.tasks) {
+    RolloutResult r;
+    r.total_reward = double(task.env.seed);
+    r.steps = 10;
+    own.push_back(r);
+  }
+  return own;
+}
+
 // Answers every job in `out` given to worker `id`, until the batch is done or nothing more goes out; jobs of the
-// workers in `silent` are kept unanswered. The clock advances 10 ms a round.
+// workers in `silent` are kept unanswered; the coordinator's checks are settled at once. The clock advances 10 ms
+// a round.
 void drive(Dispatcher& d, std::vector<Outgoing> out, Millis& now, const std::set<WorkerId>& silent = {}) {
   for (int round = 0; round < 10'000 && !d.batch_done() && !d.failure(); ++round) {
     for (const Outgoing& o : jobs_in(out))
       if (!silent.contains(o.worker)) d.on_result(o.worker, answer(o.message.job()), now);
+    for (const Dispatcher::CoordinatorCheck& check : d.take_coordinator_checks())
+      d.settle_by_coordinator(check.batch_id, check.job_id, coordinators_results(check));
     now += 10;
     for (const WorkerView& w : d.workers()) d.heard_from(w.id, now);  // every worker heartbeats
     out = d.outgoing(now);
@@ -492,7 +507,7 @@ TEST(Dispatcher, AWrongWorkerIsFoundByAThirdRunRefusedAndItsResultsRedone) {
   expect_task_order(d.take_results());
 }
 
-// One liar and one honest worker: no third worker can decide, so every dispute is handed to the coordinator, whose
+// One liar and one honest worker: no third worker can decide, so every mismatch is handed to the coordinator, whose
 // own answer (here the honest one: reward = the task's course seed) refuses the liar; the batch ends right.
 TEST(Dispatcher, WithNoThirdWorkerTheCoordinatorSettlesAMismatchItself) {
   Dispatcher d(checking_every_job());
@@ -507,49 +522,43 @@ TEST(Dispatcher, WithNoThirdWorkerTheCoordinatorSettlesAMismatchItself) {
     now += 10;
     for (const WorkerView& w : d.workers()) d.heard_from(w.id, now);
     out = d.outgoing(now);
-    const std::vector<Dispatcher::Dispute> taken = d.take_disputes();
-    for (const Outgoing& o : d.outgoing(now)) out.push_back(o);  // a pass that finds the disputes unsettled still
-    for (const Dispatcher::Dispute& again : d.take_disputes())
-      for (const Dispatcher::Dispute& dispute : taken)
-        EXPECT_NE(again.job_id, dispute.job_id) << "a dispute is handed out once";
-    for (const Dispatcher::Dispute& dispute : taken) {
-      disputes += 1;
-      std::vector<RolloutResult> own;
-      for (const RolloutTask& task : dispute.tasks) {
-        RolloutResult r;
-        r.total_reward = double(task.env.seed);
-        r.steps = 10;
-        own.push_back(r);
-      }
-      const int64_t settled = d.disputes_settled();
-      d.settle_dispute(dispute.batch_id + 1, dispute.job_id, own);  // another batch's: ignored
-      EXPECT_EQ(d.disputes_settled(), settled);
-      d.settle_dispute(dispute.batch_id, dispute.job_id, own);
-      const int64_t after = d.disputes_settled();
-      d.settle_dispute(dispute.batch_id, dispute.job_id, own);  // settled already: ignored
-      EXPECT_EQ(d.disputes_settled(), after);
+    const std::vector<Dispatcher::CoordinatorCheck> taken = d.take_coordinator_checks();
+    for (const Outgoing& o : d.outgoing(now)) out.push_back(o);  // a pass that finds the checks unsettled still
+    for (const Dispatcher::CoordinatorCheck& again : d.take_coordinator_checks())
+      for (const Dispatcher::CoordinatorCheck& check : taken)
+        EXPECT_NE(again.job_id, check.job_id) << "a check is handed out once";
+    for (const Dispatcher::CoordinatorCheck& check : taken) {
+      disputes += check.disputed ? 1 : 0;
+      const std::vector<RolloutResult> own = coordinators_results(check);
+      const int64_t settled = d.coordinator_checks();
+      d.settle_by_coordinator(check.batch_id + 1, check.job_id, own);  // another batch's: ignored
+      EXPECT_EQ(d.coordinator_checks(), settled);
+      d.settle_by_coordinator(check.batch_id, check.job_id, own);
+      const int64_t after = d.coordinator_checks();
+      d.settle_by_coordinator(check.batch_id, check.job_id, own);  // settled already: ignored
+      EXPECT_EQ(d.coordinator_checks(), after);
     }
   }
   ASSERT_FALSE(d.failure()) << *d.failure();
-  ASSERT_TRUE(d.batch_done()) << "disputes waiting: " << d.disputes_waiting();
-  // the first settlement refuses the liar; a dispute handed out with it then has the honest answer alone
-  EXPECT_GE(d.disputes_settled(), 1);
-  EXPECT_LE(d.disputes_settled(), disputes);
+  ASSERT_TRUE(d.batch_done()) << "checks waiting: " << d.coordinator_checks_waiting();
+  EXPECT_GE(disputes, 1) << "the liar's answers differ from the honest worker's";
+  EXPECT_GE(d.coordinator_checks(), 1);
   ASSERT_EQ(d.wrong_workers().size(), 1u);
   EXPECT_EQ(d.wrong_workers()[0], "liar");
   EXPECT_TRUE(d.on_hello("liar", stranger_hello("liar"), now).has_refused());
   expect_task_order(d.take_results());
 }
 
-TEST(Dispatcher, AJobNoOtherWorkerCanCheckIsTakenUnverified) {
+TEST(Dispatcher, AJobNoOtherWorkerCanCheckIsCheckedByTheCoordinator) {
   Dispatcher d(checking_every_job());
   join(d, "alone", stranger_hello("alone"), 0);
   d.start_batch(batch(4));
   Millis now = 1;
   drive(d, d.outgoing(now), now);
   ASSERT_TRUE(d.batch_done());
-  EXPECT_GT(d.unverified_jobs(), 0);
-  EXPECT_EQ(d.verified_jobs(), 0);
+  EXPECT_GT(d.coordinator_checks(), 0);
+  EXPECT_EQ(d.verified_jobs(), d.coordinator_checks());
+  expect_task_order(d.take_results());
 }
 
 TEST(Dispatcher, WorkersThatJoinWhileJobsWaitForACheckTakeThem) {
@@ -564,7 +573,7 @@ TEST(Dispatcher, WorkersThatJoinWhileJobsWaitForACheckTakeThem) {
   drive(d, d.outgoing(++now), now);
   ASSERT_TRUE(d.batch_done());
   EXPECT_EQ(d.verified_jobs(), 2);
-  EXPECT_EQ(d.unverified_jobs(), 0);
+  EXPECT_EQ(d.coordinator_checks(), 0);
 }
 
 TEST(Dispatcher, ALocalWorkersAnswersAreNotChecked) {
@@ -585,7 +594,7 @@ TEST(Dispatcher, WhatIsReportedFinalNeverChangesWhateverTheOrderOfAnswersAndALia
   for (uint64_t seed = 0; seed < 40; ++seed) {
     DispatchSettings s = settings();
     s.verify_fraction = 0.5;
-    s.verify_seed = seed;
+    s.verify_secret = seed;
     Dispatcher d(s);
     for (const char* id : {"liar", "b", "c"}) join(d, id, stranger_hello(id), 0);
     d.start_batch(batch(24));
@@ -605,6 +614,8 @@ TEST(Dispatcher, WhatIsReportedFinalNeverChangesWhateverTheOrderOfAnswersAndALia
           for (wire::TaskResult& t : *r.mutable_results()) t.set_total_reward(t.total_reward() + 1);
         d.on_result(o.worker, r, now);
       }
+      for (const Dispatcher::CoordinatorCheck& check : d.take_coordinator_checks())
+        d.settle_by_coordinator(check.batch_id, check.job_id, coordinators_results(check));
       for (const auto& [first, end] : d.take_ready_ranges()) {
         const std::span<const RolloutResult> values = d.results(first, end);
         for (size_t t = first; t < end; ++t) {
@@ -617,8 +628,8 @@ TEST(Dispatcher, WhatIsReportedFinalNeverChangesWhateverTheOrderOfAnswersAndALia
     }
     ASSERT_FALSE(d.failure()) << "seed " << seed << ": " << *d.failure();
     ASSERT_TRUE(d.batch_done()) << "seed " << seed << ": queue " << d.queue_depth() << ", in flight " << d.in_flight()
-                                << ", workers " << d.worker_count() << ", held " << held.size() << ", disputes "
-                                << d.disputes_waiting() << ", wrong " << d.wrong_workers().size() << " "
+                                << ", workers " << d.worker_count() << ", held " << held.size() << ", checks "
+                                << d.coordinator_checks_waiting() << ", wrong " << d.wrong_workers().size() << " "
                                 << (d.wrong_workers().empty() ? "" : d.wrong_workers()[0]);
     for (const auto& [first, end] : d.take_ready_ranges())
       for (size_t t = first; t < end; ++t) reported[t] = d.results(first, end)[t - first].total_reward;
@@ -683,4 +694,78 @@ TEST(Dispatcher, AFailedSendCountsTheWorkerAsLost) {
 }
 
 }  // namespace
+
+TEST(Dispatcher, AWorkerOnProbationHasEveryAnswerCheckedUntilItPassedEnoughChecks) {
+  DispatchSettings s = settings();
+  s.verify_fraction = 1e-12;  // after probation, practically nothing is checked
+  s.probation_checks = 3;
+  Dispatcher d(s);
+  for (const char* id : {"a", "b"}) join(d, id, stranger_hello(id), 0);
+  d.start_batch(batch(40));  // one task a job (two threads)
+  Millis now = 1;
+  drive(d, d.outgoing(now), now);
+  ASSERT_TRUE(d.batch_done());
+  for (const WorkerView& w : d.workers()) {
+    EXPECT_TRUE(w.proven) << w.id;
+    EXPECT_GE(w.checks_passed, 3) << w.id;
+  }
+  // each check proves both answers; the probation of two workers takes at most 3 + 3 checks, then none
+  EXPECT_GE(d.verified_jobs(), 3);
+  EXPECT_LE(d.verified_jobs(), 6);
+  EXPECT_EQ(d.coordinator_checks(), 0);
+  expect_task_order(d.take_results());
+  EXPECT_FALSE(d.take_rollback());
+}
+
+TEST(Dispatcher, ALiarPastItsProbationIsCaughtAndTheRunAskedToGoBackToBeforeItsUncheckedAnswers) {
+  // a liar that answers honestly until proven, then lies on every job; a fifth of the jobs checked: in some
+  // secrets' draws an unchecked lie of an earlier batch became final before the liar was caught
+  int rollbacks = 0;
+  for (uint64_t secret = 0; secret < 40; ++secret) {
+    DispatchSettings s = settings();
+    s.verify_fraction = 0.2;
+    s.verify_secret = secret;
+    s.probation_checks = 2;
+    Dispatcher d(s);
+    for (const char* id : {"liar", "b", "c"}) join(d, id, stranger_hello(id), 0);
+    Millis now = 1;
+    std::optional<uint64_t> first_unchecked_final;  // the first batch in which a lie was reported final
+    for (int b = 0; b < 6 && d.wrong_workers().empty(); ++b) {
+      d.start_batch(batch(12));
+      std::vector<Outgoing> out = d.outgoing(now);
+      for (int round = 0; round < 1000 && !d.batch_done() && !d.failure(); ++round) {
+        for (const Outgoing& o : jobs_in(out)) {
+          const bool proven = [&] {
+            for (const WorkerView& w : d.workers())
+              if (w.id == o.worker) return w.proven;
+            return false;
+          }();
+          d.on_result(o.worker, proven ? answer_lying_as(o, "liar") : answer(o.message.job()), now);
+        }
+        for (const Dispatcher::CoordinatorCheck& check : d.take_coordinator_checks())
+          d.settle_by_coordinator(check.batch_id, check.job_id, coordinators_results(check));
+        now += 10;
+        for (const WorkerView& w : d.workers()) d.heard_from(w.id, now);
+        out = d.outgoing(now);
+      }
+      ASSERT_TRUE(d.batch_done()) << "secret " << secret;
+      d.take_ready_ranges();
+      const std::vector<RolloutResult> results = d.take_results();
+      bool lie = false;
+      for (size_t i = 0; i < results.size(); ++i) lie = lie || results[i].total_reward != double(i);
+      if (lie && !first_unchecked_final) first_unchecked_final = d.batch_id();
+    }
+    const std::optional<uint64_t> rollback = d.take_rollback();
+    if (first_unchecked_final) {
+      // a lie became final: the liar must have been caught later (it lies on every job), and the run sent back
+      ASSERT_EQ(d.wrong_workers().size(), 1u) << "secret " << secret;
+      ASSERT_TRUE(rollback) << "secret " << secret;
+      EXPECT_LE(*rollback, *first_unchecked_final) << "secret " << secret;
+      rollbacks += 1;
+    }
+    EXPECT_FALSE(d.take_rollback()) << "asked once";
+  }
+  EXPECT_GT(rollbacks, 0) << "no secret let a lie become final before the liar was caught";
+}
+
 }  // namespace poet
