@@ -1,8 +1,10 @@
 #!/usr/bin/env python3
-"""Latency of a real poet-coordinator's status socket: requests on one kept-alive connection, and /healthz while
-CONNECTIONS slowloris clients each send one header line every LINE_EVERY seconds to the status port.
+"""Latency of a real poet-coordinator's status socket: requests on one kept-alive connection, and /status on the
+status port and /healthz on the probes' port while CONNECTIONS slowloris clients each send one header line every
+LINE_EVERY seconds to the port(s) HOLD names.
 
 Usage: python3 bench/status_latency.py BUILD_DIR [--connections 200] [--line-every 1.5] [--seconds 20]
+                                                 [--hold status|health|both]
 
 The coordinator runs the quick preset with --listen and no worker, so it waits for workers and uses no CPU; with
 --health-address (when this build has it) the probes' own listener is measured too. Probes open a fresh
@@ -115,6 +117,8 @@ def main():
     parser.add_argument("--connections", type=int, default=200)
     parser.add_argument("--line-every", type=float, default=1.5)
     parser.add_argument("--seconds", type=float, default=20)
+    parser.add_argument("--hold", choices=["status", "health", "both"], default="status",
+                        help="the port(s) the slowloris connections go to (each gets CONNECTIONS)")
     args = parser.parse_args()
     root = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
     binary = os.path.join(args.build_dir, "coordinator", "poet-coordinator")
@@ -124,7 +128,7 @@ def main():
 
     work = tempfile.mkdtemp(prefix="poet-status-latency.")
     coordinator = None
-    slow = None
+    slow = []
     try:
         command = [binary, "--config", os.path.join(root, "deploy", "configs", "quick.textproto"), "--run-dir",
                    os.path.join(work, "run"), "--quiet", "--listen", "tcp://127.0.0.1:*", "--status-address",
@@ -144,17 +148,19 @@ def main():
         idle = [probe(status_port) for _ in range(10)]
         print(summary("idle, status port /healthz", idle, len(idle)))
 
-        slow = Slowloris(status_port, args.connections, args.line_every)
+        held = {"status": [status_port], "health": [health_port], "both": [status_port, health_port]}[args.hold]
+        slow = [Slowloris(port, args.connections, args.line_every) for port in held if port]
         time.sleep(2)  # the pool is taken
-        targets = {"status port": status_port}
+        targets = {"status port /status": (status_port, "/status")}
         if health_port:
-            targets["health port"] = health_port
+            targets["health port /healthz"] = (health_port, "/healthz")
         times = {name: [] for name in targets}
         deadline = time.monotonic() + args.seconds
 
-        def probe_until_deadline(name, port):  # one thread per target: a stuck port does not slow the other's
+        def probe_until_deadline(name, target):  # one thread per target: a stuck port does not slow the other's
+            port, path = target
             while time.monotonic() < deadline:
-                times[name].append(probe(port))
+                times[name].append(probe(port, path))
                 time.sleep(0.5)
 
         probers = [threading.Thread(target=probe_until_deadline, args=item) for item in targets.items()]
@@ -162,14 +168,14 @@ def main():
             t.start()
         for t in probers:
             t.join()
-        print(f"under {args.connections} slowloris connections (a header line every {args.line_every} s), "
-              f"{args.seconds:.0f} s of probes:")
+        print(f"under {args.connections} slowloris connections on the {args.hold} port(s) (a header line every "
+              f"{args.line_every} s), {args.seconds:.0f} s of probes:")
         for name in targets:
-            print("  " + summary(f"{name} /healthz", times[name], len(times[name])))
+            print("  " + summary(name, times[name], len(times[name])))
         print(f"load average at the end: {' '.join(f'{x:.2f}' for x in os.getloadavg())}")
     finally:
-        if slow:
-            slow.close()
+        for s in slow:
+            s.close()
         if coordinator and coordinator.poll() is None:
             coordinator.send_signal(signal.SIGTERM)
             try:

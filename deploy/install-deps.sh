@@ -13,7 +13,7 @@ build_packages=(
   build-essential cmake pkg-config
   libbox2d-dev libeigen3-dev
   libprotobuf-dev protobuf-compiler zlib1g-dev
-  libzmq3-dev cppzmq-dev libcpp-httplib-dev
+  libzmq3-dev cppzmq-dev libcpp-httplib-dev libmicrohttpd-dev
   libspdlog-dev libfmt-dev
   nlohmann-json3-dev libcli11-dev libcairo2-dev libgif-dev
   # the Python module (python/): pybind11 and Debian's Python headers; numpy at import
@@ -33,7 +33,7 @@ test_packages=(
 
 runtime_packages=(
   libc6 libgcc-s1 libstdc++6 zlib1g
-  libbox2d2 libprotobuf32 libzmq5 libcpp-httplib0.11
+  libbox2d2 libprotobuf32 libzmq5 libcpp-httplib0.11 libmicrohttpd12
   libspdlog1.10 libfmt9 libcairo2 libgif7
 )
 

@@ -178,18 +178,13 @@ bool Dispatcher::chosen_for_check(const Job& job) const {
 }
 
 bool Dispatcher::on_probation(const Worker& worker) const {
-  return settings_.verify_fraction > 0 && !worker.view.local && !worker.view.proven;
+  return settings_.verify_fraction > 0 && !worker.view.local && worker.view.checks_passed < settings_.probation_checks;
 }
 
 void Dispatcher::pass_check(const WorkerId& id) {
   const auto it = workers_.find(id);
   if (it == workers_.end()) return;
-  WorkerView& view = it->second.view;
-  view.checks_passed += 1;
-  if (!view.proven && view.checks_passed >= settings_.probation_checks) {
-    view.proven = true;
-    view.demoted = false;
-  }
+  it->second.view.checks_passed += 1;
 }
 
 void Dispatcher::note_unchecked(const WorkerId& id) {
@@ -226,11 +221,14 @@ void Dispatcher::on_result(const WorkerId& id, const wire::Result& result, Milli
                                                        [&](const Lease& l) { return l.worker == id; });
   const bool holds = job != jobs_.end() && lease != job->second.leases.end();
   const bool taken_back = worker != workers_.end() && worker->second.taken_back.erase(result.job_id()) > 0;
+  if (worker != workers_.end()) worker->second.trial_since.reset();  // it answers, rightly or not
   if (worker == workers_.end() || job == jobs_.end() || (!holds && !taken_back)) {
     // a job its backup finished first; or a stranger, or a job this worker no longer holds (re-queued, or done)
-    count_drop(worker != workers_.end() && worker->second.beaten.erase(result.job_id())
-                   ? DropReason::kLateResult
-                   : DropReason::kUnexpectedResult);
+    const bool late = worker != workers_.end() && worker->second.beaten.erase(result.job_id()) > 0;
+    count_drop(late ? DropReason::kLateResult : DropReason::kUnexpectedResult);
+    // a late answer still shows the worker alive and answering (a new worker beaten at every batch's tail by
+    // proven ones would otherwise never be proven)
+    if (late && !result.has_error() && result.results_size() > 0) worker->second.view.proven = true;
     return;
   }
   Worker& w = worker->second;
@@ -264,7 +262,7 @@ void Dispatcher::on_result(const WorkerId& id, const wire::Result& result, Milli
     release(j.id, w, /*died=*/true);
     return;
   }
-  if (!w.view.proven && settings_.verify_fraction <= 0) {  // with verification, probation proves it
+  if (!w.view.proven) {  // alive and answering; whether it computes right is its probation's to say
     w.view.proven = true;
     w.view.demoted = false;
   }
@@ -445,6 +443,10 @@ void Dispatcher::expire_leases(Millis now) {
     job.tainted = true;
     if (job.leases.empty()) enqueue_front(job);
   }
+  // a job it held ended with its batch, unanswered, and the lease has run out since
+  for (auto& [id, worker] : workers_)
+    if (!worker.view.proven && worker.jobs.empty() && worker.trial_since && now - *worker.trial_since >= lease)
+      demote(worker);
 }
 
 bool Dispatcher::proven_can_take(const Job& job) const {
@@ -473,6 +475,31 @@ Dispatcher::Job* Dispatcher::next_job(const Worker& worker, Millis now) {
     job.queued = false;
     return &job;
   }
+  // Nothing queued: a worker not proven is sent a copy of an open job, the one with the fewest holders, as its
+  // trial, so that however many silent peers joined first and took the batch's jobs, the real workers among the
+  // new ones get one too and prove themselves within a job's time (each peer holds one trial at a time, and is
+  // demoted when it lets one run past its lease).
+  if (!worker.view.proven) {
+    Job* fewest = nullptr;
+    for (auto& [job_id, job] : jobs_) {
+      if (job.queued || job.leases.empty() || !may_take(job, worker)) continue;
+      if (fewest == nullptr || job.leases.size() < fewest->leases.size()) fewest = &job;
+    }
+    if (fewest != nullptr) backups_ += 1;
+    return fewest;
+  }
+  // Nothing queued: a proven worker takes at once a job held only by workers not proven, since those may never
+  // answer; so peers that take jobs and sit on them delay nothing while a proven worker is free.
+  {
+    for (auto& [job_id, job] : jobs_) {
+      if (job.queued || job.leases.empty() || job.leases.size() >= static_cast<size_t>(settings_.max_leases)) continue;
+      const bool unproven_only = std::none_of(job.leases.begin(), job.leases.end(),
+                                              [&](const Lease& l) { return workers_.at(l.worker).view.proven; });
+      if (!unproven_only || !may_take(job, worker)) continue;
+      backups_ += 1;
+      return &job;
+    }
+  }
   if (settings_.backup_factor <= 0) return nullptr;
   // a backup: a job whose every holder has held it past the lease (proven ones: slow, or silent)
   const Millis lease = lease_ms();
@@ -493,8 +520,9 @@ Dispatcher::Job* Dispatcher::next_job(const Worker& worker, Millis now) {
   return oldest;
 }
 
+// A check goes only to a worker that has answered before: one that never has may sit on it for a lease.
 bool Dispatcher::eligible_checker(const Job& job, const Worker& worker) const {
-  return worker.ready && !worker.view.demoted && may_take(job, worker);
+  return worker.ready && worker.view.proven && !worker.view.demoted && may_take(job, worker);
 }
 
 void Dispatcher::check_unanswerable() {
@@ -571,6 +599,7 @@ void Dispatcher::send(Job& job, const WorkerId& id, Millis now, std::vector<Outg
   Worker& worker = workers_.at(id);
   job.leases.push_back({id, now});
   worker.jobs.insert(job.id);
+  if (!worker.view.proven && !worker.trial_since) worker.trial_since = now;
   Outgoing message{id, {}};
   *message.message.mutable_job() = job_message(job, worker);
   out.push_back(std::move(message));
@@ -591,6 +620,7 @@ std::vector<Outgoing> Dispatcher::outgoing(Millis now) {
       // a worker not yet proven holds one job at a time; a demoted one none
       const size_t room = worker.view.proven ? static_cast<size_t>(settings_.jobs_ahead) : 1;
       if (!worker.ready || worker.view.demoted || worker.jobs.size() >= room) continue;
+      if (!worker.view.proven && worker.trial_since) continue;  // a job of an earlier batch still unanswered
       Job* job = next_job(worker, now);
       if (job == nullptr) continue;
       send(*job, id, now, out);

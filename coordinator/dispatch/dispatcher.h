@@ -5,20 +5,23 @@
 // backup jobs. Time is a parameter (milliseconds on any monotonic clock), so tests drive it with a fake clock. Not
 // thread-safe: the remote evaluator's socket thread owns it under its lock.
 //
-// Trust. A worker is proven once it has shown it computes right: started by this coordinator (its Hello showed
-// local_token), or, with verification on, once it passed probation_checks checks (without verification, once it
-// returned a valid result). Until then it holds one job at a time, and what it does cannot stop the run: its death,
+// Trust. A worker is proven — alive and answering — once it has returned a valid result (or, started by this
+// coordinator, from its Hello: it showed local_token); whether its answers are right is verification's to say. Until
+// then it holds one job at a time, and what it does cannot stop the run: its death,
 // an error it returns or a lease it lets expire only takes the job back (the job is then "tainted" and goes to
 // proven workers only, while any is connected), and the latter two demote it (no more jobs). So any number of
 // peers that say Hello, heartbeat and never answer delay a batch by at most about one lease: backup_factor × the
-// median time of the batch's finished jobs (at least backup_min_ms), or liveness_ms while none has finished. A
-// proven worker's job held past the lease is also sent to another worker (up to max_leases holders; the first
+// median time of the batch's finished jobs (at least backup_min_ms), or liveness_ms while none has finished — and
+// not even that once a proven worker is connected: with nothing queued, a proven worker takes at once a job held
+// only by workers not proven (a backup; the first result wins). A proven worker's job held past the lease is also
+// sent to another worker (up to max_leases holders; the first
 // result wins). The run stops on a poison job only when max_attempts proven workers died holding it, and on an
 // error only when two proven workers (or the only one) refuse the job: a real error repeats, runs being
 // deterministic.
 //
-// Verification. With verify_fraction > 0, every answer of a worker on probation (not local, not yet proven) and a
-// fraction of the other answers of workers that are not local are also computed by a second, different worker, and
+// Verification. With verify_fraction > 0, every answer of a worker on probation (not local, and fewer than
+// probation_checks of its answers checked and found right) and a fraction of the other answers of workers that are
+// not local are also computed by a second, different, proven worker (one that never answered might sit on it), and
 // the results must match bit for bit; on a mismatch a third run decides (a local worker's answer decides at once).
 // Which jobs are checked is drawn from verify_secret, the batch and the job's tasks: a worker that does not know
 // the secret cannot tell which of its answers will be checked, so one lying on k answers after probation goes
@@ -68,7 +71,7 @@ struct DispatchSettings {
   std::string local_token;          // a Hello carrying it comes from a local worker: proven from the start
   double verify_fraction = 0;       // of the jobs answered by workers that are not local, also run on a second
   uint64_t verify_secret = 0;       // which jobs are checked: drawn from it, the batch and the job; never sent
-  int probation_checks = 5;         // with verification: checks a worker that is not local passes to be proven
+  int probation_checks = 5;  // with verification: every answer of a worker not local is checked until this many were
 };
 
 // A message for one worker.
@@ -88,7 +91,7 @@ struct WorkerView {
   size_t jobs_held = 0;
   int64_t checks_passed = 0;  // its answers that another worker or the coordinator computed alike
   bool local = false;         // started by this coordinator (showed local_token)
-  bool proven = false;        // local, or passed probation (without verification: has returned a valid result)
+  bool proven = false;        // local, or has returned a valid result: alive and answering (not: right)
   bool demoted = false;       // not proven, and let a lease expire or returned an error: given no more jobs
 };
 
@@ -208,6 +211,9 @@ class Dispatcher {
     std::set<uint64_t> taken_back;   // its lease expired: a result that still comes in time is taken
     std::set<uint64_t> thetas_sent;  // this batch
     Millis last_sent = 0;
+    // not proven: when it was sent a job it has not answered since (in this batch or an earlier one); it is sent
+    // nothing more until it answers, and demoted once that is a lease ago
+    std::optional<Millis> trial_since;
     bool ready = false;  // has sent something since its Hello
   };
 

@@ -1,15 +1,14 @@
 #pragma once
-// The status socket: HTTP/1.1 (cpp-httplib) over a StatusBoard, on threads of its own — one that accepts and a
-// small pool that answers. The endpoints are status_routes.h's. Bounded everywhere: read and write timeouts
-// per connection, a short keep-alive, a small request-body limit and a fixed pool. A client that stops sending
-// holds one pool thread for read_timeout (then gets a 400) plus the keep-alive; other requests go to the other
-// threads, or wait that long when every thread is held. A client that trickles a byte at a time can hold a
-// thread longer (httplib 0.11 has no deadline for a whole request). Nothing a client does touches the run: the
-// board's lock is held only to copy a pointer. SIGPIPE is blocked in the server's threads, so a client that
-// hangs up mid-answer cannot end the process. Headers, URI and body are limited (414, 413). TCP_NODELAY: a kept-alive
-// connection's requests are answered at once, not after the client's delayed ACK.
-//
-// Not in this header: httplib.h (whose <resolv.h> defines `_res`, a name Eigen uses), so any file may include it.
+// The status socket: HTTP/1.1 (libmicrohttpd) over a StatusBoard, on threads of its own — a few, each with its own
+// epoll loop. The endpoints are status_routes.h's. Event-driven because of slow clients: a connection that sends
+// its request a byte at a time holds a slot (up to about a thousand) and a small buffer, never a thread, so 200
+// slowloris clients do not delay anyone else's answer (cpp-httplib, used before, gave each connection a pool
+// thread until its request was whole, and has no deadline for a whole request). A connection idle for
+// idle_timeout is closed; headers and URI are limited (414 past 8 KB, libmicrohttpd's own error past its 32 KB
+// buffer), and so is a body (413). A request line that cannot be parsed gets libmicrohttpd's own 400 (an HTML body)
+// or, when it is not a request line at all, a closed connection; every answer of a route has a JSON body. Nothing a
+// client does touches the run: the board's lock is held only to copy a pointer. Sends use MSG_NOSIGNAL, so a client
+// that hangs up mid-answer cannot end the process.
 //
 // Use: StatusBoard board(run_dir); StatusServer server(board); Expected<int> port = server.start("127.0.0.1:8580");
 // The board must outlive the server. start/stop/port are for one owning thread.
@@ -29,19 +28,16 @@ namespace poet {
 inline constexpr char kDefaultStatusAddress[] = "127.0.0.1:0";  // loopback, an ephemeral port
 
 struct StatusServerOptions {
-  int threads = 3;                                // the pool answering requests, in [1, 16]
-  std::chrono::milliseconds read_timeout{3000};   // a request's bytes must keep coming at least this often
-  std::chrono::milliseconds write_timeout{3000};  // and a response's bytes must be taken
-  int keep_alive_seconds = 2;                     // an idle kept-alive connection is closed after this
-  size_t keep_alive_max_requests = 100;           // requests on one connection
-  size_t payload_max_bytes = 16 * 1024;           // a request body beyond this is refused (413)
-  bool health_only = false;                       // answer /healthz alone (404 elsewhere): the probes' listener
+  int threads = 3;  // the loops answering requests, in [1, 16]: a slow answer (a picture) holds one
+  // a connection that neither sends nor takes a byte this long is closed (whole seconds, at least one)
+  std::chrono::seconds idle_timeout{3};
+  size_t payload_max_bytes = 16 * 1024;  // a request body beyond this is refused (413)
+  bool health_only = false;              // answer /healthz alone (404 elsewhere): the probes' listener
 };
 
-// The probes' listener (poet-coordinator --health-address): /healthz alone, on a port of its own, because the
-// status socket's pool can be held by its clients (200 that trickle header lines hold it for as long as they
-// like) and an orchestrator that cannot reach /healthz restarts the coordinator. Short timeouts: a probe sends
-// its request at once.
+// The probes' listener (poet-coordinator --health-address): /healthz alone, on a port of its own, so that the
+// status socket's busiest answers (pictures, replays) never stand between an orchestrator and /healthz (one that
+// cannot reach it restarts the coordinator). A short idle timeout: a probe sends its request at once.
 StatusServerOptions health_listener_options();
 
 class StatusServer {

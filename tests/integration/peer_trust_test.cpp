@@ -45,8 +45,11 @@ class PeerTrustTest : public CoordinatorRunTest {
 // Peers that say Hello, answer the Welcome and then only heartbeat, whatever they are sent, until destroyed.
 class SilentPeers {
  public:
-  SilentPeers(const std::string& endpoint, int count) {
-    const std::string good_hello = hello(poet::wire::PROTOCOL_VERSION, poet::build_fingerprint_digest());
+  SilentPeers(const std::string& endpoint, int count, uint32_t threads = 1) {
+    poet::wire::WorkerMessage message;
+    message.ParseFromString(hello(poet::wire::PROTOCOL_VERSION, poet::build_fingerprint_digest()));
+    message.mutable_hello()->set_threads(threads);  // what it claims decides how finely a batch is cut
+    const std::string good_hello = message.SerializeAsString();
     poet::wire::WorkerMessage beat;
     beat.mutable_heartbeat();
     heartbeat_ = beat.SerializeAsString();
@@ -111,6 +114,40 @@ TEST_F(PeerTrustTest, SilentPeersDelayTheRunByABoundedTime) {
               kSilent, seconds, reference_seconds);
   expect_same_run(reference, root_ / "S");
   EXPECT_EQ(wait(worker), 0);
+}
+
+// 200 silent peers that each claim 4,096 threads, and a peer that takes a job and dies, all joined before the one
+// honest worker: each batch they touch waits about one lease (1 s here) for the jobs they hold, not one per peer
+// nor one per job passed between them.
+TEST_F(PeerTrustTest, AFloodAndALostJobDelayABatchByAboutOneLease) {
+  std::ofstream(config_, std::ios::trunc) << config_with("iterations: 6", "iterations: 3");
+  auto timed_run = [&](const std::string& name, bool flood) {
+    const pid_t pid = coordinator(root_ / name, {"--listen", "tcp://127.0.0.1:*"}, name);
+    const std::string endpoint = await_log(name, "workers connect to (tcp://[0-9.]+:[0-9]+)");
+    const std::string port = await_log(name, "status: http://127.0.0.1:([0-9]+)/status");
+    std::optional<SilentPeers> silent;
+    std::optional<pid_t> dying;
+    if (flood) {
+      silent.emplace(endpoint, 200, 4096);
+      for (int i = 0; i < 200 && metrics(std::stoi(port))["poet_workers_joined_total"] < 200; ++i)
+        std::this_thread::sleep_for(50ms);
+      dying =
+          spawn(POET_WORKER_BIN, {"--connect", endpoint, "--threads", "1", "--fault", "crash-on-job"}, name + "-dies");
+      await_log(name + "-dies", "(welcomed) by the coordinator");
+    }
+    const auto started = std::chrono::steady_clock::now();
+    const pid_t worker = spawn(POET_WORKER_BIN, {"--connect", endpoint, "--threads", "2"}, name + "-worker");
+    EXPECT_EQ(wait(pid), 0) << read(root_ / (name + ".err"));
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+    EXPECT_EQ(wait(worker), 0);
+    if (dying) EXPECT_EQ(wait(*dying), 128 + SIGABRT) << "it took a job and died with it";
+    return seconds;
+  };
+  const double undisturbed = timed_run("U", false);
+  const double flooded = timed_run("F", true);
+  expect_same_run(root_ / "U", root_ / "F");
+  std::printf("3 iterations: %.1f s undisturbed, %.1f s with the flood and the lost job\n", undisturbed, flooded);
+  EXPECT_LT(flooded - undisturbed, 2.0) << "the flood cost " << flooded - undisturbed << " s; a lease is 1 s";
 }
 
 TEST_F(PeerTrustTest, PeersThatReturnErrorsOrVanishCannotStopTheRun) {

@@ -1,9 +1,9 @@
 // Tests coordinator/status/status_server.cpp over real loopback sockets: a StatusServer on an ephemeral port in
 // this process, fed a hand-made run, asked by a real HTTP client (every endpoint, the 404/405/400 rules), by raw
 // TCP (garbage request lines, oversized requests, slow clients that send half a request and sit, 200 slowloris
-// clients while the probes' listener answers, requests on a kept-alive connection), and by poetctl run as a real
-// process. Every wait is bounded; TearDown closes every socket, kills every child, stops the server
-// and removes the directory, even when a test fails.
+// clients on either port while the other clients are answered, requests on a kept-alive connection), and by poetctl run
+// as a real process. Every wait is bounded; TearDown closes every socket, kills every child, stops the server and
+// removes the directory, even when a test fails.
 
 #include "status/status_server.h"
 
@@ -192,9 +192,7 @@ class StatusServerTest : public ::testing::Test {
   static StatusServerOptions options() {
     StatusServerOptions o;
     o.threads = 2;
-    o.read_timeout = kReadTimeout;
-    o.write_timeout = kReadTimeout;
-    o.keep_alive_seconds = 1;
+    o.idle_timeout = std::chrono::duration_cast<std::chrono::seconds>(kReadTimeout);
     return o;
   }
 
@@ -323,14 +321,16 @@ TEST_F(StatusServerTest, ErrorsHaveTheirStatusAndAJsonBody) {
   EXPECT_TRUE(exchange("TRACE /status HTTP/1.1\r\nHost: x\r\n\r\n").starts_with("HTTP/1.1 405"));
 }
 
+// A request line the server cannot parse is refused by libmicrohttpd itself, before any route: a 400 of its own
+// (an HTML body) or, for a line it cannot read as one at all, the connection closed. Either way nothing else is
+// disturbed.
 TEST_F(StatusServerTest, MalformedRequestsGet400AndTheServerGoesOn) {
   for (const std::string& garbage : {std::string("garbage\r\n\r\n"), std::string("\x01\x02\xff\xfe junk\r\n\r\n"),
                                      std::string("GET\r\n\r\n"), std::string("GET /status\r\n\r\n")}) {
     const std::string answer = exchange(garbage);
-    EXPECT_TRUE(answer.starts_with("HTTP/1.1 400")) << json(garbage).dump() << " -> " << answer;
-    EXPECT_TRUE(contains(answer, "application/json")) << answer;
+    EXPECT_TRUE(answer.empty() || answer.starts_with("HTTP/1.1 400")) << json(garbage).dump() << " -> " << answer;
   }
-  // a URI beyond httplib's limit, a body beyond ours
+  // a URI beyond 8 KB, a body beyond the limit
   EXPECT_TRUE(exchange("GET /" + std::string(20000, 'a') + " HTTP/1.1\r\nHost: x\r\n\r\n").starts_with("HTTP/1.1 414"));
   EXPECT_TRUE(
       exchange("POST /status HTTP/1.1\r\nHost: x\r\nContent-Length: 10000000\r\n\r\n").starts_with("HTTP/1.1 413"));
@@ -378,7 +378,7 @@ TEST_F(StatusServerTest, ASlowClientDoesNotStopOthers) {
   EXPECT_TRUE(rest.closed);
 }
 
-TEST_F(StatusServerTest, MoreSlowClientsThanThreadsOnlyDelayOthersByTheTimeout) {
+TEST_F(StatusServerTest, MoreSlowClientsThanThreadsDelayNoOneAndAreClosedWhenIdle) {
   std::vector<int> slow;
   for (int i = 0; i < options().threads + 1; ++i) {
     slow.push_back(raw());
@@ -390,54 +390,80 @@ TEST_F(StatusServerTest, MoreSlowClientsThanThreadsOnlyDelayOthersByTheTimeout) 
   const httplib::Result r = client()->Get("/status");
   ASSERT_TRUE(r) << httplib::to_string(r.error());
   EXPECT_EQ(r->status, 200);
-  EXPECT_LT(Clock::now() - started, kReadTimeout + kMargin);
-  for (int fd : slow) EXPECT_TRUE(receive(fd, std::chrono::duration_cast<std::chrono::milliseconds>(kMargin)).closed);
+  EXPECT_LT(Clock::now() - started, kReadTimeout) << "a slow client holds no thread";
+  for (int fd : slow)
+    EXPECT_TRUE(receive(fd, std::chrono::duration_cast<std::chrono::milliseconds>(kReadTimeout + kMargin)).closed);
 }
 
-TEST_F(StatusServerTest, HealthAnswersWhileSlowlorisHoldsTheStatusSocket) {
-  // the coordinator's pool and timeouts (3 threads, 3 s), and 200 clients that each send a header line every 1.5 s:
-  // they hold the status socket for as long as they keep at it, while the probes' listener answers at once
+// 200 clients that each send a request line and then a header line every 0.5 s (inside either idle timeout), for as
+// long as they exist: the slowloris attack, which holds a thread-per-connection server's threads as long as it likes.
+class Slowloris {
+ public:
+  explicit Slowloris(int port) {
+    for (int i = 0; i < 200; ++i) {
+      fds_.push_back(connect_to(port));
+      if (fds_.back() < 0 || !send_all(fds_.back(), "GET /status HTTP/1.1\r\nHost: x\r\n")) {
+        ADD_FAILURE() << "slow client " << i;
+        break;
+      }
+    }
+    trickle_ = std::jthread([this](std::stop_token stop) {
+      for (int line = 0; !stop.stop_requested(); ++line) {
+        for (int fd : fds_) send_all(fd, "X-Slow-" + std::to_string(line) + ": x\r\n");
+        for (int i = 0; i < 10 && !stop.stop_requested(); ++i) std::this_thread::sleep_for(50ms);
+      }
+    });
+  }
+  // the trickle stops first, then the connections close
+  ~Slowloris() {
+    trickle_.request_stop();
+    trickle_.join();
+    for (int fd : fds_)
+      if (fd >= 0) ::close(fd);
+  }
+  // How many of the connections the server has closed so far (it must not: they keep sending).
+  int closed() const {
+    int n = 0;
+    for (int fd : fds_) {
+      pollfd p{fd, POLLIN, 0};
+      char byte;
+      if (::poll(&p, 1, 0) > 0 && ::recv(fd, &byte, 1, MSG_PEEK | MSG_DONTWAIT) <= 0) n += 1;
+    }
+    return n;
+  }
+
+ private:
+  std::vector<int> fds_;
+  std::jthread trickle_;
+};
+
+// The bound: with 200 slowloris clients on either port, /status on the status socket (the coordinator's
+// options) and /healthz on the probes' listener each answer within a second, for longer than the idle timeout.
+TEST_F(StatusServerTest, SlowClientsOnEitherPortDelayNoAnswer) {
   StatusServer status(*board_);
   StatusServer health(*board_, health_listener_options());
   const Expected<int> status_port = status.start("127.0.0.1:0");
   const Expected<int> health_port = health.start("127.0.0.1:0");
   ASSERT_TRUE(status_port) << status_port.error();
   ASSERT_TRUE(health_port) << health_port.error();
-  std::vector<int> slow;
-  // however the test ends: the trickle stops, then the connections close, then the servers stop (a held pool
-  // thread is let go when its client hangs up)
-  struct Closer {
-    std::vector<int>& fds;
-    ~Closer() {
-      for (int fd : fds) ::close(fd);
+  for (const auto& [port, path] : {std::pair{*status_port, "/status"}, std::pair{*health_port, "/healthz"}}) {
+    const Slowloris slow(port);
+    std::this_thread::sleep_for(500ms);  // so that the server has taken them
+    httplib::Client client("127.0.0.1", port);
+    client.set_connection_timeout(1, 0);  // kubelet's default probe timeout
+    client.set_read_timeout(1, 0);
+    for (int i = 0; i < 8; ++i) {  // over 4 s: past both idle timeouts
+      const auto started = Clock::now();
+      const httplib::Result r = client.Get(path);
+      ASSERT_TRUE(r) << path << " " << i << ": " << httplib::to_string(r.error());
+      EXPECT_EQ(r->status, 200) << path;
+      EXPECT_LT(Clock::now() - started, 1s) << path << " " << i;
+      std::this_thread::sleep_for(500ms);
     }
-  } closer{slow};
-  for (int i = 0; i < 200; ++i) {
-    slow.push_back(connect_to(*status_port));
-    ASSERT_GE(slow.back(), 0);
-    ASSERT_TRUE(send_all(slow.back(), "GET /status HTTP/1.1\r\nHost: x\r\n"));
-  }
-  std::jthread trickle([&slow](std::stop_token stop) {
-    for (int line = 0; !stop.stop_requested(); ++line) {
-      for (int fd : slow) send_all(fd, "X-Slow-" + std::to_string(line) + ": x\r\n");
-      for (int i = 0; i < 30 && !stop.stop_requested(); ++i) std::this_thread::sleep_for(50ms);
-    }
-  });
-  std::this_thread::sleep_for(500ms);  // so that the server has taken them
-
-  httplib::Client probe("127.0.0.1", *health_port);
-  probe.set_connection_timeout(1, 0);  // kubelet's default probe timeout
-  probe.set_read_timeout(1, 0);
-  for (int i = 0; i < 8; ++i) {  // over 4 s: past the status socket's read timeout
-    const auto started = Clock::now();
-    const httplib::Result r = probe.Get("/healthz");
-    ASSERT_TRUE(r) << "probe " << i << ": " << httplib::to_string(r.error());
-    EXPECT_EQ(r->status, 200);
-    EXPECT_TRUE(contains(r->body, "\"ok\":true")) << r->body;
-    EXPECT_LT(Clock::now() - started, 1s) << "probe " << i;
-    std::this_thread::sleep_for(500ms);
+    EXPECT_EQ(slow.closed(), 0) << "clients that keep sending are kept";
   }
   // the listener serves the probes and nothing else
+  httplib::Client probe("127.0.0.1", *health_port);
   const httplib::Result other = probe.Get("/status");
   ASSERT_TRUE(other);
   EXPECT_EQ(other->status, 404);
