@@ -6,15 +6,16 @@
 // thread-safe: the remote evaluator's socket thread owns it under its lock.
 //
 // Trust. A worker is proven — alive and answering — once it has returned a valid result (or, started by this
-// coordinator, from its Hello: it showed local_token); whether its answers are right is verification's to say. Until
-// then it holds one job at a time, and what it does cannot stop the run: its death,
-// an error it returns or a lease it lets expire only takes the job back (the job is then "tainted" and goes to
-// proven workers only, while any is connected), and the latter two demote it (no more jobs). So any number of
-// peers that say Hello, heartbeat and never answer delay a batch by at most about one lease: backup_factor × the
-// median time of the batch's finished jobs (at least backup_min_ms), or liveness_ms while none has finished — and
-// not even that once a proven worker is connected: with nothing queued, a proven worker takes at once a job held
-// only by workers not proven (a backup; the first result wins). A proven worker's job held past the lease is also
-// sent to another worker (up to max_leases holders; the first
+// coordinator, from its Hello: it showed local_token); whether its answers are right is verification's to say.
+// Until then it holds one job at a time, and what it does cannot stop the run: its death, an error it returns or a
+// lease it lets expire only takes the job back (the job is then "tainted" and goes to proven workers only, while
+// any is connected), and the latter two demote it (no more jobs). With nothing queued, a proven worker takes at once
+// a job held only by workers not proven (a backup; the first result wins), and a worker not proven gets a copy of
+// an open job as its trial (one at a time, across batches until it answers: one that lets a trial run past a lease
+// is demoted). So any number of peers that say Hello, heartbeat and never answer cannot queue a real worker behind
+// them, and delay a batch by at most about one lease (backup_factor × the median time of the batch's finished jobs,
+// at least backup_min_ms, or liveness_ms while none has finished), and by nothing once a proven worker is there. A
+// proven worker's job held past the lease is also sent to another worker (up to max_leases holders; the first
 // result wins). The run stops on a poison job only when max_attempts proven workers died holding it, and on an
 // error only when two proven workers (or the only one) refuse the job: a real error repeats, runs being
 // deterministic.

@@ -140,7 +140,9 @@ TEST_F(PeerTrustTest, AFloodAndALostJobDelayABatchByAboutOneLease) {
     EXPECT_EQ(wait(pid), 0) << read(root_ / (name + ".err"));
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
     EXPECT_EQ(wait(worker), 0);
-    if (dying) EXPECT_EQ(wait(*dying), 128 + SIGABRT) << "it took a job and died with it";
+    if (dying) {
+      EXPECT_EQ(wait(*dying), 128 + SIGABRT) << "it took a job and died with it";
+    }
     return seconds;
   };
   const double undisturbed = timed_run("U", false);
