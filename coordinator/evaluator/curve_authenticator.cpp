@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "curve_keys.h"
+#include "run/run_directory.h"
 #include "text_file.h"
 
 namespace poet {
@@ -15,7 +16,6 @@ namespace {
 
 constexpr char kZapEndpoint[] = "inproc://zeromq.zap.01";
 constexpr size_t kRequestFrames = 7;  // version, request id, domain, address, identity, mechanism, key
-constexpr std::uintmax_t kMaxRefusedKeysBytes = 1 << 20;  // 41 bytes a key: some 25,000 keys
 
 std::string z85(const zmq::message_t& key) {
   if (key.size() != 32) return "(not a 32-byte key)";

@@ -49,6 +49,7 @@ inline constexpr char kStatsFile[] = "pair_stats.csv";
 inline constexpr char kEnvsDir[] = "envs";
 inline constexpr char kPoliciesDir[] = "policies";
 inline constexpr char kRefusedKeysFile[] = "refused_keys.txt";
+inline constexpr std::uintmax_t kMaxRefusedKeysBytes = 1 << 20;  // 41 bytes a key: some 25,000 keys
 
 // The header line of pair_stats.csv, and one row (both with their newline). Doubles are written in the shortest
 // form that reads back to the same bits; an environment name with a comma, quote or newline is quoted.

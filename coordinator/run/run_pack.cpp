@@ -9,6 +9,7 @@
 #include <optional>
 #include <system_error>
 
+#include "curve_keys.h"
 #include "poet/run_state.h"
 #include "run/checkpoint.h"
 #include "run/checkpoint_file.h"
@@ -23,7 +24,20 @@ namespace poet {
 namespace fs = std::filesystem;
 namespace {
 
-constexpr std::array<const char*, 4> kPackedFiles = {kCheckpointFile, kEventsFile, kStatsFile, kWallTimesFile};
+constexpr std::array<const char*, 5> kPackedFiles = {kCheckpointFile, kEventsFile, kStatsFile, kWallTimesFile,
+                                                     kRefusedKeysFile};
+
+// The lines of refused_keys.txt that are keys (the coordinator skips the rest too), or the first that is not.
+std::string refused_keys_text(std::string_view text) {
+  std::string out;
+  for (size_t start = 0; start < text.size();) {
+    const size_t end = std::min(text.find('\n', start), text.size());
+    const std::string_view line = text.substr(start, end - start);
+    if (is_z85_key(line)) out.append(line).append("\n");
+    start = end + 1;
+  }
+  return out;
+}
 // deflate never does better than about 1032:1, so a larger claimed size is a lie told to make us allocate
 constexpr uint64_t kMaxDeflateRatio = 1032;
 constexpr uint64_t kMaxEntryBytes = uint64_t{2} << 30;
@@ -117,6 +131,9 @@ Expected<PackSummary> check_entries(std::vector<PackEntry> entries) {
       return Unexpected{std::string(kWallTimesFile) + ": times iteration " + std::to_string(lines->back().iteration) +
                         ", which the checkpoint has not seen"};
   }
+  if (const PackEntry* keys = find(kRefusedKeysFile);
+      keys != nullptr && refused_keys_text(keys->content) != keys->content)
+    return Unexpected{std::string(kRefusedKeysFile) + ": holds a line that is not a CURVE public key"};
   PackSummary summary;
   summary.next_iteration = state->next_iteration;
   summary.entries = std::move(entries);
@@ -252,6 +269,13 @@ Expected<PackSummary> write_run_pack(const fs::path& run_dir, const fs::path& pa
                         " (move it away to pack the run without its times)"};
     std::erase_if(*lines, [&](const WallTime& w) { return w.iteration >= next_iteration; });
     entries.push_back({kWallTimesFile, wall_times_text(*lines)});
+  }
+  // with CURVE, the keys of workers refused for wrong results: they stay refused where the run goes on
+  const fs::path keys_path = run_dir / kRefusedKeysFile;
+  if (fs::exists(keys_path, ec)) {
+    Expected<std::string> keys = read_text_file(keys_path, kMaxRefusedKeysBytes);
+    if (!keys) return Unexpected{keys_path.string() + ": " + keys.error()};
+    entries.push_back({kRefusedKeysFile, refused_keys_text(*keys)});
   }
 
   const std::string bytes = encode_pack(entries);

@@ -4,6 +4,7 @@
 //   events.jsonl     } cut to the sizes the checkpoint records, their CRC-32 checked against it: exactly the
 //   pair_stats.csv   } history the state has seen, even when packed while the run goes on
 //   wall_times.csv   the lines of the iterations the checkpoint has seen (absent when the run has none)
+//   refused_keys.txt with CURVE, the public keys of workers refused for wrong results (absent when none)
 // config.textproto, annecs.csv, envs/ and policies/ are functions of the checkpoint: the resume writes them again.
 // The file:
 //   offset 0   8 bytes   magic "POETPACK"

@@ -151,6 +151,25 @@ TEST_F(RunPackTest, TruncatedExtendedAndForeignFilesAreClearErrors) {
   EXPECT_TRUE(contains(decode_pack(newer).error(), "format version 9")) << decode_pack(newer).error();
 }
 
+// With CURVE, the keys of workers refused for wrong results go with the run, so that they stay refused where it
+// goes on; only the lines that are keys are packed, and a pack whose keys entry holds anything else is refused.
+TEST_F(RunPackTest, TheRefusedKeysTravelWithTheRun) {
+  run_to(root_ / "B", 3);
+  const std::string key = "rq:rM>}U?@Lns47E1%kR.o@n%FcmmsL/@{H8]yf7";  // the ZeroMQ guide's example public key
+  std::ofstream(root_ / "B" / kRefusedKeysFile) << key << "\nnot a key\n";
+  const Expected<PackSummary> packed = write_run_pack(root_ / "B", pack_);
+  ASSERT_TRUE(packed) << packed.error();
+  ASSERT_EQ(packed->entries.back().name, kRefusedKeysFile);
+  EXPECT_EQ(packed->entries.back().content, key + "\n");
+  const Expected<PackSummary> restored = restore_run_pack(pack_, root_ / "C");
+  ASSERT_TRUE(restored) << restored.error();
+  EXPECT_EQ(read(root_ / "C" / kRefusedKeysFile), key + "\n");
+
+  std::vector<PackEntry> entries = packed->entries;
+  entries.back().content += "../../etc/passwd\n";
+  EXPECT_TRUE(contains(decode_pack(encode_pack(entries)).error(), "not a CURVE public key"));
+}
+
 TEST_F(RunPackTest, PacksWhoseEntriesLieAreRefused) {
   pack_at_3();
   std::vector<PackEntry> entries = decode_pack(read(pack_)).value().entries;
