@@ -376,6 +376,8 @@ int run(const Options& options, StopSignals& signals) {
   const int interval = state.settings.checkpoint_interval;
   int saved_iteration = state.next_iteration;
   CheckpointAnchors anchors;
+  // the run's wall time stays the machine's time after going back: the times of the iterations given up are in it
+  double wall_offset = 0;
   const bool verified = rollouts->remote && rollouts->remote->verifies();
   auto keep_anchor = [&] {
     if (!verified) return;
@@ -397,7 +399,7 @@ int run(const Options& options, StopSignals& signals) {
     saved_iteration = state.next_iteration;
     keep_anchor();
     // the times are the run's record of its machine, not its state: a failed write is reported, not fatal
-    if (auto error = wall_times.record(state.next_iteration - 1, elapsed(), phase_timer.take()))
+    if (auto error = wall_times.record(state.next_iteration - 1, elapsed() - wall_offset, phase_timer.take()))
       spdlog::warn("{}", *error);
     return true;
   };
@@ -422,11 +424,25 @@ int run(const Options& options, StopSignals& signals) {
     if (!resumed) return resumed.error();
     opened.emplace(std::move(*resumed));
     std::string warning;
+    const double carried_before = wall_times.carried();
     wall_times = WallTimes::open(options.run_dir, state.next_iteration, &warning);
+    wall_offset += wall_times.carried() - carried_before;
     if (!warning.empty()) spdlog::warn("{}", warning);
     saved_iteration = state.next_iteration;
     board.publish_run(state, saved_iteration);
     return std::nullopt;
+  };
+  // Whether the run went back (true), did not need to (nothing), or could not (false; logged). Also asked when the
+  // iteration in flight is given up: a liar caught then may have unchecked answers in the checkpoint on disk, which
+  // a resume must not go on from.
+  auto go_back_if_asked = [&]() -> std::optional<bool> {
+    const std::optional<uint64_t> first_bad = rollouts->remote ? rollouts->remote->take_rollback() : std::nullopt;
+    if (!first_bad) return std::nullopt;
+    if (auto error = go_back(*first_bad)) {
+      spdlog::error("going back: {}", *error);
+      return false;
+    }
+    return true;
   };
   keep_anchor();
 
@@ -438,6 +454,7 @@ int run(const Options& options, StopSignals& signals) {
     } catch (const EvaluationStopped&) {
       // the iteration in flight is abandoned; the state in memory is part-way through it and is not saved
       progress.finish();
+      go_back_if_asked();
       spdlog::warn(
           "stopped during iteration {}; the run's state is its checkpoint at iteration {}, and a resume "
           "repeats the iterations since: poet-coordinator --run-dir {} --resume",
@@ -445,14 +462,16 @@ int run(const Options& options, StopSignals& signals) {
       return signals.exit_code();
     } catch (const RunDiverged& e) {
       progress.finish();
+      go_back_if_asked();
       spdlog::error("{} (the checkpoint at iteration {} precedes the divergence)", e.what(), saved_iteration);
       return kExitError;
+    } catch (const std::exception&) {  // the workers' failure, told by the caller
+      progress.finish();
+      go_back_if_asked();
+      throw;
     }
-    if (const std::optional<uint64_t> first_bad = rollouts->remote ? rollouts->remote->take_rollback() : std::nullopt) {
-      if (auto error = go_back(*first_bad)) {
-        spdlog::error("going back: {}", *error);
-        return kExitError;
-      }
+    if (const std::optional<bool> went = go_back_if_asked()) {
+      if (!*went) return kExitError;
       continue;
     }
     dir.append(report);

@@ -191,6 +191,11 @@ void Dispatcher::note_unchecked(const WorkerId& id) {
   if (settings_.verify_fraction > 0) unchecked_since_.emplace(id, batch_id_);  // the first one only
 }
 
+std::optional<uint64_t> Dispatcher::take_rollback() {
+  if (rollback_from_) rollbacks_ += 1;
+  return std::exchange(rollback_from_, std::nullopt);
+}
+
 std::vector<uint64_t> Dispatcher::unchecked_since() const {
   std::vector<uint64_t> out;
   for (const auto& [id, batch] : unchecked_since_) out.push_back(batch);
@@ -207,6 +212,11 @@ size_t Dispatcher::proven_workers() const {
       std::count_if(workers_.begin(), workers_.end(), [](const auto& w) { return w.second.view.proven; }));
 }
 
+void Dispatcher::prove(Worker& worker) {
+  worker.view.proven = true;
+  worker.view.demoted = false;
+}
+
 void Dispatcher::demote(Worker& worker) {
   if (worker.view.demoted) return;
   worker.view.demoted = true;
@@ -221,16 +231,24 @@ void Dispatcher::on_result(const WorkerId& id, const wire::Result& result, Milli
                                                        [&](const Lease& l) { return l.worker == id; });
   const bool holds = job != jobs_.end() && lease != job->second.leases.end();
   const bool taken_back = worker != workers_.end() && worker->second.taken_back.erase(result.job_id()) > 0;
-  if (worker != workers_.end()) worker->second.trial_since.reset();  // it answers, rightly or not
   if (worker == workers_.end() || job == jobs_.end() || (!holds && !taken_back)) {
     // a job its backup finished first; or a stranger, or a job this worker no longer holds (re-queued, or done)
     const bool late = worker != workers_.end() && worker->second.beaten.erase(result.job_id()) > 0;
     count_drop(late ? DropReason::kLateResult : DropReason::kUnexpectedResult);
-    // a late answer still shows the worker alive and answering (a new worker beaten at every batch's tail by
-    // proven ones would otherwise never be proven)
-    if (late && !result.has_error() && result.results_size() > 0) worker->second.view.proven = true;
+    // the answer to its trial, come after its batch ended
+    const bool trial =
+        worker != workers_.end() && worker->second.trial_since && worker->second.trial_job == result.job_id();
+    if (!late && !trial) return;
+    // a late answer still shows the worker alive and answering when it parses (a new worker beaten at every
+    // batch's tail by proven ones would otherwise never be proven, and one whose trial outlived its batch would
+    // be demoted)
+    worker->second.trial_since.reset();
+    bool parses = !result.has_error() && result.results_size() > 0;
+    for (int i = 0; parses && i < result.results_size(); ++i) parses = result_from_wire(result.results(i)).has_value();
+    if (parses) prove(worker->second);
     return;
   }
+  worker->second.trial_since.reset();  // it answered a job it held, rightly or not
   Worker& w = worker->second;
   Job& j = job->second;
   const Millis took = holds ? now - lease->since : 0;
@@ -262,10 +280,7 @@ void Dispatcher::on_result(const WorkerId& id, const wire::Result& result, Milli
     release(j.id, w, /*died=*/true);
     return;
   }
-  if (!w.view.proven) {  // alive and answering; whether it computes right is its probation's to say
-    w.view.proven = true;
-    w.view.demoted = false;
-  }
+  prove(w);  // alive and answering; whether it computes right is its probation's to say
   w.view.jobs_done += 1;
   w.view.results_done += static_cast<int64_t>(count);
   if (holds) {  // a result taken back from an expired lease says nothing of how long jobs take
@@ -376,10 +391,8 @@ void Dispatcher::refuse_wrong(const WorkerId id, const char* why) {  // a copy: 
   if (!refused_.insert(id).second) return;
   // unchecked answers of an earlier batch are final: the run must go back to before them
   if (const auto since = unchecked_since_.find(id); since != unchecked_since_.end()) {
-    if (since->second < batch_id_ && (!rollback_from_ || since->second < *rollback_from_)) {
+    if (since->second < batch_id_ && (!rollback_from_ || since->second < *rollback_from_))
       rollback_from_ = since->second;
-      rollbacks_ += 1;
-    }
     unchecked_since_.erase(since);
   }
   // its answers awaiting a check are worth nothing: those jobs wait for answers from others
@@ -460,6 +473,7 @@ bool Dispatcher::may_take(const Job& job, const Worker& worker) const {
   if (std::any_of(job.leases.begin(), job.leases.end(), [&](const Lease& l) { return l.worker == id; })) return false;
   if (std::any_of(job.answers.begin(), job.answers.end(), [&](const Answer& a) { return a.worker == id; }))
     return false;
+  if (!job.answers.empty() && !worker.view.proven) return false;  // a check: one that never answered may sit on it
   if (worker.view.proven || !job.tainted) return true;
   // a job a worker not proven failed goes to a worker not proven only when no proven one may take it, and never
   // as a check (the coordinator checks it instead)
@@ -485,18 +499,17 @@ Dispatcher::Job* Dispatcher::next_job(const Worker& worker, Millis now) {
       if (job.queued || job.leases.empty() || !may_take(job, worker)) continue;
       if (fewest == nullptr || job.leases.size() < fewest->leases.size()) fewest = &job;
     }
-    if (fewest != nullptr) backups_ += 1;
     return fewest;
   }
   // Nothing queued: a proven worker takes at once a job held only by workers not proven, since those may never
   // answer; so peers that take jobs and sit on them delay nothing while a proven worker is free.
   {
     for (auto& [job_id, job] : jobs_) {
-      if (job.queued || job.leases.empty() || job.leases.size() >= static_cast<size_t>(settings_.max_leases)) continue;
+      // (trials pile onto a job beyond max_leases: they do not count, the first proven holder does)
+      if (job.queued || job.leases.empty()) continue;
       const bool unproven_only = std::none_of(job.leases.begin(), job.leases.end(),
                                               [&](const Lease& l) { return workers_.at(l.worker).view.proven; });
       if (!unproven_only || !may_take(job, worker)) continue;
-      backups_ += 1;
       return &job;
     }
   }
@@ -520,24 +533,30 @@ Dispatcher::Job* Dispatcher::next_job(const Worker& worker, Millis now) {
   return oldest;
 }
 
-// A check goes only to a worker that has answered before: one that never has may sit on it for a lease.
 bool Dispatcher::eligible_checker(const Job& job, const Worker& worker) const {
-  return worker.ready && worker.view.proven && !worker.view.demoted && may_take(job, worker);
+  return worker.ready && !worker.view.demoted && may_take(job, worker);  // may_take: proven workers only
 }
 
-void Dispatcher::check_unanswerable() {
+void Dispatcher::check_unanswerable(Millis now) {
   coordinator_checks_waiting_ = 0;
   const size_t proven = proven_workers();
   for (const uint64_t id : queue_) {
-    Job& job = jobs_.at(id);
+    const Job& job = jobs_.at(id);
     // proven workers that refused it may now be all there are (the others left): the error rule says again
     if (!job.refusing.empty() && job.refusing.size() >= std::min<size_t>(2, std::max<size_t>(1, proven)) && !failure_)
       failure_ = "workers refused " + describe_task(job.begin) + " (" + std::to_string(job.refusing.size()) +
                  " of the " + std::to_string(proven) + " proven workers connected)";
+  }
+  const Millis lease = lease_ms();
+  for (auto& [id, job] : jobs_) {
     if (job.answers.empty()) continue;
-    const bool someone =
-        std::any_of(workers_.begin(), workers_.end(), [&](const auto& w) { return eligible_checker(job, w.second); });
-    if (someone) continue;
+    // queued with no connected worker able to check it, or held for a check past the lease (a proven worker that
+    // answered once may still sit on it, and proven holders' leases do not expire): the coordinator checks it
+    const bool stuck = job.queued ? std::none_of(workers_.begin(), workers_.end(),
+                                                 [&](const auto& w) { return eligible_checker(job, w.second); })
+                                  : std::all_of(job.leases.begin(), job.leases.end(),
+                                                [&](const Lease& l) { return now - l.since >= lease; });
+    if (!stuck) continue;
     coordinator_checks_waiting_ += 1;
     if (!std::exchange(job.to_coordinator, true)) to_coordinator_.push_back(id);
   }
@@ -554,6 +573,10 @@ std::vector<Dispatcher::CoordinatorCheck> Dispatcher::take_coordinator_checks() 
                                             tasks_.begin() + static_cast<std::ptrdiff_t>(job.end))});
   }
   return out;
+}
+
+bool Dispatcher::awaits_coordinator(uint64_t batch_id, uint64_t job_id) const {
+  return batch_active_ && batch_id == batch_id_ && jobs_.contains(job_id);
 }
 
 void Dispatcher::settle_by_coordinator(uint64_t batch_id, uint64_t job_id, const std::vector<RolloutResult>& results) {
@@ -599,7 +622,10 @@ void Dispatcher::send(Job& job, const WorkerId& id, Millis now, std::vector<Outg
   Worker& worker = workers_.at(id);
   job.leases.push_back({id, now});
   worker.jobs.insert(job.id);
-  if (!worker.view.proven && !worker.trial_since) worker.trial_since = now;
+  if (!worker.view.proven && !worker.trial_since) {
+    worker.trial_since = now;
+    worker.trial_job = job.id;
+  }
   Outgoing message{id, {}};
   *message.message.mutable_job() = job_message(job, worker);
   out.push_back(std::move(message));
@@ -610,7 +636,7 @@ std::vector<Outgoing> Dispatcher::outgoing(Millis now) {
   std::vector<Outgoing> out = std::exchange(refusals_, {});
   if (batch_active_) {
     expire_leases(now);
-    check_unanswerable();
+    check_unanswerable(now);
   }
   // one job per worker per pass, so a batch spreads over every worker before any gets a second
   for (bool assigned = true; assigned && !failure_ && batch_active_;) {

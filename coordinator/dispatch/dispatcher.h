@@ -27,8 +27,8 @@
 // Which jobs are checked is drawn from verify_secret, the batch and the job's tasks: a worker that does not know
 // the secret cannot tell which of its answers will be checked, so one lying on k answers after probation goes
 // unnoticed with probability (1 - verify_fraction)^k whichever it chooses. An answer that no connected worker can
-// check, or two that differ with no third worker to decide, go to the coordinator (take_coordinator_checks), whose
-// own results decide as a local worker's do. The worker found wrong is refused from then on (Refused, and its
+// check (or whose check was held past the lease), or two that differ with no third worker to decide, go to the
+// coordinator (take_coordinator_checks), whose own results decide as a local worker's do. The worker found wrong is refused from then on (Refused, and its
 // Hellos), and every result of the batch taken from it and not yet reported final is computed again. Unchecked
 // answers of workers that are not local are reported final (take_ready_ranges) only once the batch is whole, as a
 // wrong one may still be found; once they are, only going back to a state computed before them undoes them:
@@ -119,6 +119,8 @@ class Dispatcher {
     std::vector<RolloutTask> tasks;
   };
   std::vector<CoordinatorCheck> take_coordinator_checks();
+  // Whether that job still waits for an answer (a worker's may have settled it since it was handed out).
+  bool awaits_coordinator(uint64_t batch_id, uint64_t job_id) const;
   // The coordinator's results for such a job: a worker whose answer differs is refused, as one found wrong by a
   // third worker is, those that agree pass a check, and the results are final. Ignored when the job was settled
   // meanwhile or its batch is over.
@@ -131,7 +133,7 @@ class Dispatcher {
   // caller must be able to go back to; a rollback not yet taken among them). forget_batches_from: the caller went back
   // to before `batch`; answers of that batch and later ones no longer count.
   uint64_t batch_id() const { return batch_id_; }
-  std::optional<uint64_t> take_rollback() { return std::exchange(rollback_from_, std::nullopt); }
+  std::optional<uint64_t> take_rollback();
   std::vector<uint64_t> unchecked_since() const;
   void forget_batches_from(uint64_t batch);
 
@@ -215,7 +217,8 @@ class Dispatcher {
     // not proven: when it was sent a job it has not answered since (in this batch or an earlier one); it is sent
     // nothing more until it answers, and demoted once that is a lease ago
     std::optional<Millis> trial_since;
-    bool ready = false;  // has sent something since its Hello
+    uint64_t trial_job = 0;  // the job then sent
+    bool ready = false;      // has sent something since its Hello
   };
 
   // The worker no longer holds the job; a job no one holds any more goes back to the queue. A death counts
@@ -242,9 +245,10 @@ class Dispatcher {
   void refuse_wrong(WorkerId id, const char* why = "this worker returned results that two other workers did not");
   // Jobs awaiting an answer to check against that no connected worker can give go to the coordinator
   // (take_coordinator_checks); jobs refused by every proven worker connected stop the run.
-  void check_unanswerable();
+  void check_unanswerable(Millis now);
   bool eligible_checker(const Job& job, const Worker& worker) const;
   void demote(Worker& worker);
+  void prove(Worker& worker);  // alive and answering: proven, and no longer demoted
   void new_jobs(size_t begin, size_t end, size_t per_job, int deaths, bool front);
   bool chosen_for_check(const Job& job) const;
   bool on_probation(const Worker& worker) const;

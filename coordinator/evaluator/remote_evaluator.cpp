@@ -78,7 +78,7 @@ void RemoteEvaluator::check_loop() {
     if (quit_) return;
     const Dispatcher::CoordinatorCheck check = std::move(checks_.front());
     checks_.pop_front();
-    if (check.batch_id != dispatcher_.batch_id()) continue;  // abandoned
+    if (!dispatcher_.awaits_coordinator(check.batch_id, check.job_id)) continue;  // abandoned, or settled since
     lock.unlock();
     std::vector<RolloutResult> results;
     results.reserve(check.tasks.size());

@@ -17,13 +17,14 @@ namespace {
 
 // A request URI longer than this is refused (414), before any route sees it.
 constexpr size_t kMaxUriBytes = 8192;
-// Connections held at once, slow ones included: each costs a few kilobytes of buffers, not a thread.
+// Connections held at once, slow ones included: each costs a few kilobytes of buffers, not a thread; one address
+// may hold a quarter of them, so that a flood from one place leaves room for the probes and the people.
 constexpr unsigned kMaxConnections = 1024;
+constexpr unsigned kMaxConnectionsPerAddress = 256;
 
 // One request's state between libmicrohttpd's calls: how much body has come.
 struct RequestState {
   size_t body_bytes = 0;
-  bool answered = false;
 };
 
 MHD_Result queue(MHD_Connection* connection, const StatusResponse& r) {
@@ -69,42 +70,31 @@ struct StatusServer::Impl {
 
   // libmicrohttpd's access handler: called once the headers are in, then for each piece of body, then with none.
   static MHD_Result access(void* self, MHD_Connection* connection, const char* url, const char* method, const char*,
-                           const char* upload_data, size_t* upload_data_size, void** state) {
+                           const char*, size_t* upload_data_size, void** state) {
     const Impl& impl = *static_cast<const Impl*>(self);
     if (*state == nullptr) {
       *state = new RequestState;
-      if (std::strlen(url) > kMaxUriBytes)
-        return queue_once(connection, *state, error_response(414, "request URI too long"));
+      if (std::strlen(url) > kMaxUriBytes) return queue(connection, error_response(414, "request URI too long"));
       const char* length = MHD_lookup_connection_value(connection, MHD_HEADER_KIND, MHD_HTTP_HEADER_CONTENT_LENGTH);
       size_t declared = 0;
       if (length != nullptr) {
         const auto [end, error] = std::from_chars(length, length + std::strlen(length), declared);
         if (error != std::errc() || declared > impl.options.payload_max_bytes)
-          return queue_once(connection, *state, error_response(413, "request body too large"));
+          return queue(connection, error_response(413, "request body too large"));
       }
       return MHD_YES;
     }
     auto& request = *static_cast<RequestState*>(*state);
-    if (request.answered) {  // the rest of a refused body: dropped
-      *upload_data_size = 0;
-      return MHD_YES;
-    }
     if (*upload_data_size > 0) {  // the body: only counted, no route reads one
       request.body_bytes += *upload_data_size;
       *upload_data_size = 0;
-      (void)upload_data;
-      if (request.body_bytes > impl.options.payload_max_bytes)
-        return queue_once(connection, *state, error_response(413, "request body too large"));
-      return MHD_YES;
+      // a body without a declared length that outgrows the limit: libmicrohttpd cannot answer while it reads a
+      // body, so the connection is closed (one with a length beyond the limit got its 413 at once, above)
+      return request.body_bytes > impl.options.payload_max_bytes ? MHD_NO : MHD_YES;
     }
     QueryParams query;
     MHD_get_connection_values(connection, MHD_GET_ARGUMENT_KIND, add_query_param, &query);
-    return queue_once(connection, *state, impl.respond(method, url, query));
-  }
-
-  static MHD_Result queue_once(MHD_Connection* connection, void* state, const StatusResponse& r) {
-    static_cast<RequestState*>(state)->answered = true;
-    return queue(connection, r);
+    return queue(connection, impl.respond(method, url, query));
   }
 };
 
@@ -149,11 +139,11 @@ Expected<int> StatusServer::start(const std::string& address) {
   const unsigned threads = static_cast<unsigned>(std::clamp(options_.threads, 1, 16));
   unsigned flags = MHD_USE_INTERNAL_POLLING_THREAD | MHD_USE_EPOLL;
   if (ipv6) flags |= MHD_USE_IPv6;
-  impl->daemon =
-      MHD_start_daemon(flags, static_cast<uint16_t>(where->port), nullptr, nullptr, &Impl::access, impl.get(),
-                       MHD_OPTION_SOCK_ADDR, reinterpret_cast<sockaddr*>(&bind_address), MHD_OPTION_THREAD_POOL_SIZE,
-                       threads, MHD_OPTION_CONNECTION_TIMEOUT, timeout_s, MHD_OPTION_CONNECTION_LIMIT, kMaxConnections,
-                       MHD_OPTION_NOTIFY_COMPLETED, &request_completed, nullptr, MHD_OPTION_END);
+  impl->daemon = MHD_start_daemon(
+      flags, static_cast<uint16_t>(where->port), nullptr, nullptr, &Impl::access, impl.get(), MHD_OPTION_SOCK_ADDR,
+      reinterpret_cast<sockaddr*>(&bind_address), MHD_OPTION_THREAD_POOL_SIZE, threads, MHD_OPTION_CONNECTION_TIMEOUT,
+      timeout_s, MHD_OPTION_CONNECTION_LIMIT, kMaxConnections, MHD_OPTION_PER_IP_CONNECTION_LIMIT,
+      kMaxConnectionsPerAddress, MHD_OPTION_NOTIFY_COMPLETED, &request_completed, nullptr, MHD_OPTION_END);
   if (impl->daemon == nullptr) return Unexpected{cannot};
   const MHD_DaemonInfo* info = MHD_get_daemon_info(impl->daemon, MHD_DAEMON_INFO_BIND_PORT);
   port_ = info != nullptr ? info->port : where->port;
