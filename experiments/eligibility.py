@@ -9,24 +9,19 @@ The scores are those of the iteration before each reproduction (pair_stats.csv),
 the run's (poet.repro_threshold). Prints a Markdown table.
 """
 
-import argparse
 import re
 import sys
 
-import poet
+from run_cli import open_run, run_parser
 
 
 def main(argv):
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("run_dir", help="a run directory (live or finished; nothing is written to it)")
+    parser = run_parser(__doc__)
     parser.add_argument("--block", type=int, default=50, help="iterations per row (default 50)")
     args = parser.parse_args(argv)
     if args.block < 1:
         parser.error("--block must be at least 1")
-    try:
-        run = poet.Run(args.run_dir)
-    except ValueError as error:
-        parser.error(str(error))
+    run = open_run(parser, args.run_dir)
     found = re.search(r"repro_threshold: ([-0-9.e+]+)", run.config)
     threshold = float(found.group(1)) if found else 200.0  # the schema's default
     events = run.events

@@ -15,13 +15,14 @@ finishing; then each pair with such an evaluation and no solve, its best θ on i
 3,000 steps. Prints Markdown tables.
 """
 
-import argparse
 import json
 import os
 import sys
 import tempfile
 
 import poet
+
+from run_cli import open_run, run_parser
 
 
 def conditions(e):
@@ -129,17 +130,13 @@ def time_limit(run, stats, since):
 
 
 def main(argv):
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("run_dir", help="a run directory (live or finished; nothing is written to it)")
+    parser = run_parser(__doc__)
     parser.add_argument("--block", type=int, default=50, help="iterations per row (default 50)")
     parser.add_argument("--since", type=int, default=200, help="the frontier's first iteration (default 200)")
     args = parser.parse_args(argv)
     if args.block < 1 or args.since < 50:
         parser.error("--block must be at least 1 and --since at least 50")
-    try:
-        run = poet.Run(args.run_dir)
-    except ValueError as error:
-        parser.error(str(error))
+    run = open_run(parser, args.run_dir)
     stats = run.pair_stats
     blocks(run, args.block)
     frontier_pairs(run)

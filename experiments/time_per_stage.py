@@ -13,29 +13,24 @@ saving the checkpoint and the logs). Lines of builds that did not time the phase
 the "timed" column says how many of a stage's iterations have phases. Prints a Markdown table.
 """
 
-import argparse
 import os
 import sys
 
 import pandas as pd
 
-import poet
+from run_cli import open_run, run_parser
 
 PHASES = ["reproduction_s", "es_steps_s", "evaluations_s", "transfer_s"]
 LEVELS = ["easy", "challenging", "very challenging", "extremely challenging"]
 
 
 def main(argv):
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("run_dir", help="a run directory (live or finished; nothing is written to it)")
+    parser = run_parser(__doc__)
     parser.add_argument("--stage-iterations", type=int, default=100, help="iterations per stage (default 100)")
     args = parser.parse_args(argv)
     if args.stage_iterations < 1:
         parser.error("--stage-iterations must be at least 1")
-    try:
-        run = poet.Run(args.run_dir)
-    except ValueError as error:
-        parser.error(str(error))
+    run = open_run(parser, args.run_dir)
     wall_path = os.path.join(args.run_dir, "wall_times.csv")
     if not os.path.exists(wall_path):
         parser.error(f"{wall_path}: no wall times (the run was restored without them)")
