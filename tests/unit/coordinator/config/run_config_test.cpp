@@ -79,6 +79,23 @@ TEST(RunConfig, BenchWorkloadParsesAndValidates) {
   EXPECT_EQ(config->es().perturbations(), 1024);
 }
 
+// The frontier probe of docs/RESULTS.md (experiments/frontier_es.sh): ES alone on the deep run's pair 28's course,
+// the preset's ES and four times its population, nothing else different.
+TEST(RunConfig, FrontierEsConfigsDifferOnlyInTheirPopulation) {
+  std::map<std::string, pb::RunConfig> configs;
+  for (const char* name : {"A-28.textproto", "B-28.textproto"}) {
+    const Expected<pb::RunConfig> config =
+        load_run_config((source_dir() / "experiments" / "deep" / "frontier-es" / name).string());
+    ASSERT_TRUE(config) << name << ": " << config.error();
+    EXPECT_EQ(config->mode(), pb::RunConfig::ES_ALONE) << name;
+    configs[name] = *config;
+  }
+  EXPECT_EQ(configs["A-28.textproto"].es().perturbations(), 32);  // the deep preset's
+  EXPECT_EQ(configs["B-28.textproto"].es().perturbations(), 128);
+  for (auto& [name, c] : configs) c.mutable_es()->clear_perturbations();
+  EXPECT_EQ(configs["A-28.textproto"].SerializeAsString(), configs["B-28.textproto"].SerializeAsString());
+}
+
 // The σ comparison of docs/RESULTS.md: ES alone on one course from one seed, differing only in ES settings.
 TEST(RunConfig, SigmaConfigsDifferOnlyInTheirEs) {
   std::vector<pb::RunConfig> configs;
