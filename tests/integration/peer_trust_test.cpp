@@ -31,6 +31,22 @@ class PeerTrustTest : public CoordinatorRunTest {
     return spawn(POET_WORKER_BIN,
                  {"--connect", endpoint, "--threads", "1", "--fault", "wrong-results", "--name", "the-liar"}, "liar");
   }
+  // Where the coordinator started as `name` takes workers, and its status port, from its log (empty: not found).
+  std::string endpoint_of(const std::string& name) {
+    return await_log(name, "workers connect to (tcp://[0-9.]+:[0-9]+)");
+  }
+  std::string status_port_of(const std::string& name) {
+    return await_log(name, "status: http://127.0.0.1:([0-9]+)/status");
+  }
+  // Honest workers of one thread, each welcomed before the next starts (so they join in this order).
+  std::vector<pid_t> honest_workers(const std::string& endpoint, const std::vector<std::string>& names) {
+    std::vector<pid_t> pids;
+    for (const std::string& name : names) {
+      pids.push_back(spawn(POET_WORKER_BIN, {"--connect", endpoint, "--threads", "1", "--log-level", "debug"}, name));
+      await_log(name, "(welcomed) by the coordinator");
+    }
+    return pids;
+  }
   // The coordinator's /metrics once it has refused a worker for wrong results (or after 30 s).
   static std::map<std::string, double> metrics_once_a_worker_is_refused(const std::string& port) {
     std::map<std::string, double> m;
@@ -89,8 +105,8 @@ TEST_F(PeerTrustTest, SilentPeersDelayTheRunByABoundedTime) {
   const double reference_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - reference_started).count();
   const pid_t pid = coordinator(root_ / "S", {"--listen", "tcp://127.0.0.1:*"}, "S");
-  const std::string endpoint = await_log("S", "workers connect to (tcp://[0-9.]+:[0-9]+)");
-  const std::string port = await_log("S", "status: http://127.0.0.1:([0-9]+)/status");
+  const std::string endpoint = endpoint_of("S");
+  const std::string port = status_port_of("S");
   ASSERT_FALSE(endpoint.empty());
   constexpr int kSilent = 30;
   SilentPeers silent(endpoint, kSilent);
@@ -123,8 +139,8 @@ TEST_F(PeerTrustTest, AFloodAndALostJobDelayABatchByAboutOneLease) {
   std::ofstream(config_, std::ios::trunc) << config_with("iterations: 6", "iterations: 3");
   auto timed_run = [&](const std::string& name, bool flood) {
     const pid_t pid = coordinator(root_ / name, {"--listen", "tcp://127.0.0.1:*"}, name);
-    const std::string endpoint = await_log(name, "workers connect to (tcp://[0-9.]+:[0-9]+)");
-    const std::string port = await_log(name, "status: http://127.0.0.1:([0-9]+)/status");
+    const std::string endpoint = endpoint_of(name);
+    const std::string port = status_port_of(name);
     std::optional<SilentPeers> silent;
     std::optional<pid_t> dying;
     if (flood) {
@@ -155,7 +171,7 @@ TEST_F(PeerTrustTest, AFloodAndALostJobDelayABatchByAboutOneLease) {
 TEST_F(PeerTrustTest, PeersThatReturnErrorsOrVanishCannotStopTheRun) {
   const fs::path reference = threads_run();
   const pid_t pid = coordinator(root_ / "E", {"--listen", "tcp://127.0.0.1:*"}, "E");
-  const std::string endpoint = await_log("E", "workers connect to (tcp://[0-9.]+:[0-9]+)");
+  const std::string endpoint = endpoint_of("E");
   ASSERT_FALSE(endpoint.empty());
   std::vector<pid_t> faulty;
   faulty.push_back(spawn(POET_WORKER_BIN,
@@ -187,8 +203,8 @@ TEST_F(PeerTrustTest, ATenMegabyteFrameAndAPeerWhoseConnectionIsGoneAreCounted) 
             {"--config", config_.string(), "--run-dir", (root_ / "F").string(), "--quiet", "--status-address",
              "127.0.0.1:0", "--listen", "tcp://127.0.0.1:*", "--liveness-ms", "20000"},
             "F");
-  const std::string endpoint = await_log("F", "workers connect to (tcp://[0-9.]+:[0-9]+)");
-  const std::string port = await_log("F", "status: http://127.0.0.1:([0-9]+)/status");
+  const std::string endpoint = endpoint_of("F");
+  const std::string port = status_port_of("F");
   ASSERT_FALSE(endpoint.empty());
   zmq::context_t context(1);
   {
@@ -217,15 +233,11 @@ TEST_F(PeerTrustTest, ATenMegabyteFrameAndAPeerWhoseConnectionIsGoneAreCounted) 
 TEST_F(PeerTrustTest, VerificationFindsAWorkerThatLiesAndTheRunEndsTheSame) {
   const fs::path reference = threads_run();
   const pid_t pid = coordinator(root_ / "V", {"--listen", "tcp://127.0.0.1:*", "--verify-fraction", "1"}, "V");
-  const std::string endpoint = await_log("V", "workers connect to (tcp://[0-9.]+:[0-9]+)");
-  const std::string port = await_log("V", "status: http://127.0.0.1:([0-9]+)/status");
+  const std::string endpoint = endpoint_of("V");
+  const std::string port = status_port_of("V");
   ASSERT_FALSE(endpoint.empty());
   // two honest workers first, so that every answer of the liar has someone to check it
-  std::vector<pid_t> honest;
-  for (const char* name : {"honest-a", "honest-b"}) {
-    honest.push_back(spawn(POET_WORKER_BIN, {"--connect", endpoint, "--threads", "1", "--log-level", "debug"}, name));
-    await_log(name, "(welcomed) by the coordinator");
-  }
+  const std::vector<pid_t> honest = honest_workers(endpoint, {"honest-a", "honest-b"});
   const pid_t liar = spawn_liar(endpoint);
   const std::map<std::string, double> m = metrics_once_a_worker_is_refused(port);
   EXPECT_EQ(m.at("poet_wrong_workers_total"), 1);
@@ -242,11 +254,10 @@ TEST_F(PeerTrustTest, VerificationFindsAWorkerThatLiesAndTheRunEndsTheSame) {
 TEST_F(PeerTrustTest, WithNoThirdWorkerTheCoordinatorSettlesAMismatch) {
   const fs::path reference = threads_run();
   const pid_t pid = coordinator(root_ / "M", {"--listen", "tcp://127.0.0.1:*", "--verify-fraction", "1"}, "M");
-  const std::string endpoint = await_log("M", "workers connect to (tcp://[0-9.]+:[0-9]+)");
-  const std::string port = await_log("M", "status: http://127.0.0.1:([0-9]+)/status");
+  const std::string endpoint = endpoint_of("M");
+  const std::string port = status_port_of("M");
   ASSERT_FALSE(endpoint.empty());
-  const pid_t honest = spawn(POET_WORKER_BIN, {"--connect", endpoint, "--threads", "1"}, "honest");
-  await_log("honest", "(welcomed) by the coordinator");
+  const pid_t honest = honest_workers(endpoint, {"honest"})[0];
   const pid_t liar = spawn_liar(endpoint);
   const std::map<std::string, double> m = metrics_once_a_worker_is_refused(port);
   EXPECT_EQ(m.at("poet_wrong_workers_total"), 1);
@@ -265,8 +276,8 @@ TEST_F(PeerTrustTest, WithNoThirdWorkerTheCoordinatorSettlesAMismatch) {
 TEST_F(PeerTrustTest, ALiarThatJoinsFirstHasNoAnswerTaken) {
   const fs::path reference = threads_run();
   const pid_t pid = coordinator(root_ / "L", {"--listen", "tcp://127.0.0.1:*"}, "L");  // the default 5 % checked
-  const std::string endpoint = await_log("L", "workers connect to (tcp://[0-9.]+:[0-9]+)");
-  const std::string port = await_log("L", "status: http://127.0.0.1:([0-9]+)/status");
+  const std::string endpoint = endpoint_of("L");
+  const std::string port = status_port_of("L");
   ASSERT_FALSE(endpoint.empty());
   const pid_t liar = spawn_liar(endpoint);
   std::this_thread::sleep_for(1300ms);  // it has the run to itself for a while
@@ -294,16 +305,14 @@ TEST_F(PeerTrustTest, ALiarPastItsProbationIsCaughtAndTheRunGoesBackToBeforeItsL
   for (int attempt = 0; attempt < 5 && went_back == 0; ++attempt) {
     const std::string name = "P" + std::to_string(attempt);
     const pid_t pid = coordinator(root_ / name, {"--listen", "tcp://127.0.0.1:*"}, name);  // 5 % checked
-    const std::string endpoint = await_log(name, "workers connect to (tcp://[0-9.]+:[0-9]+)");
+    const std::string endpoint = endpoint_of(name);
     ASSERT_FALSE(endpoint.empty());
     const pid_t liar = spawn(POET_WORKER_BIN,
                              {"--connect", endpoint, "--threads", "1", "--fault", "wrong-results", "--lie-after", "8",
                               "--lie-fraction", "0.1", "--name", "the-liar", "--log-level", "debug"},
                              name + "liar");
     await_log(name + "liar", "(welcomed) by the coordinator");
-    std::vector<pid_t> honest;
-    for (const std::string worker : {"honest-a", "honest-b"})
-      honest.push_back(spawn(POET_WORKER_BIN, {"--connect", endpoint, "--threads", "1"}, name + worker));
+    const std::vector<pid_t> honest = honest_workers(endpoint, {name + "honest-a", name + "honest-b"});
     EXPECT_EQ(wait(pid), 0) << read(root_ / (name + ".err"));
     for (pid_t h : honest) EXPECT_EQ(wait(h), 0);
     const std::string log = read(root_ / (name + ".err"));
