@@ -4,6 +4,7 @@
 #include <string>
 
 #include "poetctl_exit.h"
+#include "run/run_directory.h"
 #include "run/run_pack.h"
 
 namespace poet {
@@ -35,7 +36,14 @@ int unpack_run(const std::filesystem::path& file, const std::filesystem::path& d
     std::fprintf(stderr, "poetctl unpack: %s\n", pack.error().c_str());
     return kExitUnreachable;
   }
-  std::printf("restored %s into %s at iteration %d:\n", file.c_str(), dir.c_str(), pack->next_iteration);
+  // opened once as a resume opens it: the files derived from the checkpoint (config.textproto, annecs.csv, envs/,
+  // policies/) are written, so that tools reading a run directory find it whole
+  if (const auto opened = RunDirectory::resume(dir); !opened) {
+    std::fprintf(stderr, "poetctl unpack: %s\n", opened.error().c_str());
+    return kExitUnreachable;
+  }
+  std::printf("restored %s into %s at iteration %d (with the files derived from its checkpoint):\n", file.c_str(),
+              dir.c_str(), pack->next_iteration);
   print_contents(*pack);
   std::printf("go on with: poet-coordinator --run-dir %s --resume\n", dir.c_str());
   return 0;

@@ -219,6 +219,15 @@ TEST_F(CoordinatorProcessTest, APackedRunGoesOnElsewhereAsIfItNeverMoved) {
   ASSERT_GE(summary->next_iteration, 2);
   ASSERT_LT(summary->next_iteration, 6) << "packed after the reference run's end: nothing left to compare";
 
+  // unpacked without running: the run as it was stopped, with the files derived from its checkpoint
+  const fs::path u = root_ / "U";
+  const pid_t unpacker = children_.start({POETCTL_BIN, "unpack", pack.string(), u.string()}, root_ / "unpack");
+  ASSERT_EQ(children_.wait(unpacker, 60s), 0) << read(root_ / "unpack.err");
+  for (const poet::PackEntry& entry : summary->entries) EXPECT_EQ(read(u / entry.name), entry.content) << entry.name;
+  for (const char* file : {"annecs.csv", "envs/pair-0.env.json", "policies/pair-0.best.json"})
+    EXPECT_TRUE(fs::exists(u / file)) << file;
+  EXPECT_EQ(read(u / "config.textproto"), read(b / "config.textproto"));
+
   // restored into a directory that does not exist yet, under a parent that does not either
   const fs::path c = root_ / "elsewhere" / "C";
   const Outcome moved = run({"--run-dir", c.string(), "--resume", "--from-pack", pack.string(), "--threads", "1",

@@ -253,11 +253,16 @@ TEST_F(PeerTrustTest, VerificationFindsAWorkerThatLiesAndTheRunEndsTheSame) {
 // job itself; the liar is refused and the run ends as the threads' run does.
 TEST_F(PeerTrustTest, WithNoThirdWorkerTheCoordinatorSettlesAMismatch) {
   const fs::path reference = threads_run();
-  const pid_t pid = coordinator(root_ / "M", {"--listen", "tcp://127.0.0.1:*", "--verify-fraction", "1"}, "M");
+  const pid_t pid = coordinator(
+      root_ / "M", {"--listen", "tcp://127.0.0.1:*", "--verify-fraction", "1", "--log-level", "debug"}, "M");
   const std::string endpoint = endpoint_of("M");
   const std::string port = status_port_of("M");
   ASSERT_FALSE(endpoint.empty());
   const pid_t honest = honest_workers(endpoint, {"honest"})[0];
+  // the liar joins once the honest worker has answered (the coordinator checks that answer): the honest worker is
+  // then proven and may check the liar, so they disagree with each other. A liar joining earlier would be checked
+  // by the coordinator alone, and no dispute would arise.
+  await_log("M", "()no other worker can check job");
   const pid_t liar = spawn_liar(endpoint);
   const std::map<std::string, double> m = metrics_once_a_worker_is_refused(port);
   EXPECT_EQ(m.at("poet_wrong_workers_total"), 1);

@@ -80,20 +80,28 @@ TEST(RunConfig, BenchWorkloadParsesAndValidates) {
 }
 
 // The frontier probe of docs/RESULTS.md (experiments/frontier_es.sh): ES alone on the deep run's pair 28's course,
-// the preset's ES and four times its population, nothing else different.
-TEST(RunConfig, FrontierEsConfigsDifferOnlyInTheirPopulation) {
-  std::map<std::string, pb::RunConfig> configs;
-  for (const char* name : {"A-28.textproto", "B-28.textproto"}) {
+// the preset's ES and four wider or larger searches, nothing else different.
+TEST(RunConfig, FrontierEsConfigsDifferOnlyInTheirPopulationAndSigma) {
+  const std::map<std::string, std::pair<int, double>> es = {// perturbations (half the rollouts a step), σ
+                                                            {"A", {32, 0.05}},
+                                                            {"B", {128, 0.05}},
+                                                            {"C", {32, 0.1}},
+                                                            {"D", {32, 0.2}},
+                                                            {"E", {128, 0.1}}};
+  std::vector<pb::RunConfig> configs;
+  for (const auto& [setting, population_sigma] : es) {
+    const std::string name = setting + "-28.textproto";
     const Expected<pb::RunConfig> config =
         load_run_config((source_dir() / "experiments" / "deep" / "frontier-es" / name).string());
     ASSERT_TRUE(config) << name << ": " << config.error();
     EXPECT_EQ(config->mode(), pb::RunConfig::ES_ALONE) << name;
-    configs[name] = *config;
+    EXPECT_EQ(config->es().perturbations(), population_sigma.first) << name;
+    EXPECT_EQ(config->es().init_sigma(), population_sigma.second) << name;
+    configs.push_back(*config);
+    configs.back().mutable_es()->clear_perturbations();
+    configs.back().mutable_es()->clear_init_sigma();
   }
-  EXPECT_EQ(configs["A-28.textproto"].es().perturbations(), 32);  // the deep preset's
-  EXPECT_EQ(configs["B-28.textproto"].es().perturbations(), 128);
-  for (auto& [name, c] : configs) c.mutable_es()->clear_perturbations();
-  EXPECT_EQ(configs["A-28.textproto"].SerializeAsString(), configs["B-28.textproto"].SerializeAsString());
+  for (const pb::RunConfig& c : configs) EXPECT_EQ(c.SerializeAsString(), configs[0].SerializeAsString());
 }
 
 // The σ comparison of docs/RESULTS.md: ES alone on one course from one seed, differing only in ES settings.
