@@ -246,6 +246,9 @@ void check_mode(Checks& c, const pb::RunConfig& config) {
     check_target(c, "es_alone.target", config.es_alone().target());
     c.known_enum("es_alone.random_courses", config.es_alone().random_courses(),
                  pb::EsAloneConfig::RandomCourses_IsValid);
+    if (config.es_alone().stop_when_solved() &&
+        config.es_alone().random_courses() != pb::EsAloneConfig::NO_RANDOM_COURSES)
+      c.fail("es_alone.stop_when_solved", "not with random_courses: the run has no course of its own to solve");
   }
   // a budget beyond any machine's reach is a typing error: 10^15 steps are some 500 years of this walker on a core
   c.integer("env_step_budget", config.env_step_budget(), 0, 1'000'000'000'000'000);
@@ -441,6 +444,7 @@ RunSettings run_settings(const pb::RunConfig& config) {
   s.poet = poet_settings(config.poet());
   if (s.mode == RunMode::kEsAlone) s.target = env_def_from_proto(config.es_alone().target()).value();
   if (s.mode == RunMode::kDirectPath) s.target = env_def_from_proto(config.direct_path().target()).value();
+  s.stop_when_solved = config.es_alone().stop_when_solved();
   s.advance_threshold = config.direct_path().advance_threshold();
   s.budget_es_steps = config.direct_path().budget_es_steps();
   s.env_step_budget = config.env_step_budget();

@@ -1,5 +1,5 @@
 // The direct-path curriculum: step_toward() and the per-iteration stage logic (advance at the threshold, stop
-// when the target is solved or the ES-step budget is spent).
+// when the target is solved or the ES-step budget is spent); and ES alone's stop when solved, the same rule.
 
 #include "poet/curriculum.h"
 
@@ -97,6 +97,13 @@ void advance_curriculum(IterationContext& ctx) {
     ctx.event(StageEvent{false, state.stages.size() - 1, pair.env.encoding.name,
                          normalized_distance(pair.env.encoding, target.encoding)});
   }
+}
+
+void finish_if_solved(IterationContext& ctx) {
+  const Pair& pair = ctx.state.pairs.front();
+  if (!pair.latest_finished || pair.latest_score < ctx.settings.poet.solved_score) return;
+  ctx.state.finished = true;
+  ctx.event(RunFinishedEvent{true, pair.es_steps});
 }
 
 }  // namespace poet

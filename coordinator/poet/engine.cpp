@@ -121,6 +121,7 @@ IterationReport run_iteration(RunState& state, Evaluator& evaluator, PhaseObserv
   optimise(ctx);
   if (mode == RunMode::kPoet) transfer(ctx);
   if (mode == RunMode::kDirectPath) advance_curriculum(ctx);
+  if (mode == RunMode::kEsAlone && state.settings.stop_when_solved) finish_if_solved(ctx);
 
   if (phases) phases->iteration_ends();
   report.annecs = annecs_at(state, report.iteration);

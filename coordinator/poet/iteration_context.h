@@ -51,5 +51,6 @@ void reproduce(IterationContext& ctx);           // POET modes, every mutation_i
 void optimise(IterationContext& ctx);            // every mode: one ES step per active pair, then evaluations
 void transfer(IterationContext& ctx);            // POET, every transfer_interval iterations
 void advance_curriculum(IterationContext& ctx);  // DIRECT_PATH: stage changes and the stopping rule
+void finish_if_solved(IterationContext& ctx);    // ES_ALONE with stop_when_solved: its stopping rule
 
 }  // namespace poet

@@ -74,10 +74,11 @@ struct RunSettings {
   EsSettings es;
   EpisodeSettings episodes;
   PoetSettings poet;
-  std::optional<EnvDef> target;  // the control's target: ES alone's environment, the direct path's end
-  double advance_threshold = 0;  // direct path: move to the next stage at this score
-  int64_t budget_es_steps = 0;   // direct path: stop after this many ES steps
-  int64_t env_step_budget = 0;   // stop after the iteration that reaches this many environment steps (0: none)
+  std::optional<EnvDef> target;   // the control's target: ES alone's environment, the direct path's end
+  bool stop_when_solved = false;  // ES alone: stop once an evaluation solves the target
+  double advance_threshold = 0;   // direct path: move to the next stage at this score
+  int64_t budget_es_steps = 0;    // direct path: stop after this many ES steps
+  int64_t env_step_budget = 0;    // stop after the iteration that reaches this many environment steps (0: none)
 };
 
 }  // namespace poet

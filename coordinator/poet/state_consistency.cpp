@@ -70,7 +70,8 @@ Error check_single_pair(const RunState& state) {
 Error check_es_alone(const RunState& state) {
   if (Error error = check_single_pair(state)) return error;
   if (!state.stages.empty()) return "stages: a curriculum in mode ES_ALONE";
-  if (state.finished) return "finished: true in mode ES_ALONE, which stops at its iteration limit only";
+  if (state.finished && !state.settings.stop_when_solved)
+    return "finished: true in mode ES_ALONE without stop_when_solved, which stops at its iteration limit only";
   const EnvDef target = state.settings.target.value();
   if (!same_env(state.pairs.front().env, target))
     return "pairs[0].env: " + state.pairs.front().env.encoding.name + " is not es_alone.target " + target.encoding.name;

@@ -1,7 +1,8 @@
 // poet-lineage: a pair's lineage in a run directory (parent, first θ, accepted transfers, solve) and the
 // direct-path control's budget for its environment; with --direct-path-config, a runnable config for that
 // control (the run's settings, mode DIRECT_PATH, the pair's environment as the target, the budget); with
-// --es-alone-config, the ES-alone control with the same budget in ES steps. It prints the environment steps of
+// --es-alone-config, the ES-alone control with the same budget in ES steps (stopping, as the direct path does, once
+// it solves the target). It prints the environment steps of
 // that budget too, from pair_stats.csv (runs of earlier builds did not record a pair's).
 //   poet-lineage --run-dir DIR --pair ID [--direct-path-config | --es-alone-config [--seed N]]
 
@@ -74,6 +75,7 @@ int main(int argc, char** argv) {
     } else {
       config.set_mode(pb::RunConfig::ES_ALONE);
       *config.mutable_es_alone()->mutable_target() = to_proto(pair->env);
+      config.mutable_es_alone()->set_stop_when_solved(true);  // like the direct path: the result is the same
       config.set_iterations(static_cast<int>(std::min<int64_t>(budget, INT32_MAX)));  // one ES step an iteration
     }
     std::cout << run_config_text(config);

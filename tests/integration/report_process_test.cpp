@@ -275,6 +275,7 @@ TEST_F(ReportProcessTest, LineageWritesRunnableControlConfigsWithTheLineagesBudg
     const bool es_alone = std::string(flag) == "--es-alone-config";
     EXPECT_TRUE(contains(text, "seed: 9")) << text;
     EXPECT_TRUE(contains(text, es_alone ? "mode: ES_ALONE" : "mode: DIRECT_PATH")) << text;
+    EXPECT_EQ(contains(text, "stop_when_solved: true"), es_alone) << "ES alone stops as the direct path does: " << text;
     EXPECT_TRUE(contains(
         text, es_alone ? "iterations: " + std::to_string(budget) : "budget_es_steps: " + std::to_string(budget)))
         << text;

@@ -509,6 +509,14 @@ TEST(RunConfig, TheEnvStepBudgetAndDomainRandomisationReachTheSettings) {
   // random courses belong to ES alone
   EXPECT_NE(error_of("mode: POET es_alone { random_courses: EASY_COURSES }").find("es_alone"), std::string::npos);
   EXPECT_NE(error_of("env_step_budget: -1").find("env_step_budget"), std::string::npos);
+  // stopping when solved needs a course of its own
+  EXPECT_NE(error_of("mode: ES_ALONE es_alone { target { } random_courses: EASY_COURSES stop_when_solved: true }")
+                .find("es_alone.stop_when_solved"),
+            std::string::npos);
+  const Expected<pb::RunConfig> stop =
+      parse_run_config("mode: ES_ALONE es_alone { target { } stop_when_solved: true }");
+  ASSERT_TRUE(stop) << stop.error();
+  EXPECT_TRUE(run_settings(*stop).stop_when_solved);
 }
 
 TEST(RunConfig, ConfirmedTransfersNeedStochasticCourses) {

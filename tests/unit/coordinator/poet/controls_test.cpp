@@ -9,6 +9,7 @@
 #include "envgen/env_proto.h"
 #include "es/perturbation.h"
 #include "poet/curriculum.h"
+#include "poet/state_consistency.h"
 #include "scripted_evaluator.h"
 
 namespace poet::testing {
@@ -50,6 +51,33 @@ TEST(EsAlone, OptimisesOnePairOnTheTargetAndNeverReproducesOrTransfers) {
   // the pair's environment steps are every rollout's of the run: its ES steps and their evaluations
   EXPECT_EQ(s.pairs[0].es_env_steps, s.counters.env_steps);
   EXPECT_GT(s.pairs[0].es_env_steps, 0);
+}
+
+// With stop_when_solved, ES alone ends after the iteration whose evaluation solves the target (finished, ≥ 230), as
+// the direct path does; without it, only its iteration limit ends it. The finished state is a consistent one.
+TEST(EsAlone, StopWhenSolvedEndsTheRunAtTheFirstSolvingEvaluation) {
+  for (const bool stop : {true, false}) {
+    pb::RunConfig c = tiny_config();
+    c.set_mode(pb::RunConfig::ES_ALONE);
+    c.set_iterations(6);
+    *c.mutable_es_alone()->mutable_target() = to_proto(rough(2.5, 77));
+    c.mutable_es_alone()->set_stop_when_solved(stop);
+    RunState s = initial_state(run_settings(c));
+    int evaluations = 0;  // the third evaluation solves it; 250 without finishing does not
+    ScriptedEvaluator ev([&](int, size_t, const RolloutTask& t) {
+      if (t.perturbation) return scored(0);
+      evaluations += 1;
+      return evaluations == 3 ? scored(240, true) : scored(250, false);
+    });
+    IterationReport last;
+    while (!run_complete(s)) last = run_iteration(s, ev);
+    EXPECT_EQ(s.finished, stop);
+    EXPECT_EQ(s.next_iteration, stop ? 3 : 6) << stop;
+    if (stop) {
+      EXPECT_EQ(events_named(last, "run_finished").at(0)["reason"], "target solved");
+    }
+    EXPECT_EQ(check_state_consistency(s), std::nullopt) << stop;
+  }
 }
 
 // A run with an environment-step budget is complete after the iteration that reaches it, in any mode.
