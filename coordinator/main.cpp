@@ -34,6 +34,7 @@
 #include "config/run_config.h"
 #include "curve_keys.h"
 #include "dispatch/local_workers.h"
+#include "evaluator/caching_evaluator.h"
 #include "evaluator/local_evaluator.h"
 #include "evaluator/remote_evaluator.h"
 #include "event_text.h"
@@ -338,7 +339,7 @@ int run(const Options& options, StopSignals& signals) {
   serve(server, options.status_address, "status", "/status");
   serve(health, options.health_address, "health", "/healthz");
   if (rollouts->remote && !start_local_workers(options, *rollouts)) return kExitUsage;
-  Evaluator& evaluator = *rollouts->evaluator;
+  CachingEvaluator evaluator(*rollouts->evaluator, kScoreCacheBytes);
   if (rollouts->remote) {
     rollouts->remote->on_snapshot([&board](const Dispatcher& d) {
       DispatchSnapshot snapshot;
@@ -418,6 +419,7 @@ int run(const Options& options, StopSignals& signals) {
     if (auto error = write_file_atomically(dir.path() / kCheckpointFile, anchor->bytes))
       return (dir.path() / kCheckpointFile).string() + ": " + *error;
     rollouts->remote->forget_batches_from(anchor->last_batch + 1);
+    evaluator.clear();  // the wrong worker's results may be among those remembered
     anchors.keep_until(*anchor);
     opened.reset();  // its lock released, for the resume to take
     Expected<std::pair<RunDirectory, RunState>> resumed = RunDirectory::resume(options.run_dir);
@@ -482,12 +484,16 @@ int run(const Options& options, StopSignals& signals) {
     }
     progress.update(state, report);
     board.publish_run(state, saved_iteration);
+    board.publish_cache(evaluator.episodes_saved(), evaluator.steps_saved());
   }
   // a stop between an iteration's save check and the loop test leaves that iteration unsaved
   if (state.next_iteration != saved_iteration && !save()) return kExitError;
   progress.finish();
 
   if (rollouts->remote) rollouts->remote->log_summary();
+  if (evaluator.episodes_saved() > 0)
+    spdlog::info("score cache: {} episodes asked for again were not run ({} environment steps)",
+                 evaluator.episodes_saved(), evaluator.steps_saved());
   if (!run_complete(state)) {
     spdlog::warn("interrupted at iteration {}; continue with: poet-coordinator --run-dir {} --resume",
                  state.next_iteration, options.run_dir);

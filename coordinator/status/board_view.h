@@ -73,7 +73,9 @@ struct BoardView {
   double rollouts_per_s = 0;
   double env_steps_per_s = 0;
   int64_t skipped_key_files = 0;
-  double uptime_s = 0;  // since the board was made
+  int64_t cached_episodes = 0;   // answered by the score cache without running them (this process)
+  int64_t cached_env_steps = 0;  // their environment steps
+  double uptime_s = 0;           // since the board was made
 };
 
 }  // namespace poet

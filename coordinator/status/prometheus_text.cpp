@@ -115,6 +115,12 @@ std::string prometheus_text(const BoardView& v) {
   family("poet_skipped_key_files_total", "counter",
          "Files in the CURVE authorized/ folder skipped because they hold no key, each counted once when found.");
   sample("poet_skipped_key_files_total", v.skipped_key_files);
+  family("poet_cached_episodes_total", "counter",
+         "Episodes the loop asked for again and the score cache answered without running them, since the "
+         "coordinator started (the run's rollout counters include them).");
+  sample("poet_cached_episodes_total", v.cached_episodes);
+  family("poet_cached_env_steps_total", "counter", "The environment steps of those episodes.");
+  sample("poet_cached_env_steps_total", v.cached_env_steps);
 
   family("poet_uptime_seconds", "gauge", "Seconds since the coordinator started.");
   char uptime[32];

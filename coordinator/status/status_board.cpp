@@ -112,6 +112,12 @@ void StatusBoard::count_skipped_key_file() {
   ++skipped_key_files_;
 }
 
+void StatusBoard::publish_cache(int64_t episodes_saved, int64_t steps_saved) {
+  std::lock_guard lock(mutex_);
+  cached_episodes_ = episodes_saved;
+  cached_env_steps_ = steps_saved;
+}
+
 BoardView StatusBoard::view() const {
   BoardView v;
   SteadyTime dispatch_at;
@@ -125,6 +131,8 @@ BoardView StatusBoard::view() const {
     v.rollouts_per_s = rate(rate_samples_, [](const RateSample& s) { return s.rollouts; });
     v.env_steps_per_s = rate(rate_samples_, [](const RateSample& s) { return s.env_steps; });
     v.skipped_key_files = skipped_key_files_;
+    v.cached_episodes = cached_episodes_;
+    v.cached_env_steps = cached_env_steps_;
   }
   const SteadyTime now = clock_();
   v.uptime_s = seconds_between(created_, now);

@@ -54,6 +54,8 @@ class StatusBoard {
   void set_state(RunPhase phase, std::string note = "");
   // A file of the CURVE authorized/ folder was found to hold no key, and skipped (counted once per file).
   void count_skipped_key_file();
+  // The episodes the score cache answered without running them, and their environment steps, so far.
+  void publish_cache(int64_t episodes_saved, int64_t steps_saved);
 
   // What the board holds now.
   BoardView view() const;
@@ -101,6 +103,8 @@ class StatusBoard {
   std::string note_;
   std::deque<RateSample> rate_samples_;  // the last kRateWindow publishes
   int64_t skipped_key_files_ = 0;
+  int64_t cached_episodes_ = 0;
+  int64_t cached_env_steps_ = 0;
 
   // pair_stats.csv, read on when a reader asks (a second lock, which only readers take)
   mutable std::mutex stats_mutex_;

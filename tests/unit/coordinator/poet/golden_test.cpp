@@ -14,6 +14,7 @@
 #include "build_fingerprint.h"
 #include "engine_test_support.h"
 #include "envgen/named_courses.h"
+#include "evaluator/caching_evaluator.h"
 #include "evaluator/local_evaluator.h"
 #include "poet/engine.h"
 #include "policy/mlp.h"
@@ -73,18 +74,31 @@ TEST(Golden, SingleRolloutReturns) {
   EXPECT_EQ(digest, kRolloutsDigest) << changed("the walker simulation", digest, kRolloutsDigest) << table;
 }
 
-// Five iterations of a small run; its checkpoint's digest against the pinned one.
+// Five iterations of a small run; its checkpoint's digest against the pinned one. Run twice: on threads, and as the
+// coordinator runs it, behind the score cache — which must change nothing but the episodes run (and must save some:
+// a pair's θ on its own course in the transfer round, right after its evaluation).
 void expect_checkpoint_digest(const pb::RunConfig& config, uint64_t pinned, const char* what) {
   pb::RunConfig c = config;
   c.set_iterations(5);
-  RunState s = initial_state(run_settings(c));
-  LocalEvaluator evaluator(2);
-  while (!run_complete(s)) run_iteration(s, evaluator);
-  ASSERT_GE(s.pairs.size(), 3u);  // reproduction and transfer ran
-  ASSERT_GT(s.counters.transfer_attempts, 0);
-  const uint64_t digest = fnv1a(encode_checkpoint_file(to_checkpoint(c, s)));
-  EXPECT_EQ(digest, pinned) << changed(what, digest, pinned) << "pairs " << s.pairs.size() << ", rollouts "
-                            << s.counters.rollouts << ", env steps " << s.counters.env_steps;
+  for (const bool cached : {false, true}) {
+    RunState s = initial_state(run_settings(c));
+    LocalEvaluator threads(2);
+    CachingEvaluator cache(threads, kScoreCacheBytes);
+    Evaluator& evaluator = cached ? static_cast<Evaluator&>(cache) : threads;
+    while (!run_complete(s)) run_iteration(s, evaluator);
+    ASSERT_GE(s.pairs.size(), 3u);  // reproduction and transfer ran
+    ASSERT_GT(s.counters.transfer_attempts, 0);
+    const uint64_t digest = fnv1a(encode_checkpoint_file(to_checkpoint(c, s)));
+    EXPECT_EQ(digest, pinned) << (cached ? "behind the score cache: " : "") << changed(what, digest, pinned) << "pairs "
+                              << s.pairs.size() << ", rollouts " << s.counters.rollouts << ", env steps "
+                              << s.counters.env_steps;
+    if (cached) {
+      EXPECT_GT(cache.episodes_saved(), 0);
+      std::printf("%s: the score cache answered %lld of %lld rollouts (%lld of %lld environment steps)\n", what,
+                  static_cast<long long>(cache.episodes_saved()), static_cast<long long>(s.counters.rollouts),
+                  static_cast<long long>(cache.steps_saved()), static_cast<long long>(s.counters.env_steps));
+    }
+  }
 }
 
 TEST(Golden, SmallRunCheckpoint) {
@@ -101,22 +115,33 @@ TEST(Golden, SmallCppnRunCheckpoint) {
 TEST(Golden, SmallPataEcRunCheckpoint) {
   pb::RunConfig c = testing::small_pata_ec_run();
   c.set_iterations(5);
-  RunState s = initial_state(run_settings(c));
-  LocalEvaluator evaluator(2);
-  std::vector<double> novelties;
-  while (!run_complete(s)) {
-    const IterationReport report = run_iteration(s, evaluator);
-    for (const auto& created : testing::events_named(report, "pair_created"))
-      novelties.push_back(created["novelty"].get<double>());
+  for (const bool cached : {false, true}) {  // PATA-EC asks most often for scores it knows
+    RunState s = initial_state(run_settings(c));
+    LocalEvaluator threads(2);
+    CachingEvaluator cache(threads, kScoreCacheBytes);
+    Evaluator& evaluator = cached ? static_cast<Evaluator&>(cache) : threads;
+    std::vector<double> novelties;
+    while (!run_complete(s)) {
+      const IterationReport report = run_iteration(s, evaluator);
+      for (const auto& created : testing::events_named(report, "pair_created"))
+        novelties.push_back(created["novelty"].get<double>());
+    }
+    ASSERT_GE(s.pairs.size(), 3u);
+    // PATA-EC was at work: some child differed from the archive in how the agents ranked on it
+    ASSERT_TRUE(std::any_of(novelties.begin(), novelties.end(), [](double n) { return n > 0; }));
+    const uint64_t digest = fnv1a(encode_checkpoint_file(to_checkpoint(c, s)));
+    EXPECT_EQ(digest, kPataEcCheckpointDigest)
+        << (cached ? "behind the score cache: " : "")
+        << changed("PATA-EC novelty, the ES or the POET loop (or the simulation under it)", digest,
+                   kPataEcCheckpointDigest)
+        << "pairs " << s.pairs.size() << ", rollouts " << s.counters.rollouts << ", env steps " << s.counters.env_steps;
+    if (cached) {
+      EXPECT_GT(cache.episodes_saved(), 0);
+      std::printf("PATA-EC: the score cache answered %lld of %lld rollouts (%lld of %lld environment steps)\n",
+                  static_cast<long long>(cache.episodes_saved()), static_cast<long long>(s.counters.rollouts),
+                  static_cast<long long>(cache.steps_saved()), static_cast<long long>(s.counters.env_steps));
+    }
   }
-  ASSERT_GE(s.pairs.size(), 3u);
-  // PATA-EC was at work: some child differed from the archive in how the agents ranked on it
-  ASSERT_TRUE(std::any_of(novelties.begin(), novelties.end(), [](double n) { return n > 0; }));
-  const uint64_t digest = fnv1a(encode_checkpoint_file(to_checkpoint(c, s)));
-  EXPECT_EQ(digest, kPataEcCheckpointDigest)
-      << changed("PATA-EC novelty, the ES or the POET loop (or the simulation under it)", digest,
-                 kPataEcCheckpointDigest)
-      << "pairs " << s.pairs.size() << ", rollouts " << s.counters.rollouts << ", env steps " << s.counters.env_steps;
 }
 
 }  // namespace

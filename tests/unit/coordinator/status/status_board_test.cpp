@@ -358,7 +358,10 @@ TEST_F(StatusBoardTest, MetricsAreInPrometheusTextFormat) {
   EXPECT_TRUE(board.metrics_text().find("\npoet_skipped_key_files_total 0\n") != std::string::npos);
   board.count_skipped_key_file();
   board.count_skipped_key_file();
+  board.publish_cache(7, 1234);
   const std::string text = board.metrics_text();
+  EXPECT_NE(text.find("\npoet_cached_episodes_total 7\n"), std::string::npos) << text;
+  EXPECT_NE(text.find("\npoet_cached_env_steps_total 1234\n"), std::string::npos) << text;
 
   // every line is a HELP, a TYPE or a sample of the family just announced
   const std::regex help(R"(# HELP (poet_[a-z_]+) \S.*)");
