@@ -374,6 +374,7 @@ int run(const Options& options, StopSignals& signals) {
   ProgressDisplay progress(!options.quiet);
   auto elapsed = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count(); };
   PhaseTimer phase_timer(elapsed);
+  PhaseSeconds phase_totals{};  // this process's, for /metrics
   const int interval = state.settings.checkpoint_interval;
   int saved_iteration = state.next_iteration;
   CheckpointAnchors anchors;
@@ -400,7 +401,10 @@ int run(const Options& options, StopSignals& signals) {
     saved_iteration = state.next_iteration;
     keep_anchor();
     // the times are the run's record of its machine, not its state: a failed write is reported, not fatal
-    if (auto error = wall_times.record(state.next_iteration - 1, elapsed() - wall_offset, phase_timer.take()))
+    const PhaseSeconds phases = phase_timer.take();
+    for (size_t k = 0; k < phases.size(); ++k) phase_totals[k] += phases[k];
+    board.publish_phases(phase_totals);
+    if (auto error = wall_times.record(state.next_iteration - 1, elapsed() - wall_offset, phases))
       spdlog::warn("{}", *error);
     return true;
   };

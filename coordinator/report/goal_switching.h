@@ -30,7 +30,7 @@ struct LineageLink {
   double admission_score = 0;
   int solved = kNone;  // first-solved iteration
   SolveCause cause = SolveCause::kNotSolved;
-  int solved_by = kNone;                  // kAdmission: the θ's source pair; kTransfer: the transfer's source
+  int solved_by = kNone;                       // kAdmission: the θ's source pair; kTransfer: the transfer's source
   std::vector<AcceptedTransfer> transfers_in;  // accepted transfers into this pair, in order
   // Whether the agent that solved it came through a transfer: started from a pair other than its parent, took an
   // accepted transfer before or at its solve, or was solved by one.

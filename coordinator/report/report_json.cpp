@@ -145,6 +145,17 @@ nlohmann::ordered_json report_json(const RunSnapshot& run, const RunMetrics& m, 
     frontier.push_back(std::move(point));
   }
   out["frontier"] = std::move(frontier);
+  nlohmann::ordered_json phases = nlohmann::ordered_json::array();
+  for (const PhaseBlock& b : m.phase_blocks) {
+    nlohmann::ordered_json block = {{"first_iteration", b.first},
+                                    {"last_iteration", b.last},
+                                    {"saved_iterations", b.lines},
+                                    {"timed_iterations", b.timed},
+                                    {"wall_s", b.wall_s}};
+    for (size_t k = 0; k < kPhaseNames.size(); ++k) block[std::string(kPhaseNames[k]) + "_s"] = b.phases[k];
+    phases.push_back(std::move(block));
+  }
+  out["time_per_phase"] = std::move(phases);
   nlohmann::ordered_json cov = {{"seed", coverage.seed},
                                 {"samples_per_level", coverage.per_level},
                                 {"solved_at_challenging_or_above", coverage.solved.size()}};

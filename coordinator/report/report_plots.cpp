@@ -124,6 +124,32 @@ Expected<std::string> render_frontier_plot(PictureFormat format, const RunMetric
   return render_picture(format, 1000, 460, [&](cairo_t* cr) { draw_chart(cr, 0, 0, 1000, 460, chart); });
 }
 
+Expected<std::string> render_phase_plot(PictureFormat format, const RunMetrics& metrics) {
+  Chart chart;
+  chart.title =
+      metrics.phase_blocks.empty()
+          ? "Where the time went: no wall times in this run directory"
+          : "Where the time went: share of each block's wall time, phases stacked (the rest: between iterations)";
+  chart.x_label = "iteration";
+  chart.y_label = "share of wall time";
+  chart.y_min = 0;
+  chart.y_max = 1;
+  chart.integer_x = true;
+  const char* labels[] = {"reproduction", "+ ES steps", "+ evaluations", "+ transfer"};
+  for (size_t k = 0; k < kPhaseNames.size(); ++k) {
+    ChartSeries stacked{labels[k], {}, kLevelColours[k], ChartSeries::Line::kSolid, true, 2.0};
+    for (const PhaseBlock& b : metrics.phase_blocks) {
+      if (b.timed == 0 || b.wall_s <= 0) continue;
+      double below = 0;
+      for (size_t j = 0; j <= k; ++j) below += b.phases[j];
+      stacked.points.emplace_back(b.first, below / b.wall_s);
+      stacked.points.emplace_back(b.last + 1, below / b.wall_s);
+    }
+    chart.series.push_back(std::move(stacked));
+  }
+  return render_picture(format, 1000, 460, [&](cairo_t* cr) { draw_chart(cr, 0, 0, 1000, 460, chart); });
+}
+
 Expected<std::string> render_annecs_plot(PictureFormat format, const RunMetrics& metrics) {
   Chart chart = counts_over_iterations(
       "ANNECS: at admission (children solved, counted when solved) and at archiving (retired once solved)");

@@ -24,6 +24,10 @@ Expected<std::string> render_annecs_plot(PictureFormat format, const RunMetrics&
 // Each of Table 1's measures (roughness, gap top, stump top), the hardest solved and admitted by each iteration,
 // divided by its threshold, so that 1 is the condition.
 Expected<std::string> render_frontier_plot(PictureFormat format, const RunMetrics& metrics);
+// Where the time went: each block's share of wall time per phase, stacked (reproduction at the bottom, then ES
+// steps, evaluations, transfer; the rest up to 1 is the time between iterations). A run without wall times draws
+// an empty frame that says so.
+Expected<std::string> render_phase_plot(PictureFormat format, const RunMetrics& metrics);
 Expected<std::string> render_tree_plot(PictureFormat format, const RunSnapshot& run, const RunMetrics& metrics);
 Expected<std::string> render_rose_plot(PictureFormat format, const RunSnapshot& run);
 

@@ -184,6 +184,7 @@ RunMetrics compute_run_metrics(const RunSnapshot& run, const std::optional<EnvEn
     m.solve_summary[static_cast<size_t>(level)] = summarise(iterations);
   }
   m.frontier_over_time = frontier_over_time(state);
+  m.phase_blocks = phase_blocks(run.wall_times, phase_block_iterations(m.iterations_done));
   m.annecs_over_time = annecs_over_time(state);
   m.annecs = annecs_at(state, m.iterations_done - 1);
   m.transfer_attempts = state.counters.transfer_attempts;
@@ -192,6 +193,32 @@ RunMetrics compute_run_metrics(const RunSnapshot& run, const std::optional<EnvEn
   const std::optional<EnvEncoding> goal = target ? target : own_target(state);
   if (goal) m.closest_to_target = closest_to(state, *goal);
   return m;
+}
+
+std::vector<PhaseBlock> phase_blocks(const std::vector<WallTime>& times, int block_iterations) {
+  std::vector<PhaseBlock> blocks;
+  double before = 0;
+  for (const WallTime& line : times) {
+    const int first = line.iteration / block_iterations * block_iterations;
+    if (blocks.empty() || blocks.back().first != first)
+      blocks.push_back({first, first + block_iterations - 1, 0, {}, 0, 0});
+    PhaseBlock& block = blocks.back();
+    block.wall_s += line.seconds - before;
+    before = line.seconds;
+    block.lines += 1;
+    if (line.phases) {
+      block.timed += 1;
+      for (size_t k = 0; k < block.phases.size(); ++k) block.phases[k] += (*line.phases)[k];
+    }
+  }
+  if (!blocks.empty()) blocks.back().last = std::min(blocks.back().last, times.back().iteration);
+  return blocks;
+}
+
+int phase_block_iterations(int iterations) {
+  for (int scale = 1;; scale *= 10)
+    for (const int step : {1, 2, 5})
+      if (int64_t{step} * scale * 10 >= iterations) return step * scale;
 }
 
 }  // namespace poet

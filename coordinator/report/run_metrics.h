@@ -87,6 +87,16 @@ struct FrontierPoint {
 };
 inline constexpr std::array<const char*, 3> kFrontierMeasures = {"roughness", "gap_hi", "stump_hi"};
 
+// Where the run's time went in a block of iterations (wall_times.csv): the wall time of its saved iterations and
+// the seconds of each phase of an iteration (poet/phase_observer.h) within it; the rest ("other") is the time
+// between iterations — saving, logging. Lines of builds that did not time the phases count in the wall time only.
+struct PhaseBlock {
+  int first = 0, last = 0;  // iterations, both included
+  double wall_s = 0;
+  PhaseSeconds phases{};
+  int lines = 0, timed = 0;  // saved iterations in the block, and those with phase times
+};
+
 struct RunMetrics {
   int iterations_done = 0;  // the checkpoint's next iteration
   LevelCounts total;
@@ -101,7 +111,15 @@ struct RunMetrics {
   std::vector<Annecs> annecs_over_time;  // one per iteration 0 .. iterations_done − 1, as annecs.csv holds them
   std::optional<TargetDistance> closest_to_target;
   std::vector<FrontierPoint> frontier_over_time;  // one per iteration 0 .. iterations_done − 1
+  std::vector<PhaseBlock> phase_blocks;           // about ten blocks of a round number of iterations; none without
+                                                  // wall times
 };
+
+// wall_times.csv's lines in blocks of block_iterations iterations (block 0: iterations 0 .. block_iterations − 1);
+// a line's wall time is its time since the line before. Blocks without a line are left out.
+std::vector<PhaseBlock> phase_blocks(const std::vector<WallTime>& times, int block_iterations);
+// A round number of iterations (1, 2 or 5 × 10^k) that cuts `iterations` into at most ten blocks.
+int phase_block_iterations(int iterations);
 
 // The metrics of a run. target: the environment to measure closest-to-target against; without one, a control
 // run's own target (ES alone, direct path), and none for POET.

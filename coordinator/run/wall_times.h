@@ -28,6 +28,8 @@ inline constexpr std::uintmax_t kMaxWallTimesBytes = std::uintmax_t{256} << 20;
 
 // The seconds of each phase, in IterationPhase's order: reproduction, ES steps, evaluations, transfer.
 using PhaseSeconds = std::array<double, 4>;
+// Their names, as the header's columns (without "_s"), the report's JSON and /metrics' labels have them.
+inline constexpr std::array<std::string_view, 4> kPhaseNames = {"reproduction", "es_steps", "evaluations", "transfer"};
 
 struct WallTime {
   int iteration = 0;

@@ -11,6 +11,7 @@
 
 #include "poet/annecs.h"
 #include "poet/run_state.h"
+#include "run/wall_times.h"
 
 namespace poet {
 
@@ -75,6 +76,7 @@ struct BoardView {
   int64_t skipped_key_files = 0;
   int64_t cached_episodes = 0;   // answered by the score cache without running them (this process)
   int64_t cached_env_steps = 0;  // their environment steps
+  PhaseSeconds phase_seconds{};  // this process's seconds in each phase of an iteration, as of the last save
   double uptime_s = 0;           // since the board was made
 };
 

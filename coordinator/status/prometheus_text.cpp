@@ -121,6 +121,14 @@ std::string prometheus_text(const BoardView& v) {
   sample("poet_cached_episodes_total", v.cached_episodes);
   family("poet_cached_env_steps_total", "counter", "The environment steps of those episodes.");
   sample("poet_cached_env_steps_total", v.cached_env_steps);
+  family("poet_phase_seconds_total", "counter",
+         "Seconds this coordinator spent in each phase of an iteration, as of its last checkpoint (wall_times.csv "
+         "keeps them per iteration; the time between iterations is in none).");
+  for (size_t k = 0; k < kPhaseNames.size(); ++k) {
+    char value[32];
+    std::snprintf(value, sizeof value, "%.3f", v.phase_seconds[k]);
+    text += "poet_phase_seconds_total{phase=\"" + std::string(kPhaseNames[k]) + "\"} " + value + "\n";
+  }
 
   family("poet_uptime_seconds", "gauge", "Seconds since the coordinator started.");
   char uptime[32];

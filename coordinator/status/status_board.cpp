@@ -112,6 +112,11 @@ void StatusBoard::count_skipped_key_file() {
   ++skipped_key_files_;
 }
 
+void StatusBoard::publish_phases(const PhaseSeconds& seconds) {
+  std::lock_guard lock(mutex_);
+  phase_seconds_ = seconds;
+}
+
 void StatusBoard::publish_cache(int64_t episodes_saved, int64_t steps_saved) {
   std::lock_guard lock(mutex_);
   cached_episodes_ = episodes_saved;
@@ -133,6 +138,7 @@ BoardView StatusBoard::view() const {
     v.skipped_key_files = skipped_key_files_;
     v.cached_episodes = cached_episodes_;
     v.cached_env_steps = cached_env_steps_;
+    v.phase_seconds = phase_seconds_;
   }
   const SteadyTime now = clock_();
   v.uptime_s = seconds_between(created_, now);

@@ -56,6 +56,8 @@ class StatusBoard {
   void count_skipped_key_file();
   // The episodes the score cache answered without running them, and their environment steps, so far.
   void publish_cache(int64_t episodes_saved, int64_t steps_saved);
+  // The seconds this process has spent in each phase of an iteration (poet/phase_observer.h), so far.
+  void publish_phases(const PhaseSeconds& seconds);
 
   // What the board holds now.
   BoardView view() const;
@@ -105,6 +107,7 @@ class StatusBoard {
   int64_t skipped_key_files_ = 0;
   int64_t cached_episodes_ = 0;
   int64_t cached_env_steps_ = 0;
+  PhaseSeconds phase_seconds_{};
 
   // pair_stats.csv, read on when a reader asks (a second lock, which only readers take)
   mutable std::mutex stats_mutex_;

@@ -108,6 +108,33 @@ void print_milestones(const RunSnapshot& run, const RunMetrics& m) {
   std::printf("\n");
 }
 
+void print_phase_times(const RunMetrics& m) {
+  if (m.phase_blocks.empty()) return;
+  std::printf(
+      "Where the time went (wall_times.csv: each block's wall time, and the share of each phase of an iteration; "
+      "other is saving and logging between iterations)\n");
+  std::printf("  %-13s %10s %9s %13s %9s %12s %9s %7s\n", "iterations", "wall time", "per hour", "reproduction",
+              "ES steps", "evaluations", "transfer", "other");
+  for (const PhaseBlock& b : m.phase_blocks) {
+    char range[32], wall[32], rate[32];
+    std::snprintf(range, sizeof range, "%d-%d", b.first, b.last);
+    std::snprintf(wall, sizeof wall, "%.1f min", b.wall_s / 60);
+    std::snprintf(rate, sizeof rate, "%.0f", b.wall_s > 0 ? b.lines / (b.wall_s / 3600) : 0.0);
+    std::printf("  %-13s %10s %9s", range, wall, rate);
+    if (b.timed == 0 || b.wall_s <= 0) {
+      std::printf("   (phases not timed by the build that ran these iterations)\n");
+      continue;
+    }
+    double phases = 0;
+    for (const double s : b.phases) phases += s;
+    const auto share = [&](double s) { return 100 * s / b.wall_s; };
+    std::printf(" %11.0f %% %7.0f %% %10.0f %% %7.0f %% %5.0f %%%s\n", share(b.phases[0]), share(b.phases[1]),
+                share(b.phases[2]), share(b.phases[3]), share(std::max(0.0, b.wall_s - phases)),
+                b.timed < b.lines ? "  (some iterations not timed)" : "");
+  }
+  std::printf("\n");
+}
+
 void print_table(const RunSnapshot& run, const RunMetrics& m, const Coverage& coverage,
                  const std::string& samples_file) {
   const RunState& state = run.state;
@@ -147,6 +174,7 @@ void print_table(const RunSnapshot& run, const RunMetrics& m, const Coverage& co
         "  (CPPN terrain: Table 1's levels describe obstacle courses; every CPPN course counts as easy here, "
         "and ANNECS is this run's measure)\n\n");
   print_milestones(run, m);
+  print_phase_times(m);
 
   std::printf("Transfers: %lld replacement attempts, %lld accepted", static_cast<long long>(m.transfer_attempts),
               static_cast<long long>(m.transfer_successes));
@@ -247,7 +275,8 @@ int main(int argc, char** argv) {
   app.add_option("--json", json_path, "Write the metrics as JSON to this file ('-' for stdout, instead of the table)");
   app.add_option(
       "--plots", plots_dir,
-      "Write scores.png, levels.png, annecs.png, frontier.png, tree.png and lineage.png (the courses along the last "
+      "Write scores.png, levels.png, annecs.png, frontier.png, phases.png, tree.png and lineage.png (the courses along "
+      "the last "
       "lineage the table shows) into this directory");
   app.add_option("--target", target_path,
                  "Environment file (envs/*.env.json form): report the solved environment closest to it (default: a "
@@ -349,6 +378,7 @@ int main(int argc, char** argv) {
         {"levels.png", render_level_plot(PictureFormat::kPng, metrics)},
         {"annecs.png", render_annecs_plot(PictureFormat::kPng, metrics)},
         {"frontier.png", render_frontier_plot(PictureFormat::kPng, metrics)},
+        {"phases.png", render_phase_plot(PictureFormat::kPng, metrics)},
         {"tree.png", render_tree_plot(PictureFormat::kPng, *run, metrics)},
         {"lineage.png", render_run_picture(*run, {PictureKind::kLineage, PictureEncoding::kPng, deepest_pair(*run)})}};
     for (const auto& [name, bytes] : plots) {

@@ -91,7 +91,7 @@ TEST_F(ReportProcessTest, ReportsTheMetricsTableJsonAndPlotsOfAFinishedRunWithou
   EXPECT_TRUE(before == files_of(run)) << "the run directory changed";
 
   for (const char* line : {"Environments by difficulty level", "When each level was first reached",
-                           "Lineage of the deepest solved environment",
+                           "Where the time went", "Lineage of the deepest solved environment",
                            "Transfers:", "ANNECS at admission:", "ANNECS at archiving:", "Coverage (seed", "Pairs"})
     EXPECT_TRUE(contains(table, line)) << line << "\n" << table;
 
@@ -145,12 +145,24 @@ TEST_F(ReportProcessTest, ReportsTheMetricsTableJsonAndPlotsOfAFinishedRunWithou
   }
   EXPECT_EQ(read(run / "annecs.csv"), lines);
   EXPECT_TRUE(j["coverage"]["sum"]["challenging"].is_null());  // nothing solved at challenging or above
+  // where the time went: the three iterations in blocks of one, each timed, its phases within its wall time
+  const nlohmann::json& phases = j["time_per_phase"];
+  ASSERT_EQ(phases.size(), 3u);
+  for (const nlohmann::json& block : phases) {
+    EXPECT_EQ(block["timed_iterations"], 1);
+    double timed = 0;
+    for (const char* phase : {"reproduction_s", "es_steps_s", "evaluations_s", "transfer_s"})
+      timed += block[phase].get<double>();
+    EXPECT_GT(block["es_steps_s"].get<double>(), 0.0);
+    EXPECT_LE(timed, block["wall_s"].get<double>() + 1e-3);
+  }
 
   // coverage sample: a header and 50 samples per level, none with a distance
   const std::string samples = read(root_ / "coverage.csv");
   EXPECT_EQ(std::count(samples.begin(), samples.end(), '\n'), 151);
   EXPECT_TRUE(contains(samples, "very challenging,"));
-  for (const char* plot : {"scores.png", "levels.png", "annecs.png", "frontier.png", "tree.png", "lineage.png"}) {
+  for (const char* plot :
+       {"scores.png", "levels.png", "annecs.png", "frontier.png", "phases.png", "tree.png", "lineage.png"}) {
     const std::string png = read(root_ / "plots" / plot);
     ASSERT_GT(png.size(), 1000u) << plot;
     EXPECT_EQ(png.substr(1, 3), "PNG") << plot;

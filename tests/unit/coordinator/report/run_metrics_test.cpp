@@ -145,6 +145,35 @@ TEST(RunMetrics, WhenEachLevelWasFirstReached) {
   EXPECT_EQ(without.firsts[1].solved->rollouts, -1);
 }
 
+// wall_times.csv's lines cut into blocks: each line's time since the one before, its phases summed; a line of a build
+// that did not time the phases counts in the wall time only; about ten blocks of a round size.
+TEST(RunMetrics, TimePerPhaseInBlocksOfIterations) {
+  const std::vector<WallTime> times = {{0, 1.0, std::nullopt},
+                                       {1, 3.0, PhaseSeconds{0.5, 1.0, 0.1, 0.2}},
+                                       {2, 6.0, PhaseSeconds{0.0, 2.0, 0.2, 0.6}},
+                                       {5, 10.0, PhaseSeconds{1.0, 2.0, 0.5, 0.0}}};
+  const std::vector<PhaseBlock> blocks = phase_blocks(times, 2);
+  ASSERT_EQ(blocks.size(), 3u);  // 0–1, 2–3, 4–5
+  EXPECT_EQ(blocks[0].first, 0);
+  EXPECT_EQ(blocks[0].last, 1);
+  EXPECT_DOUBLE_EQ(blocks[0].wall_s, 3.0);
+  EXPECT_EQ(blocks[0].lines, 2);
+  EXPECT_EQ(blocks[0].timed, 1);
+  EXPECT_DOUBLE_EQ(blocks[0].phases[1], 1.0);
+  EXPECT_DOUBLE_EQ(blocks[1].wall_s, 3.0);
+  EXPECT_DOUBLE_EQ(blocks[1].phases[3], 0.6);
+  EXPECT_EQ(blocks[2].first, 4);
+  EXPECT_EQ(blocks[2].last, 5);
+  EXPECT_DOUBLE_EQ(blocks[2].wall_s, 4.0);
+  EXPECT_TRUE(phase_blocks({}, 10).empty());
+
+  EXPECT_EQ(phase_block_iterations(0), 1);
+  EXPECT_EQ(phase_block_iterations(10), 1);
+  EXPECT_EQ(phase_block_iterations(11), 2);
+  EXPECT_EQ(phase_block_iterations(450), 50);
+  EXPECT_EQ(phase_block_iterations(1001), 200);
+}
+
 TEST(RunMetrics, IterationsFromCreationToSolutionPerLevel) {
   const RunMetrics m = compute_run_metrics(sample_run());
   ASSERT_EQ(m.solve_times.size(), 3u);
