@@ -4,7 +4,7 @@
 # experiments/deep/frontier-es/pair-28.best.json), 40 ES steps on its own course and terrain seed, ES alone, for each
 # setting of experiments/deep/frontier-es/<setting>-28.textproto:
 #   A the deep preset's ES (64 rollouts a step, σ 0.05, lr 0.01)   B four times the population (256 rollouts a step)
-#   C σ 0.1 (the paper's)   D σ 0.2   E σ 0.1 and 256 rollouts a step
+#   C σ 0.1 (the paper's)   D σ 0.2
 # Prints per setting the best evaluation, the mean of the first and last ten, the evaluations that finished the
 # course and those that reached the solved score (230), and the environment steps spent.
 # Usage: bash experiments/frontier_es.sh BUILD_DIR OUT_DIR [SETTING ...]   (default A B; all at once, one thread each)
