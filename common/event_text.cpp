@@ -1,5 +1,7 @@
 #include "event_text.h"
 
+#include "text_format.h"
+
 namespace poet {
 namespace {
 
@@ -24,7 +26,9 @@ std::optional<EventView> event_view(const nlohmann::ordered_json& event) {
   if (name != event.end() && name->is_string()) view.name = name->get<std::string>();
   for (const auto& [key, value] : event.items()) {
     if (key == "iteration" || key == "event") continue;
-    view.fields.emplace_back(key, value.is_string() ? value.get<std::string>() : json_text(value));
+    view.fields.emplace_back(key, value.is_string()         ? value.get<std::string>()
+                                  : value.is_number_float() ? reading_text(value.get<double>())
+                                                            : json_text(value));
   }
   return view;
 }

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <charconv>
+#include <cmath>
+#include <cstdio>
 
 namespace poet {
 
@@ -12,6 +14,14 @@ std::string number_text(double value) {
 }
 
 std::string number_text(int64_t value) { return std::to_string(value); }
+
+std::string reading_text(double value) {
+  if (!std::isfinite(value)) return number_text(value);
+  if (value == std::floor(value) && std::abs(value) < 1e15) return std::to_string(static_cast<long long>(value));
+  char buffer[64];
+  std::snprintf(buffer, sizeof buffer, std::abs(value) >= 1 ? "%.2f" : "%.4g", value);
+  return buffer;
+}
 
 std::string hex_text(uint64_t value, int digits) {
   static constexpr char kHex[] = "0123456789abcdef";

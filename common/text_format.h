@@ -10,6 +10,9 @@ namespace poet {
 // The shortest decimal form that reads back to the same bits ("0.1", "1e+300", "-0", "inf", "nan").
 std::string number_text(double value);
 std::string number_text(int64_t value);
+// A number for a person reading a log: whole numbers as integers, two decimals from 1 up, four significant digits
+// below (a score 229.96, a novelty 0.09628, a learning rate 0.009975); the files keep every digit.
+std::string reading_text(double value);
 
 // `digits` lowercase hex digits, zero-padded ("00000000deadbeef" for hex_text(0xdeadbeef, 16)).
 std::string hex_text(uint64_t value, int digits = 16);

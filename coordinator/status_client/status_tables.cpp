@@ -110,7 +110,10 @@ EventView event_view(const google::protobuf::Struct& event) {
     view.iteration = value_text(iteration->second);
   if (const auto name = fields.find("event"); name != fields.end()) view.name = value_text(name->second);
   for (const auto& [key, value] : fields)
-    if (key != "iteration" && key != "event") view.fields.emplace_back(key, value_text(value));
+    if (key != "iteration" && key != "event")
+      view.fields.emplace_back(key, value.kind_case() == google::protobuf::Value::kNumberValue
+                                        ? reading_text(value.number_value())
+                                        : value_text(value));
   std::sort(view.fields.begin(), view.fields.end());  // a protobuf map has no order of its own
   return view;
 }

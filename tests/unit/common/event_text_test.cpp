@@ -4,6 +4,8 @@
 
 #include <gtest/gtest.h>
 
+#include "text_format.h"
+
 namespace poet {
 namespace {
 
@@ -19,6 +21,25 @@ TEST(EventText, JsonEventsKeepTheirFieldOrderAndWriteValuesAsJson) {
   ordered_json event = {{"iteration", 12}, {"event", "transfer"}, {"target", 2},  {"env", "r0.4"},
                         {"score", 0.5},    {"accepted", true},    {"ids", {1, 2}}};
   EXPECT_EQ(describe_event(event), "iteration 12: transfer target=2 env=r0.4 score=0.5 accepted=true ids=[1,2]");
+}
+
+// The log a person reads: a score to two decimals, a small value to four significant digits, whole numbers whole;
+// events.jsonl keeps every digit.
+TEST(EventText, NumbersAreWrittenWithTheDigitsThatMatter) {
+  const ordered_json event = {{"iteration", 2},
+                              {"event", "pair_created"},
+                              {"seed", 866859},
+                              {"score", -94.37845310320586},
+                              {"novelty", 1.02469507659596},
+                              {"distance_to_target", 0.02981423969999714},
+                              {"best", 300.0},
+                              {"threshold", 229.994}};
+  EXPECT_EQ(describe_event(event),
+            "iteration 2: pair_created seed=866859 score=-94.38 novelty=1.02 distance_to_target=0.02981 best=300 "
+            "threshold=229.99");
+  EXPECT_EQ(reading_text(0.009975029977012648), "0.009975");
+  EXPECT_EQ(reading_text(-0.5), "-0.5");
+  EXPECT_EQ(reading_text(1e20), "100000000000000000000.00");
 }
 
 TEST(EventText, OddJsonEventsStillGiveALine) {

@@ -22,6 +22,9 @@ TEST(StatusTables, EventsAreDescribedWithSortedFields) {
   EXPECT_EQ(describe_event(event_view(event(R"({"steps": 1000000, "ids": [1, 2], "none": null})"))),
             "event ids=[1,2] none=null steps=1000000");
   EXPECT_EQ(describe_event(event_view(event(R"({"unparsed": "not json"})"))), "event unparsed=not json");
+  // numbers with the digits a reader needs, as in the coordinator's log
+  EXPECT_EQ(describe_event(event_view(event(R"({"score": -94.37845310320586, "novelty": 0.09627736795473842})"))),
+            "event novelty=0.09628 score=-94.38");
 }
 
 }  // namespace
