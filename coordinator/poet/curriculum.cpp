@@ -100,8 +100,9 @@ void advance_curriculum(IterationContext& ctx) {
 }
 
 void finish_if_solved(IterationContext& ctx) {
+  // the pair's course is the target, so the pair's first solve (record_evaluation's rule) is the target's
   const Pair& pair = ctx.state.pairs.front();
-  if (!pair.latest_finished || pair.latest_score < ctx.settings.poet.solved_score) return;
+  if (!pair.solved()) return;
   ctx.state.finished = true;
   ctx.event(RunFinishedEvent{true, pair.es_steps});
 }
