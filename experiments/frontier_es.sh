@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Would more ES a step have solved the third deep run's frontier? From the best θ of its one admitted challenging
+# Would more ES a step, or a wider search, have solved the third deep run's frontier? From the best θ of its one admitted challenging
 # pair (28: roughness 0.8, gaps 0–0.8, stumps 0.2–2.4; retired unsolved at iteration 400, best evaluation 183.3;
 # experiments/deep/frontier-es/pair-28.best.json), 40 ES steps on its own course and terrain seed, ES alone, for each
 # setting of experiments/deep/frontier-es/<setting>-28.textproto:

@@ -2,8 +2,8 @@
 // direct-path control's budget for its environment; with --direct-path-config, a runnable config for that
 // control (the run's settings, mode DIRECT_PATH, the pair's environment as the target, the budget); with
 // --es-alone-config, the ES-alone control with the same budget in ES steps (stopping, as the direct path does, once
-// it solves the target). It prints the environment steps of
-// that budget too, from pair_stats.csv (runs of earlier builds did not record a pair's).
+// it solves the target). It prints the environment steps of that budget too, from pair_stats.csv (runs of earlier
+// builds did not record a pair's).
 //   poet-lineage --run-dir DIR --pair ID [--direct-path-config | --es-alone-config [--seed N]]
 
 #include <CLI/CLI.hpp>

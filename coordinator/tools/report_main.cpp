@@ -276,8 +276,7 @@ int main(int argc, char** argv) {
   app.add_option(
       "--plots", plots_dir,
       "Write scores.png, levels.png, annecs.png, frontier.png, phases.png, tree.png and lineage.png (the courses along "
-      "the last "
-      "lineage the table shows) into this directory");
+      "the last lineage the table shows) into this directory");
   app.add_option("--target", target_path,
                  "Environment file (envs/*.env.json form): report the solved environment closest to it (default: a "
                  "control run's own target)");
