@@ -16,8 +16,9 @@ build_packages=(
   libzmq3-dev cppzmq-dev libcpp-httplib-dev libmicrohttpd-dev
   libspdlog-dev libfmt-dev
   nlohmann-json3-dev libcli11-dev libcairo2-dev libgif-dev
-  # the Python module (python/): pybind11 and Debian's Python headers; numpy at import
-  pybind11-dev python3-dev python3-numpy
+  # the Python module (python/): pybind11 and Debian's Python headers; numpy at import; tqdm for poet.start's
+  # progress bar (optional: without it the progress is a line of text)
+  pybind11-dev python3-dev python3-numpy python3-tqdm
 )
 
 test_packages=(
@@ -25,6 +26,8 @@ test_packages=(
   # the deploy tests: the compose file is checked with Debian's docker-compose, the manifests with PyYAML, and
   # the coordinator's healthcheck (curl on /healthz) is run as written
   docker-compose python3-yaml curl
+  # deploy/bundle.sh points the bundle's binaries and libraries at each other with it (the deploy_bundle test)
+  patchelf
   # the dashboard tests: the status page in headless chromium, driven by its WebDriver (same version)
   chromium chromium-driver
   # the Python module's tests (pytest) and examples (pandas, matplotlib)

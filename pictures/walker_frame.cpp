@@ -9,12 +9,17 @@
 
 namespace poet {
 
-Expected<FrameImage> render_walker_frame(const Terrain& terrain, const WalkerPose& pose, const FrameOptions& options) {
+std::optional<std::string> frame_options_error(const FrameOptions& options) {
   for (const auto& [name, value] : {std::pair{"width", options.width}, std::pair{"height", options.height}})
     if (value < 16 || value > 4096)
-      return Unexpected{std::string(name) + " must be in [16, 4096] pixels, got " + std::to_string(value)};
+      return std::string(name) + " must be in [16, 4096] pixels, got " + std::to_string(value);
   if (!(options.pixels_per_metre > 0 && options.pixels_per_metre <= 1000))
-    return Unexpected{"pixels_per_metre must be in (0, 1000], got " + std::to_string(options.pixels_per_metre)};
+    return "pixels_per_metre must be in (0, 1000], got " + std::to_string(options.pixels_per_metre);
+  return std::nullopt;
+}
+
+Expected<FrameImage> render_walker_frame(const Terrain& terrain, const WalkerPose& pose, const FrameOptions& options) {
+  if (auto error = frame_options_error(options)) return Unexpected{*error};
   std::unique_ptr<cairo_surface_t, decltype(&cairo_surface_destroy)> surface(
       cairo_image_surface_create(CAIRO_FORMAT_RGB24, options.width, options.height), &cairo_surface_destroy);
   if (cairo_surface_status(surface.get()) != CAIRO_STATUS_SUCCESS)

@@ -3,6 +3,8 @@
 // render()): the camera follows the hull as in the animated GIF.
 
 #include <cstdint>
+#include <optional>
+#include <string>
 #include <vector>
 
 #include "expected.h"
@@ -21,6 +23,9 @@ struct FrameImage {
   int width = 0, height = 0;
   std::vector<uint8_t> rgb;
 };
+
+// Why the options cannot be drawn (the option out of range), or nothing when they can.
+std::optional<std::string> frame_options_error(const FrameOptions& options);
 
 // The frame, or an error naming the option out of range.
 Expected<FrameImage> render_walker_frame(const Terrain& terrain, const WalkerPose& pose,

@@ -7,6 +7,7 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
@@ -16,13 +17,13 @@
 #include "course_spec.h"
 #include "course_sweep.h"
 #include "episode_env.h"
-#include "parallel_for.h"
 #include "policy/mlp.h"
 #include "policy/policy_file.h"
 #include "rollout.h"
 #include "run_view.h"
 #include "suite/course_suite.h"
 #include "suite_score_json.h"
+#include "thread_team.h"
 #include "walker/walker_constants.h"
 #include "walker_frame.h"
 
@@ -100,10 +101,16 @@ py::dict episode_info(const EpisodeEnv& env, bool finished, bool fell) {
 
 class PyWalkerEnv {
  public:
+  // width and height: render()'s frame, the pictures' default size when not given; checked here, not at the first
+  // frame (Gymnasium's rule: an env's rendering is settled when it is made).
   PyWalkerEnv(CourseSpec course, std::optional<int64_t> seed, const std::string& lidar, double push_scale,
-              int max_steps)
+              int max_steps, std::optional<int> width, std::optional<int> height)
       : env_(std::move(course), seed ? std::optional(checked_seed(*seed)) : std::nullopt,
-             walker_options(lidar, push_scale), max_steps) {}
+             walker_options(lidar, push_scale), max_steps) {
+    if (width) frame_.width = *width;
+    if (height) frame_.height = *height;
+    if (auto error = frame_options_error(frame_)) throw std::invalid_argument(*error);
+  }
 
   py::tuple reset(std::optional<int64_t> seed, const py::object& options) {
     if (!options.is_none() && !py::isinstance<py::dict>(options))
@@ -120,9 +127,9 @@ class PyWalkerEnv {
   }
 
   // The current frame as uint8 RGB of shape (height, width, 3), drawn by the pictures library.
-  py::array_t<uint8_t> render(int width, int height) const {
+  py::array_t<uint8_t> render() const {
     if (!env_.has_episode()) throw std::logic_error("render() before reset(): call reset() first");
-    Expected<FrameImage> frame = render_walker_frame(env_.terrain(), env_.pose(), {.width = width, .height = height});
+    Expected<FrameImage> frame = render_walker_frame(env_.terrain(), env_.pose(), frame_);
     if (!frame) throw std::invalid_argument(frame.error());
     py::array_t<uint8_t> out({frame->height, frame->width, 3});
     std::copy(frame->rgb.begin(), frame->rgb.end(), out.mutable_data());
@@ -133,6 +140,7 @@ class PyWalkerEnv {
 
  private:
   EpisodeEnv env_;
+  FrameOptions frame_;  // render()'s
 };
 
 class PyPolicy {
@@ -166,7 +174,7 @@ class PyVectorWalkerEnv {
  public:
   PyVectorWalkerEnv(const std::vector<CourseSpec>& courses, int num_envs, int threads, const std::string& lidar,
                     double push_scale, int max_steps)
-      : threads_(threads) {
+      : team_(std::clamp(threads, 1, std::max(num_envs, 1))) {  // no more threads than walkers
     if (courses.empty()) throw std::invalid_argument("courses must name at least one course");
     if (num_envs < 1) throw std::invalid_argument("num_envs must be at least 1, got " + std::to_string(num_envs));
     if (threads < 1) throw std::invalid_argument("threads must be at least 1, got " + std::to_string(threads));
@@ -185,8 +193,7 @@ class PyVectorWalkerEnv {
       for (size_t i = 0; i < envs_.size(); ++i) seeds[i] = checked_seed(*seed + static_cast<int64_t>(i));
     {
       py::gil_scoped_release release;
-      parallel_for(size(), threads_,
-                   [&](int i) { envs_[static_cast<size_t>(i)].reset(seeds[static_cast<size_t>(i)]); });
+      team_.run(size(), [&](int i) { envs_[static_cast<size_t>(i)].reset(seeds[static_cast<size_t>(i)]); });
     }
     ended_.assign(envs_.size(), 0);
     started_ = true;
@@ -200,7 +207,7 @@ class PyVectorWalkerEnv {
     std::vector<EpisodeStep> steps(envs_.size());
     {
       py::gil_scoped_release release;
-      parallel_for(size(), threads_, [&](int k) {
+      team_.run(size(), [&](int k) {
         const auto i = static_cast<size_t>(k);
         if (ended_[i]) {
           envs_[i].reset();
@@ -263,7 +270,7 @@ class PyVectorWalkerEnv {
 
   std::vector<EpisodeEnv> envs_;
   std::vector<char> ended_;  // ended at the last step: reset at the next (char: set from several threads)
-  int threads_ = 1;
+  ThreadTeam team_;          // kept between steps: starting threads each step would cost a fifth of a step
   bool started_ = false;
 };
 
@@ -336,11 +343,13 @@ PYBIND11_MODULE(_poet, m) {
   m.def("_course_from_json_text", &course_from_json_text, py::arg("text"));
 
   py::class_<PyWalkerEnv>(m, "_WalkerEnv")
-      .def(py::init<CourseSpec, std::optional<int64_t>, const std::string&, double, int>(), py::arg("course"),
-           py::arg("seed"), py::arg("lidar"), py::arg("push_scale"), py::arg("max_steps"))
+      .def(py::init<CourseSpec, std::optional<int64_t>, const std::string&, double, int, std::optional<int>,
+                    std::optional<int>>(),
+           py::arg("course"), py::arg("seed"), py::arg("lidar"), py::arg("push_scale"), py::arg("max_steps"),
+           py::arg("width"), py::arg("height"))
       .def("reset", &PyWalkerEnv::reset, py::arg("seed") = py::none(), py::arg("options") = py::none())
       .def("step", &PyWalkerEnv::step, py::arg("action"))
-      .def("render", &PyWalkerEnv::render, py::arg("width"), py::arg("height"))
+      .def("render", &PyWalkerEnv::render)
       .def_property_readonly("seed", [](const PyWalkerEnv& e) { return e.episode().seed(); })
       .def_property_readonly("max_steps", [](const PyWalkerEnv& e) { return e.episode().max_steps(); });
 

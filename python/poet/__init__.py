@@ -6,13 +6,15 @@ Policy and evaluate give the numbers poet-eval prints. The C++ core is poet._poe
 
 import json
 import os
+import warnings
 
 import numpy as np
 
 from . import _poet
 from ._poet import ACT_DIM, DEFAULT_MAX_STEPS, DEFAULT_PUSH_SCALE, OBS_DIM, Policy
+from .launch import Coordinator, CoordinatorError, start
 
-__all__ = ["WalkerEnv", "VectorWalkerEnv", "Policy", "evaluate", "evaluate_suite", "suite_names", "Run", "as_gymnasium", "OBS_DIM", "ACT_DIM"]
+__all__ = ["WalkerEnv", "VectorWalkerEnv", "Policy", "evaluate", "evaluate_suite", "suite_names", "Run", "as_gymnasium", "start", "Coordinator", "CoordinatorError", "OBS_DIM", "ACT_DIM"]
 
 
 def _course(course):
@@ -37,6 +39,10 @@ def _whole(value, name):
     return int(value)
 
 
+def _optional_whole(value, name):
+    return None if value is None else _whole(value, name)
+
+
 def _number(value, name):
     if isinstance(value, bool) or not isinstance(value, (int, float, np.floating, np.integer)):
         raise TypeError(f"{name} must be a number, got {type(value).__name__}")
@@ -50,19 +56,48 @@ def _read_only(array):
 
 
 class _Episodes:
-    """reset and step of an environment of the C++ core (self._env), with the seed's type checked."""
+    """reset and step of an environment of the C++ core (self._env), with the seed's type checked, and Gymnasium's
+    np_random: a generator seeded as gymnasium.Env.reset seeds it, for wrappers and users (the walker's own
+    randomness, its course and initial push, comes from the terrain seed)."""
+
+    _np_random = None
+    _np_random_seed = None
 
     def reset(self, *, seed=None, options=None):
-        """A new episode: (obs, info). A seed picks the terrain (and initial push) for this and later episodes;
-        options must be None or a dict (none are read)."""
+        """A new episode: (obs, info). A seed picks the terrain (and initial push) for this and later episodes,
+        and seeds np_random; options must be None or a dict (none are read)."""
         if seed is not None:
             seed = _whole(seed, "seed")
-        return self._env.reset(seed, options)
+        result = self._env.reset(seed, options)
+        if seed is not None:
+            self._np_random, self._np_random_seed = _seeded_generator(seed)
+        return result
 
     def step(self, action):
         """One step: (obs, reward, terminated, truncated, info). RuntimeError outside an episode, ValueError for
         an action of the wrong shape or dtype or not finite."""
         return self._env.step(action)
+
+    @property
+    def np_random(self):
+        """numpy Generator: seeded by reset(seed=...), otherwise from fresh entropy at first use (Gymnasium's
+        np_random)."""
+        if self._np_random is None:
+            self._np_random, self._np_random_seed = _seeded_generator(None)
+        return self._np_random
+
+    @property
+    def np_random_seed(self):
+        """The seed np_random was made from (its entropy when none was given)."""
+        if self._np_random is None:
+            self._np_random, self._np_random_seed = _seeded_generator(None)
+        return self._np_random_seed
+
+
+def _seeded_generator(seed):
+    """gymnasium.utils.seeding.np_random's generator: PCG64 over SeedSequence(seed), and the seed's entropy."""
+    sequence = np.random.SeedSequence(seed)
+    return np.random.Generator(np.random.PCG64(sequence)), sequence.entropy
 
 
 class WalkerEnv(_Episodes):
@@ -72,7 +107,8 @@ class WalkerEnv(_Episodes):
     obs is float32 of shape (24,), action float32 of shape (4,). terminated: the walker fell or crossed the
     finish line; truncated: max_steps steps were taken. A seed picks the course's terrain (and initial push); it
     stays for later episodes until another is given. info holds seed, steps, x (the hull's position), finished
-    and fell.
+    and fell. render_mode "rgb_array" makes render() return frames of width × height pixels (600 × 400 unless
+    given).
     """
 
     metadata = {"render_modes": ["rgb_array"], "render_fps": 50}
@@ -81,14 +117,18 @@ class WalkerEnv(_Episodes):
     action_low = _read_only(np.full(ACT_DIM, -1.0, dtype=np.float32))
     action_high = _read_only(np.full(ACT_DIM, 1.0, dtype=np.float32))
 
-    def __init__(self, course, *, seed=None, lidar="nearest", push_scale=DEFAULT_PUSH_SCALE,
-                 max_steps=DEFAULT_MAX_STEPS):
+    def __init__(self, course, *, seed=None, render_mode=None, lidar="nearest", push_scale=DEFAULT_PUSH_SCALE,
+                 max_steps=DEFAULT_MAX_STEPS, width=None, height=None):
         if seed is not None:
             seed = _whole(seed, "seed")
+        if render_mode is not None and render_mode not in self.metadata["render_modes"]:
+            raise ValueError(f"render_mode must be None or one of {self.metadata['render_modes']}, got {render_mode!r}")
         if not isinstance(lidar, str):
             raise TypeError(f"lidar must be 'nearest' or 'first', got {type(lidar).__name__}")
+        self.render_mode = render_mode
         self._env = _poet._WalkerEnv(_course(course), seed, lidar, _number(push_scale, "push_scale"),
-                                     _whole(max_steps, "max_steps"))
+                                     _whole(max_steps, "max_steps"), _optional_whole(width, "width"),
+                                     _optional_whole(height, "height"))
 
     @property
     def seed(self):
@@ -100,10 +140,14 @@ class WalkerEnv(_Episodes):
         """Steps after which an episode is truncated."""
         return self._env.max_steps
 
-    def render(self, *, width=600, height=400):
-        """The current frame as uint8 RGB of shape (height, width, 3), the walker on its course as the project's
-        pictures draw it (the camera follows the hull). RuntimeError before reset."""
-        return self._env.render(_whole(width, "width"), _whole(height, "height"))
+    def render(self):
+        """With render_mode "rgb_array", the current frame as uint8 RGB of shape (height, width, 3): the walker on
+        its course as the project's pictures draw it (the camera follows the hull); RuntimeError before reset.
+        Without a render mode, None and a warning (Gymnasium's rule: the mode is chosen when the env is made)."""
+        if self.render_mode is None:
+            warnings.warn("render() without a render mode: make the env with render_mode='rgb_array'", stacklevel=2)
+            return None
+        return self._env.render()
 
 
 def evaluate(policy, course, seeds, *, threads=1, lidar="nearest", push_scale=DEFAULT_PUSH_SCALE,
@@ -143,27 +187,14 @@ def evaluate_suite(policy, suite, *, threads=1, lidar="nearest", push_scale=DEFA
 
 def as_gymnasium(env):
     """A gymnasium.Env around a WalkerEnv, for a user who has gymnasium (this package does not depend on it):
-    observation_space and action_space are Boxes of the env's bounds, reset and step are the env's."""
-    import gymnasium  # imported here: only this function needs it
-
+    observation_space and action_space are Boxes of the env's bounds, reset seeds np_random through
+    gymnasium.Env.reset, step and render are the env's. With gymnasium installed, gymnasium.make("poet/Walker-v0",
+    course=...) makes one too."""
     if not isinstance(env, WalkerEnv):
         raise TypeError(f"env must be a poet.WalkerEnv, got {type(env).__name__}")
+    from .gymnasium_env import GymnasiumWalker  # imports gymnasium: only this function and make need it
 
-    class GymnasiumWalker(gymnasium.Env):
-        metadata = WalkerEnv.metadata
-
-        def __init__(self):
-            self.observation_space = gymnasium.spaces.Box(env.observation_low, env.observation_high, dtype=np.float32)
-            self.action_space = gymnasium.spaces.Box(env.action_low, env.action_high, dtype=np.float32)
-            self.walker = env
-
-        def reset(self, *, seed=None, options=None):
-            return env.reset(seed=seed, options=options)
-
-        def step(self, action):
-            return env.step(np.asarray(action, dtype=np.float32))
-
-    return GymnasiumWalker()
+    return GymnasiumWalker(walker=env)
 
 
 class VectorWalkerEnv(_Episodes):
@@ -175,6 +206,8 @@ class VectorWalkerEnv(_Episodes):
     is ignored) and reports its first observation with reward 0, neither terminated nor truncated. info holds
     arrays seed, steps, finished and fell.
     """
+
+    metadata = {"autoreset_mode": "NextStep", "render_modes": []}  # gymnasium.vector.AutoresetMode.NEXT_STEP
 
     def __init__(self, courses, num_envs, *, threads=1, lidar="nearest", push_scale=DEFAULT_PUSH_SCALE,
                  max_steps=DEFAULT_MAX_STEPS):
@@ -281,3 +314,16 @@ class Run:
 
         frame = pd.DataFrame(self.report["annecs"]["over_time"], columns=["iteration", "at_admission", "at_archiving"])
         return frame.set_index("iteration")
+
+
+def _register_with_gymnasium():
+    """Registers poet/Walker-v0 when gymnasium is importable, so that gymnasium.make finds it after `import poet`."""
+    import importlib.util
+
+    if importlib.util.find_spec("gymnasium") is not None:
+        from .gymnasium_env import register
+
+        register()
+
+
+_register_with_gymnasium()

@@ -32,7 +32,7 @@ import tempfile
 import time
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
-from check_support import EXIT_SKIP, Failed, Skipped, free_port, missing_tool  # noqa: E402
+from check_support import Failed, add_build_arguments, free_port, missing_tool, run_check  # noqa: E402
 
 try:
     import yaml
@@ -766,7 +766,7 @@ def check_references(args, binaries):
     check.expect(listing.returncode == 0 and runtime, f"install-deps.sh --runtime --list: {listing.stderr}")
     full = subprocess.run(["bash", os.path.join(args.source, "deploy", "install-deps.sh"), "--list"],
                           capture_output=True, text=True, timeout=30).stdout.split()
-    for p in ("docker-compose", "python3-yaml", "curl"):
+    for p in ("docker-compose", "python3-yaml", "curl", "patchelf"):
         check.expect(p in full, f"install-deps.sh does not install {p} (the deploy tests need it)")
     build_set = subprocess.run(["bash", os.path.join(args.source, "deploy", "install-deps.sh"), "--build", "--list"],
                                capture_output=True, text=True, timeout=30).stdout.split()
@@ -1049,7 +1049,7 @@ def compose_run(args, binaries, curve):
 # ---------------------------------------------------------------------------------------------------------
 
 
-def run_check(args):
+def run_selected_check(args):
     binaries = Binaries(args.binary, args.build_dir)
     if args.check == "compose_config":
         check_compose_config(args)
@@ -1065,34 +1065,19 @@ def main():
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("check", choices=["compose_config", "k8s_manifests", "references", "compose_run",
                                           "compose_run_curve"])
-    parser.add_argument("--source", required=True, help="the repository root")
-    parser.add_argument("--build-dir", required=True, help="the CMake build directory")
-    parser.add_argument("--binary", action="append", default=[], metavar="NAME=PATH",
-                        help="an executable the build produces (every one of them)")
+    add_build_arguments(parser)
     args = parser.parse_args()
     args.source = os.path.realpath(args.source)
 
-    def interrupted(signum, _frame):
-        raise Failed(f"interrupted by signal {signum}")
-
-    signal.signal(signal.SIGTERM, interrupted)
-    signal.signal(signal.SIGINT, interrupted)
-    started = time.monotonic()
-    try:
+    def check():
         if yaml is None:
             missing_tool(f"PyYAML is not importable by {sys.executable} (Debian package python3-yaml)")
         try:
-            run_check(args)
+            run_selected_check(args)
         except FileNotFoundError as e:  # a program the checks run is not installed
             missing_tool(f"{e.filename or e}: not found")
-    except Skipped as e:
-        print(f"SKIPPED {args.check}: {e}")
-        return EXIT_SKIP
-    except Failed as e:
-        print(f"FAILED {args.check}: {e}")
-        return 1
-    print(f"{args.check}: passed in {time.monotonic() - started:.1f} s")
-    return 0
+
+    return run_check(args.check, check)
 
 
 if __name__ == "__main__":

@@ -8,6 +8,27 @@ import pytest
 SOURCE_DIR = pathlib.Path(os.environ.get("POET_SOURCE_DIR", pathlib.Path(__file__).resolve().parents[2]))
 
 
+# A POET run of a few seconds on one thread, checkpointed every iteration: the runs test_run.py reads and
+# test_start.py starts.
+TINY_RUN = """
+seed: 5
+iterations: 8
+checkpoint_interval: 1
+es { perturbations: 3 }
+walker { max_steps: 100 }
+poet { mutation_interval: 2 transfer_interval: 2 repro_threshold: -1000 mc_low: -1000 mc_high: 1000
+       max_children: 3 max_admitted: 1 active_cap: 3 }
+"""
+
+
+@pytest.fixture(scope="session")
+def tiny_config(tmp_path_factory):
+    """TINY_RUN's config file."""
+    path = tmp_path_factory.mktemp("config") / "tiny.textproto"
+    path.write_text(TINY_RUN)
+    return path
+
+
 @pytest.fixture
 def walker_path():
     return SOURCE_DIR / "data" / "walkers" / "flat-walker.json"

@@ -12,15 +12,6 @@ import pytest
 
 import poet
 
-CONFIG = """
-seed: 5
-iterations: 8
-es { perturbations: 3 }
-walker { max_steps: 100 }
-poet { mutation_interval: 2 transfer_interval: 2 repro_threshold: -1000 mc_low: -1000 mc_high: 1000
-       max_children: 3 max_admitted: 1 active_cap: 3 }
-"""
-
 
 def binary(name):
     path = os.environ.get(name)
@@ -30,11 +21,9 @@ def binary(name):
 
 
 @pytest.fixture(scope="module")
-def run_dir(tmp_path_factory):
+def run_dir(tmp_path_factory, tiny_config):
     root = tmp_path_factory.mktemp("run")
-    config = root / "small.textproto"
-    config.write_text(CONFIG)
-    subprocess.run([binary("POET_COORDINATOR_BIN"), "--config", str(config), "--run-dir", str(root / "run"),
+    subprocess.run([binary("POET_COORDINATOR_BIN"), "--config", str(tiny_config), "--run-dir", str(root / "run"),
                     "--threads", "2", "--quiet"], check=True, capture_output=True, timeout=240)
     return root / "run"
 

@@ -1,6 +1,10 @@
 """poet.VectorWalkerEnv: equal to N single WalkerEnvs stepped one by one (Gymnasium's next-step autoreset
 included), whatever the thread count, and its answers to hostile arguments."""
 
+import os
+import signal
+import time
+
 import numpy as np
 import pytest
 
@@ -73,3 +77,39 @@ def test_hostile_actions_and_order():
             poet.VectorWalkerEnv("flat", **{"num_envs": 2, **kwargs})
     with pytest.raises(ValueError):
         poet.VectorWalkerEnv([], 2)
+
+
+def test_autoreset_mode_is_declared_as_gymnasium_names_it():
+    assert poet.VectorWalkerEnv.metadata["autoreset_mode"] == "NextStep"  # gymnasium.vector.AutoresetMode.NEXT_STEP
+
+
+def test_a_forked_child_steps_on_threads_of_its_own():
+    # the walkers step on threads kept between steps; a child forked after they started (Python's multiprocessing
+    # forks on Linux) has none of them, and must start its own rather than wait for ever
+    env = poet.VectorWalkerEnv("hardcore-like", 4, threads=2)
+    env.reset(seed=1)
+    action = np.full((4, poet.ACT_DIM), 0.3, dtype=np.float32)
+    env.step(action)
+    read_end, write_end = os.pipe()
+    pid = os.fork()
+    if pid == 0:
+        code = 1
+        try:
+            obs, *_ = env.step(action)
+            os.write(write_end, obs.tobytes())
+            code = 0
+        finally:
+            os._exit(code)
+    os.close(write_end)
+    expected, *_ = env.step(action)
+    deadline = time.monotonic() + 30
+    while (done := os.waitpid(pid, os.WNOHANG))[0] == 0 and time.monotonic() < deadline:
+        time.sleep(0.05)
+    if done[0] == 0:
+        os.kill(pid, signal.SIGKILL)
+        os.waitpid(pid, 0)
+        pytest.fail("the forked child's step did not return in 30 s")
+    with os.fdopen(read_end, "rb") as pipe:
+        got = np.frombuffer(pipe.read(), dtype=np.float32).reshape(expected.shape)
+    assert os.waitstatus_to_exitcode(done[1]) == 0
+    assert np.array_equal(got, expected)

@@ -141,7 +141,7 @@ def cppn_course(weight):
 
 
 def test_a_cppn_course_is_walked_and_drawn():
-    env = poet.WalkerEnv(cppn_course(0.4))
+    env = poet.WalkerEnv(cppn_course(0.4), render_mode="rgb_array")
     obs, _ = env.reset()
     assert obs.shape == (24,)
     for _ in range(5):
@@ -150,7 +150,7 @@ def test_a_cppn_course_is_walked_and_drawn():
     frame = env.render()
     assert frame.dtype == np.uint8 and frame.ndim == 3
     # the genome draws the ground: another weight, another picture of the course
-    steeper = poet.WalkerEnv(cppn_course(2.0))
+    steeper = poet.WalkerEnv(cppn_course(2.0), render_mode="rgb_array")
     steeper.reset()
     env.reset()
     assert not np.array_equal(steeper.render(), env.render())
@@ -205,47 +205,84 @@ def test_bad_settings_are_refused(kwargs, error):
         poet.WalkerEnv("flat", **kwargs)
 
 
-def test_as_gymnasium_gives_boxes_of_the_bounds_and_delegates(monkeypatch):
-    # gymnasium is not a dependency: a stand-in with its Env and spaces.Box shows what the wrapper builds
-    import sys
-    import types
-
-    class Box:
-        def __init__(self, low, high, dtype):
-            self.low, self.high, self.dtype = low, high, dtype
-
-    fake = types.ModuleType("gymnasium")
-    fake.Env = type("Env", (), {})
-    fake.spaces = types.SimpleNamespace(Box=Box)
-    monkeypatch.setitem(sys.modules, "gymnasium", fake)
-    gym_env = poet.as_gymnasium(poet.WalkerEnv("flat", seed=2))
-    assert isinstance(gym_env, fake.Env)
-    assert np.array_equal(gym_env.action_space.low, -np.ones(4)) and gym_env.action_space.dtype == np.float32
-    assert gym_env.observation_space.low.shape == (poet.OBS_DIM,)
-    obs, info = gym_env.reset(seed=4)
-    assert info["seed"] == 4 and obs.shape == (poet.OBS_DIM,)
-    assert len(gym_env.step([0.0, 0.0, 0.0, 0.0])) == 5
-    with pytest.raises(TypeError):
-        poet.as_gymnasium("flat")
-
-
-def test_render_draws_the_current_frame():
-    env = poet.WalkerEnv("hardcore-like", seed=3)
+def test_render_draws_the_current_frame_in_the_mode_chosen_when_made():
+    env = poet.WalkerEnv("hardcore-like", seed=3, render_mode="rgb_array", width=240, height=160)
+    assert env.render_mode == "rgb_array" and env.render_mode in env.metadata["render_modes"]
+    assert env.metadata["render_fps"] == 50  # the walker's 50 steps a second
     with pytest.raises(RuntimeError, match="before reset"):
         env.render()
     env.reset()
-    frame = env.render(width=240, height=160)
+    frame = env.render()
     assert frame.dtype == np.uint8 and frame.shape == (160, 240, 3)
     assert len(np.unique(frame.reshape(-1, 3), axis=0)) >= 4  # sky, ground and the walker
-    assert np.array_equal(env.render(width=240, height=160), frame)
+    assert np.array_equal(env.render(), frame)
     for _ in range(40):
         _, _, terminated, truncated, _ = env.step(np.array([0.5, -0.5, 0.5, -0.5], dtype=np.float32))
         if terminated or truncated:
             break
-    assert not np.array_equal(env.render(width=240, height=160), frame)  # the last frame of an episode renders
-    assert env.render().shape == (400, 600, 3)
-    with pytest.raises(ValueError, match="width"):
-        env.render(width=3)
+    assert not np.array_equal(env.render(), frame)  # the last frame of an episode renders
+    default = poet.WalkerEnv("flat", render_mode="rgb_array")
+    default.reset()
+    assert default.render().shape == (400, 600, 3)
+    # without a render mode (Gymnasium's default), render() warns and returns None
+    plain = poet.WalkerEnv("flat")
+    plain.reset()
+    assert plain.render_mode is None
+    with pytest.warns(UserWarning, match="render_mode"):
+        assert plain.render() is None
+
+
+@pytest.mark.parametrize(
+    "kwargs, error, message",
+    [
+        ({"render_mode": "human"}, ValueError, "render_mode"),
+        ({"render_mode": 1}, ValueError, "render_mode"),
+        ({"width": 3}, ValueError, "width"),
+        ({"height": 5000}, ValueError, "height"),
+        ({"width": 2.5}, TypeError, "width"),
+    ],
+)
+def test_rendering_is_settled_when_the_env_is_made(kwargs, error, message):
+    with pytest.raises(error, match=message):
+        poet.WalkerEnv("flat", **kwargs)
+
+
+def test_np_random_is_seeded_as_gymnasium_seeds_it():
+    # gymnasium's env checker (check_reset_seed_determinism), written out: the same seed gives the same episode
+    # start and the same generator, reset() without a seed leaves the generator alone, another seed changes it
+    env = poet.WalkerEnv("hardcore-like")
+    obs_1, _ = env.reset(seed=123)
+    rng_1 = env.np_random.bit_generator.state
+    obs_2, _ = env.reset()
+    assert env.np_random.bit_generator.state == rng_1
+    obs_3, _ = env.reset(seed=123)
+    rng_3 = env.np_random.bit_generator.state
+    obs_4, _ = env.reset()
+    assert np.array_equal(obs_1, obs_3) and np.array_equal(obs_2, obs_4)
+    assert rng_1 == rng_3 and env.np_random_seed == 123
+    env.reset(seed=456)
+    assert env.np_random.bit_generator.state != rng_1
+    # gymnasium.utils.seeding.np_random(123)'s generator: PCG64 over SeedSequence(123)
+    expected = np.random.Generator(np.random.PCG64(np.random.SeedSequence(123)))
+    env.reset(seed=123)
+    assert env.np_random.random() == expected.random()
+    # unseeded: a generator from fresh entropy, made once
+    fresh = poet.WalkerEnv("flat")
+    assert fresh.np_random is fresh.np_random and isinstance(fresh.np_random_seed, int)
+    with pytest.raises(ValueError):  # a seed the course cannot take leaves the generator as it was
+        env.reset(seed=-1)
+    assert env.np_random_seed == 123
+
+
+def test_step_is_deterministic_after_a_seeded_reset():
+    # gymnasium's check_step_determinism: the same seed and action give the same step, info included
+    env = poet.WalkerEnv("hardcore-like")
+    action = np.array([0.3, -0.8, 0.1, 0.9], dtype=np.float32)
+    env.reset(seed=9)
+    first = env.step(action)
+    env.reset(seed=9)
+    second = env.step(action)
+    assert np.array_equal(first[0], second[0]) and first[1:4] == second[1:4] and first[4] == second[4]
 
 
 def test_every_public_name_has_a_docstring():
