@@ -211,13 +211,13 @@ class PyVectorWalkerEnv {
         const auto i = static_cast<size_t>(k);
         if (ended_[i]) {
           envs_[i].reset();
-          ended_[i] = 0;
           return;
         }
         steps[i] = envs_[i].step(a[i]);
-        ended_[i] = steps[i].terminated || steps[i].truncated ? 1 : 0;
       });
     }
+    // written here, not by the threads: the flags of neighbouring walkers share a cache line
+    for (size_t i = 0; i < envs_.size(); ++i) ended_[i] = steps[i].terminated || steps[i].truncated ? 1 : 0;
     return py::make_tuple(observations(), column<double>(steps.size(), [&](size_t i) { return steps[i].reward; }),
                           column<bool>(steps.size(), [&](size_t i) { return steps[i].terminated; }),
                           column<bool>(steps.size(), [&](size_t i) { return steps[i].truncated; }), infos(steps));
@@ -269,7 +269,7 @@ class PyVectorWalkerEnv {
   }
 
   std::vector<EpisodeEnv> envs_;
-  std::vector<char> ended_;  // ended at the last step: reset at the next (char: set from several threads)
+  std::vector<char> ended_;  // ended at the last step: reset at the next
   ThreadTeam team_;          // kept between steps: starting threads each step would cost a fifth of a step
   bool started_ = false;
 };
