@@ -37,6 +37,7 @@
 #include "evaluator/caching_evaluator.h"
 #include "evaluator/local_evaluator.h"
 #include "evaluator/remote_evaluator.h"
+#include "evaluator/timed_evaluator.h"
 #include "event_text.h"
 #include "local_token.h"
 #include "poet/engine.h"
@@ -339,7 +340,11 @@ int run(const Options& options, StopSignals& signals) {
   serve(server, options.status_address, "status", "/status");
   serve(health, options.health_address, "health", "/healthz");
   if (rollouts->remote && !start_local_workers(options, *rollouts)) return kExitUsage;
-  CachingEvaluator evaluator(*rollouts->evaluator, kScoreCacheBytes);
+  // the loop's time waiting for rollouts (the cache answers without any); the rest of its time is its own work
+  TimedEvaluator waiting(*rollouts->evaluator, [] {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+  });
+  CachingEvaluator evaluator(waiting, kScoreCacheBytes);
   if (rollouts->remote) {
     rollouts->remote->on_snapshot([&board](const Dispatcher& d) {
       DispatchSnapshot snapshot;
@@ -375,6 +380,7 @@ int run(const Options& options, StopSignals& signals) {
   auto elapsed = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count(); };
   PhaseTimer phase_timer(elapsed);
   PhaseSeconds phase_totals{};  // this process's, for /metrics
+  double waiting_total = 0;     // the same
   const int interval = state.settings.checkpoint_interval;
   int saved_iteration = state.next_iteration;
   CheckpointAnchors anchors;
@@ -402,9 +408,11 @@ int run(const Options& options, StopSignals& signals) {
     keep_anchor();
     // the times are the run's record of its machine, not its state: a failed write is reported, not fatal
     const PhaseSeconds phases = phase_timer.take();
+    const double waited = waiting.take();
     for (size_t k = 0; k < phases.size(); ++k) phase_totals[k] += phases[k];
-    board.publish_phases(phase_totals);
-    if (auto error = wall_times.record(state.next_iteration - 1, elapsed() - wall_offset, phases))
+    waiting_total += waited;
+    board.publish_phases(phase_totals, waiting_total);
+    if (auto error = wall_times.record(state.next_iteration - 1, elapsed() - wall_offset, phases, waited))
       spdlog::warn("{}", *error);
     return true;
   };

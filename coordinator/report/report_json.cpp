@@ -153,6 +153,9 @@ nlohmann::ordered_json report_json(const RunSnapshot& run, const RunMetrics& m, 
                                     {"timed_iterations", b.timed},
                                     {"wall_s", b.wall_s}};
     for (size_t k = 0; k < kPhaseNames.size(); ++k) block[std::string(kPhaseNames[k]) + "_s"] = b.phases[k];
+    block["waiting_s"] = b.waiting_s;  // over the iterations that timed it: waited_iterations, their wall time
+    block["waited_iterations"] = b.waited;
+    block["waited_wall_s"] = b.waited_wall_s;
     phases.push_back(std::move(block));
   }
   out["time_per_phase"] = std::move(phases);

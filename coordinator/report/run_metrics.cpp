@@ -201,9 +201,14 @@ std::vector<PhaseBlock> phase_blocks(const std::vector<WallTime>& times, int blo
   for (const WallTime& line : times) {
     const int first = line.iteration / block_iterations * block_iterations;
     if (blocks.empty() || blocks.back().first != first)
-      blocks.push_back({first, first + block_iterations - 1, 0, {}, 0, 0});
+      blocks.push_back({.first = first, .last = first + block_iterations - 1});
     PhaseBlock& block = blocks.back();
     block.wall_s += line.seconds - before;
+    if (line.waiting) {
+      block.waited += 1;
+      block.waiting_s += *line.waiting;
+      block.waited_wall_s += line.seconds - before;
+    }
     before = line.seconds;
     block.lines += 1;
     if (line.phases) {

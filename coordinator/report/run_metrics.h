@@ -90,11 +90,16 @@ inline constexpr std::array<const char*, 3> kFrontierMeasures = {"roughness", "g
 // Where the run's time went in a block of iterations (wall_times.csv): the wall time of its saved iterations and
 // the seconds of each phase of an iteration (poet/phase_observer.h) within it; the rest ("other") is the time
 // between iterations — saving, logging. Lines of builds that did not time the phases count in the wall time only.
+// waiting_s: the seconds the run loop waited for rollouts, over the lines that timed it (waited); the rest of those
+// lines' wall time is the coordinator's own serial work.
 struct PhaseBlock {
   int first = 0, last = 0;  // iterations, both included
   double wall_s = 0;
   PhaseSeconds phases{};
   int lines = 0, timed = 0;  // saved iterations in the block, and those with phase times
+  double waiting_s = 0;
+  int waited = 0;            // lines with waiting_s
+  double waited_wall_s = 0;  // their wall time
 };
 
 struct RunMetrics {

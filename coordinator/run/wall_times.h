@@ -1,12 +1,14 @@
 #pragma once
 // wall_times.csv: how long a run has taken on its machine, for "when was X reached" (poet-report) and where the
 // time goes. A header, then one line per saved iteration, "iteration,wall_s,reproduction_s,es_steps_s,
-// evaluations_s,transfer_s": the seconds the run's coordinator processes had been running when that iteration's
-// checkpoint was written, summed over them (a resume continues the clock from the last line the checkpoint has
-// seen), then the seconds each phase of an iteration (poet/phase_observer.h) took since the line before. A file of
-// an earlier build (header "iteration,wall_s", two fields a line) reads as before; a resume writes it again with the
-// full header, its old lines keeping their two fields. Machine-dependent and outside the run's determinism: nothing in
-// it is read back into the state, so a lost or damaged file costs only the times.
+// evaluations_s,transfer_s,waiting_s": the seconds the run's coordinator processes had been running when that
+// iteration's checkpoint was written, summed over them (a resume continues the clock from the last line the
+// checkpoint has seen), then the seconds each phase of an iteration (poet/phase_observer.h) took since the line
+// before, then the seconds of those phases the run loop spent waiting for rollouts (in the evaluator: the rest of
+// the wall time is the coordinator's own serial work). Files of earlier builds (headers without waiting_s, or
+// "iteration,wall_s" alone) read as before; a resume writes the file again with the full header, its old lines
+// keeping their fields. Machine-dependent and outside the run's determinism: nothing in it is read back into the
+// state, so a lost or damaged file costs only the times.
 
 #include <array>
 #include <cstdint>
@@ -21,7 +23,10 @@
 namespace poet {
 
 inline constexpr char kWallTimesFile[] = "wall_times.csv";
-inline constexpr char kWallTimesHeader[] = "iteration,wall_s,reproduction_s,es_steps_s,evaluations_s,transfer_s\n";
+inline constexpr char kWallTimesHeader[] =
+    "iteration,wall_s,reproduction_s,es_steps_s,evaluations_s,transfer_s,waiting_s\n";
+inline constexpr char kWallTimesHeaderWithoutWaiting[] =
+    "iteration,wall_s,reproduction_s,es_steps_s,evaluations_s,transfer_s\n";
 inline constexpr char kWallTimesHeaderWithoutPhases[] = "iteration,wall_s\n";
 // A line is a few bytes; this is some ten million iterations.
 inline constexpr std::uintmax_t kMaxWallTimesBytes = std::uintmax_t{256} << 20;
@@ -35,6 +40,7 @@ struct WallTime {
   int iteration = 0;
   double seconds = 0;
   std::optional<PhaseSeconds> phases;  // nothing on lines of builds that did not time them
+  std::optional<double> waiting;       // the same (only with phases)
 };
 
 // The lines of a wall_times.csv, in order. Iterations must increase and times must be finite, non-negative and
@@ -58,9 +64,10 @@ class WallTimes {
   // file cannot be rewritten, the warning says so and nothing is recorded.
   static WallTimes open(const std::filesystem::path& dir, int next_iteration, std::string* warning);
 
-  // Appends "iteration,carried + seconds,phases...", seconds being this process's running time and phases the
-  // seconds of each phase since the last line. An error names the file. Nothing when open() could not rewrite it.
-  std::optional<std::string> record(int iteration, double seconds, const PhaseSeconds& phases);
+  // Appends "iteration,carried + seconds,phases...,waiting", seconds being this process's running time, phases the
+  // seconds of each phase since the last line and waiting those spent waiting for rollouts. An error names the
+  // file. Nothing when open() could not rewrite it.
+  std::optional<std::string> record(int iteration, double seconds, const PhaseSeconds& phases, double waiting);
 
   // The run's time before this process.
   double carried() const { return carried_; }

@@ -77,6 +77,7 @@ struct BoardView {
   int64_t cached_episodes = 0;   // answered by the score cache without running them (this process)
   int64_t cached_env_steps = 0;  // their environment steps
   PhaseSeconds phase_seconds{};  // this process's seconds in each phase of an iteration, as of the last save
+  double waiting_seconds = 0;    // those of them spent waiting for rollouts
   double uptime_s = 0;           // since the board was made
 };
 

@@ -129,6 +129,12 @@ std::string prometheus_text(const BoardView& v) {
     std::snprintf(value, sizeof value, "%.3f", v.phase_seconds[k]);
     text += "poet_phase_seconds_total{phase=\"" + std::string(kPhaseNames[k]) + "\"} " + value + "\n";
   }
+  family("poet_waiting_seconds_total", "counter",
+         "Of those seconds, the ones the run loop spent waiting for rollouts; the rest is the coordinator's own "
+         "serial work.");
+  char waiting[32];
+  std::snprintf(waiting, sizeof waiting, "%.3f", v.waiting_seconds);
+  text += std::string("poet_waiting_seconds_total ") + waiting + "\n";
 
   family("poet_uptime_seconds", "gauge", "Seconds since the coordinator started.");
   char uptime[32];

@@ -112,9 +112,10 @@ void StatusBoard::count_skipped_key_file() {
   ++skipped_key_files_;
 }
 
-void StatusBoard::publish_phases(const PhaseSeconds& seconds) {
+void StatusBoard::publish_phases(const PhaseSeconds& seconds, double waiting) {
   std::lock_guard lock(mutex_);
   phase_seconds_ = seconds;
+  waiting_seconds_ = waiting;
 }
 
 void StatusBoard::publish_cache(int64_t episodes_saved, int64_t steps_saved) {
@@ -139,6 +140,7 @@ BoardView StatusBoard::view() const {
     v.cached_episodes = cached_episodes_;
     v.cached_env_steps = cached_env_steps_;
     v.phase_seconds = phase_seconds_;
+    v.waiting_seconds = waiting_seconds_;
   }
   const SteadyTime now = clock_();
   v.uptime_s = seconds_between(created_, now);

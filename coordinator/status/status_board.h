@@ -57,7 +57,8 @@ class StatusBoard {
   // The episodes the score cache answered without running them, and their environment steps, so far.
   void publish_cache(int64_t episodes_saved, int64_t steps_saved);
   // The seconds this process has spent in each phase of an iteration (poet/phase_observer.h), so far.
-  void publish_phases(const PhaseSeconds& seconds);
+  // This process's seconds in each phase of an iteration, and those spent waiting for rollouts, as of the last save.
+  void publish_phases(const PhaseSeconds& seconds, double waiting);
 
   // What the board holds now.
   BoardView view() const;
@@ -108,6 +109,7 @@ class StatusBoard {
   int64_t cached_episodes_ = 0;
   int64_t cached_env_steps_ = 0;
   PhaseSeconds phase_seconds_{};
+  double waiting_seconds_ = 0;
 
   // pair_stats.csv, read on when a reader asks (a second lock, which only readers take)
   mutable std::mutex stats_mutex_;

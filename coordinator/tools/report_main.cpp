@@ -112,9 +112,10 @@ void print_phase_times(const RunMetrics& m) {
   if (m.phase_blocks.empty()) return;
   std::printf(
       "Where the time went (wall_times.csv: each block's wall time, and the share of each phase of an iteration; "
-      "other is saving and logging between iterations)\n");
-  std::printf("  %-13s %10s %9s %13s %9s %12s %9s %7s\n", "iterations", "wall time", "per hour", "reproduction",
-              "ES steps", "evaluations", "transfer", "other");
+      "other is saving and logging between iterations; waiting: the share the run loop waited for rollouts, the "
+      "rest being the coordinator's own serial work)\n");
+  std::printf("  %-13s %10s %9s %13s %9s %12s %9s %7s %8s\n", "iterations", "wall time", "per hour", "reproduction",
+              "ES steps", "evaluations", "transfer", "other", "waiting");
   for (const PhaseBlock& b : m.phase_blocks) {
     char range[32], wall[32], rate[32];
     std::snprintf(range, sizeof range, "%d-%d", b.first, b.last);
@@ -128,8 +129,11 @@ void print_phase_times(const RunMetrics& m) {
     double phases = 0;
     for (const double s : b.phases) phases += s;
     const auto share = [&](double s) { return 100 * s / b.wall_s; };
-    std::printf(" %11.0f %% %7.0f %% %10.0f %% %7.0f %% %5.0f %%%s\n", share(b.phases[0]), share(b.phases[1]),
-                share(b.phases[2]), share(b.phases[3]), share(std::max(0.0, b.wall_s - phases)),
+    char waiting[32] = "       -";  // builds before waiting_s
+    if (b.waited > 0 && b.waited_wall_s > 0)
+      std::snprintf(waiting, sizeof waiting, "%6.0f %%", 100 * b.waiting_s / b.waited_wall_s);
+    std::printf(" %11.0f %% %7.0f %% %10.0f %% %7.0f %% %5.0f %% %s%s\n", share(b.phases[0]), share(b.phases[1]),
+                share(b.phases[2]), share(b.phases[3]), share(std::max(0.0, b.wall_s - phases)), waiting,
                 b.timed < b.lines ? "  (some iterations not timed)" : "");
   }
   std::printf("\n");

@@ -155,6 +155,11 @@ TEST_F(ReportProcessTest, ReportsTheMetricsTableJsonAndPlotsOfAFinishedRunWithou
       timed += block[phase].get<double>();
     EXPECT_GT(block["es_steps_s"].get<double>(), 0.0);
     EXPECT_LE(timed, block["wall_s"].get<double>() + 1e-3);
+    // the run loop waited for rollouts for part of its phases; the rest was its own work
+    EXPECT_EQ(block["waited_iterations"], 1);
+    EXPECT_GT(block["waiting_s"].get<double>(), 0.0);
+    EXPECT_LE(block["waiting_s"].get<double>(), timed + 1e-3);
+    EXPECT_DOUBLE_EQ(block["waited_wall_s"].get<double>(), block["wall_s"].get<double>());
   }
 
   // coverage sample: a header and 50 samples per level, none with a distance

@@ -93,8 +93,7 @@ TEST_F(RunPackTest, ARestoredRunGoesOnAsIfItNeverMoved) {
   for (const PackEntry& e : packed->entries) names.push_back(e.name);
   EXPECT_EQ(names, (std::vector<std::string>{kCheckpointFile, kEventsFile, kStatsFile, kWallTimesFile}))
       << "nothing derived";
-  EXPECT_EQ(packed->entries[3].content,
-            "iteration,wall_s,reproduction_s,es_steps_s,evaluations_s,transfer_s\n0,1.000\n1,2.000\n2,3.500\n")
+  EXPECT_EQ(packed->entries[3].content, std::string(kWallTimesHeader) + "0,1.000\n1,2.000\n2,3.500\n")
       << "the wall times of the iterations the checkpoint has seen";
 
   const Expected<PackSummary> restored = restore_run_pack(pack_, root_ / "moved" / "C");

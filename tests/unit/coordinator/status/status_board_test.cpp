@@ -359,12 +359,13 @@ TEST_F(StatusBoardTest, MetricsAreInPrometheusTextFormat) {
   board.count_skipped_key_file();
   board.count_skipped_key_file();
   board.publish_cache(7, 1234);
-  board.publish_phases({1.5, 20.25, 0.5, 3});
+  board.publish_phases({1.5, 20.25, 0.5, 3}, 18.5);
   const std::string text = board.metrics_text();
   EXPECT_NE(text.find("\npoet_cached_episodes_total 7\n"), std::string::npos) << text;
   EXPECT_NE(text.find("\npoet_cached_env_steps_total 1234\n"), std::string::npos) << text;
   EXPECT_NE(text.find("\npoet_phase_seconds_total{phase=\"es_steps\"} 20.250\n"), std::string::npos) << text;
   EXPECT_NE(text.find("\npoet_phase_seconds_total{phase=\"transfer\"} 3.000\n"), std::string::npos) << text;
+  EXPECT_NE(text.find("\npoet_waiting_seconds_total 18.500\n"), std::string::npos) << text;
 
   // every line is a HELP, a TYPE or a sample of the family just announced
   const std::regex help(R"(# HELP (poet_[a-z_]+) \S.*)");
