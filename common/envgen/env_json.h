@@ -5,7 +5,7 @@
 // with an absent type as [], and for a CPPN course a "cppn" key in "config" (envgen/cppn_json.h). Reading is a boundary: malformed JSON, missing, unknown or duplicate keys, wrong
 // types, non-finite numbers, a seed outside [0, 10^6) and anything validate() refuses give an error naming the
 // field, never an exception or a default. Every key is required except "name" (default: reference_name of the
-// genes). Whole-valued genes and the seed may be written as JSON integers or floats. Numbers are written so they
+// genes) and "cppn" (present only for a CPPN course). Whole-valued genes and the seed may be written as JSON integers or floats. Numbers are written so they
 // parse back bit for bit.
 
 #include <cstdint>

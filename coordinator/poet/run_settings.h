@@ -1,7 +1,8 @@
 #pragma once
 // A run's settings as the engine reads them: typed, and made once from the run config by run_settings()
-// (config/run_config.h), the one route from the config into the engine. They hold no defaults of their own:
-// every value comes from the config, where a field left out holds the schema's default.
+// (config/run_config.h), the one route from the config into the engine. Every value comes from the config, where
+// a field left out holds the schema's default; the members' initialisers below only give a value before
+// run_settings() sets them all (tests build settings by hand from them), never a run's default.
 
 #include <cstdint>
 #include <optional>
