@@ -399,6 +399,7 @@ PYBIND11_MODULE(_poet, m) {
         py::dict out;
         out["report"] = view.report_json;
         out["events"] = view.events_json;
+        out["pair_stats"] = py::bytes(view.stats_csv);
         out["config"] = view.config_text;
         out["next_iteration"] = view.next_iteration;
         out["live"] = view.live;

@@ -21,6 +21,7 @@ RunView read_run_view(const std::string& dir) {
   for (const nlohmann::json& e : run->events) events.push_back(e);
   view.events_json = events.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
   view.config_text = run->config_text;
+  view.stats_csv = std::move(run->stats_text);
   view.next_iteration = run->state.next_iteration;
   view.live = run->live;
   for (const Pair& p : run->state.pairs) view.pairs.push_back({p.id, env_def_json_text(p.env), p.theta, p.best_theta});

@@ -18,6 +18,7 @@ struct PairView {
 struct RunView {
   std::string report_json;  // poet-report --json's document (default coverage sample, no target file)
   std::string events_json;  // a JSON array of the events the checkpoint has seen
+  std::string stats_csv;    // pair_stats.csv as far as the checkpoint has seen it, its size and CRC-32 checked
   std::string config_text;
   int next_iteration = 0;
   bool live = false;

@@ -71,6 +71,7 @@ Expected<RunSnapshot> read_run_snapshot(const fs::path& dir) {
   Expected<std::vector<StatsRow>> rows = parse_stats(stats_path, *stats);
   if (!rows) return Unexpected{rows.error()};
   snapshot.stats = std::move(*rows);
+  snapshot.stats_text = std::move(*stats);
   load_wall_times(snapshot);
   return snapshot;
 }

@@ -26,6 +26,7 @@ struct RunSnapshot {
   std::string config_text;             // the same in text format (what config.textproto holds)
   std::vector<nlohmann::json> events;  // events.jsonl up to the checkpoint's size, one object per line
   std::vector<StatsRow> stats;         // pair_stats.csv up to the checkpoint's size
+  std::string stats_text;              // the same bytes, checked (size and CRC-32), for readers of every column
   bool live = false;                   // another process holds run.lock: the run is being written
   // wall_times.csv up to the checkpoint's iteration; empty when the run has none. The file is a record of the
   // machine, not of the run, so damage to it is reported here rather than refusing the run.

@@ -247,6 +247,7 @@ class Run:
         self.live = view["live"]
         self.next_iteration = view["next_iteration"]
         self._events = json.loads(view["events"])
+        self._pair_stats = view["pair_stats"]
         self._pairs = {p["id"]: p for p in view["pairs"]}
 
     def _pair(self, pair):
@@ -279,16 +280,13 @@ class Run:
 
     @property
     def pair_stats(self):
-        """A row per ES step (pair_stats.csv), the rows the checkpoint has seen."""
+        """A row per ES step (pair_stats.csv), the rows the checkpoint has seen, as the report read them (their
+        size and CRC-32 checked against the checkpoint)."""
         import io
 
         import pandas as pd
 
-        with open(os.path.join(self.path, "pair_stats.csv"), "rb") as file:
-            text = file.read()
-        text = text[: text.rfind(b"\n") + 1].decode("utf-8", errors="replace")  # whole lines: a live run appends
-        frame = pd.read_csv(io.StringIO(text))
-        return frame[frame["iteration"] < self.next_iteration].reset_index(drop=True)
+        return pd.read_csv(io.BytesIO(self._pair_stats))
 
     @property
     def levels(self):

@@ -174,3 +174,18 @@ def test_the_eligibility_table_counts_the_reproductions_and_their_parents(run_di
     assert "≥ -1000" in done.stdout
     for row in rows:
         assert int(row[2]) == 0 and float(row[4]) == float(row[5]) > 0
+
+
+def test_pair_stats_are_the_rows_the_checkpoint_vouched_for(run_dir, tmp_path):
+    # Run reads pair_stats.csv once, with the report's checks (its size and CRC-32 against the checkpoint); what
+    # the file says later — a live run appending, or damage — does not change the rows it gives
+    import shutil
+
+    copy = tmp_path / "run"
+    shutil.copytree(run_dir, copy)
+    run = poet.Run(copy)
+    before = run.pair_stats
+    (copy / "pair_stats.csv").write_text("iteration,pair\n1,2\n")
+    assert run.pair_stats.equals(before) and len(before) > 2
+    with pytest.raises(ValueError, match="pair_stats.csv"):
+        poet.Run(copy)  # read again, the damage is named
