@@ -189,3 +189,24 @@ def test_pair_stats_are_the_rows_the_checkpoint_vouched_for(run_dir, tmp_path):
     assert run.pair_stats.equals(before) and len(before) > 2
     with pytest.raises(ValueError, match="pair_stats.csv"):
         poet.Run(copy)  # read again, the damage is named
+
+
+def test_the_transfer_value_table_cuts_each_run_at_one_budget(run_dir):
+    script = os.path.join(os.environ.get("POET_SOURCE_DIR", ""), "experiments", "transfer_value.py")
+    report_bin = binary("POET_REPORT_BIN")
+    steps = poet.Run(run_dir).pair_stats["run_env_steps"]
+    budget = int(steps.iloc[len(steps) // 2])  # part-way through the run
+    done = subprocess.run([sys.executable, script, f"whole={run_dir}", f"cut={run_dir}", "--env-steps", str(budget),
+                           "--report", report_bin], capture_output=True, text=True, timeout=300)
+    assert done.returncode == 0, done.stderr
+    rows = {line.split("|")[1].strip(): [cell.strip() for cell in line.split("|")[2:-1]]
+            for line in done.stdout.splitlines() if line.startswith("| ") and not line.startswith("| |")}
+    assert rows["iterations"][0] == rows["iterations"][1]
+    assert int(rows["iterations"][0]) < poet.Run(run_dir).next_iteration
+    assert float(rows["environment steps"][0].rstrip(" M")) <= budget / 1e6 + 0.05
+    assert "ANNECS at admission" in rows and "highest level solved" in rows
+    whole = subprocess.run([sys.executable, script, f"a={run_dir}", f"b={run_dir}", "--report", report_bin],
+                           capture_output=True, text=True, timeout=300)
+    assert whole.returncode == 0 and f"| iterations | {poet.Run(run_dir).next_iteration} |" in whole.stdout
+    alone = subprocess.run([sys.executable, script, f"a={run_dir}"], capture_output=True, text=True, timeout=60)
+    assert alone.returncode == 2 and "two runs" in alone.stderr
