@@ -173,47 +173,6 @@ std::string pair_stats_row(const PairStatsRow& row) {
 
 RunDirectory::RunDirectory(fs::path dir, RunLock lock) : dir_(std::move(dir)), lock_(std::move(lock)) {}
 
-RunDirectory::RunDirectory(RunDirectory&& other) noexcept
-    : dir_(std::move(other.dir_)),
-      lock_(std::move(other.lock_)),
-      config_(std::move(other.config_)),
-      events_fd_(std::exchange(other.events_fd_, -1)),
-      stats_fd_(std::exchange(other.stats_fd_, -1)),
-      annecs_fd_(std::exchange(other.annecs_fd_, -1)),
-      events_crc_(other.events_crc_),
-      stats_crc_(other.stats_crc_),
-      repairs_(std::move(other.repairs_)),
-      append_error_(std::move(other.append_error_)),
-      pairs_with_env_files_(other.pairs_with_env_files_),
-      active_at_last_save_(std::move(other.active_at_last_save_)) {}
-
-RunDirectory& RunDirectory::operator=(RunDirectory&& other) noexcept {
-  if (this == &other) return *this;
-  close_logs();
-  dir_ = std::move(other.dir_);
-  lock_ = std::move(other.lock_);
-  config_ = std::move(other.config_);
-  events_fd_ = std::exchange(other.events_fd_, -1);
-  stats_fd_ = std::exchange(other.stats_fd_, -1);
-  annecs_fd_ = std::exchange(other.annecs_fd_, -1);
-  events_crc_ = other.events_crc_;
-  stats_crc_ = other.stats_crc_;
-  repairs_ = std::move(other.repairs_);
-  append_error_ = std::move(other.append_error_);
-  pairs_with_env_files_ = other.pairs_with_env_files_;
-  active_at_last_save_ = std::move(other.active_at_last_save_);
-  return *this;
-}
-
-RunDirectory::~RunDirectory() { close_logs(); }
-
-void RunDirectory::close_logs() {
-  if (events_fd_ >= 0) ::close(events_fd_);
-  if (stats_fd_ >= 0) ::close(stats_fd_);
-  if (annecs_fd_ >= 0) ::close(annecs_fd_);
-  events_fd_ = stats_fd_ = annecs_fd_ = -1;
-}
-
 Expected<RunDirectory> RunDirectory::create(const fs::path& dir, const pb::RunConfig& config) {
   std::error_code ec;
   fs::create_directories(dir, ec);
@@ -242,17 +201,17 @@ Expected<RunDirectory> RunDirectory::create(const fs::path& dir, const pb::RunCo
   run.config_ = config;
   Expected<int> events = open_log(dir / kEventsFile, O_CREAT | O_TRUNC);
   if (!events) return Unexpected{events.error()};
-  run.events_fd_ = *events;
+  run.events_fd_ = UniqueFd(*events);
   Expected<int> stats = open_log(dir / kStatsFile, O_CREAT | O_TRUNC);
   if (!stats) return Unexpected{stats.error()};
-  run.stats_fd_ = *stats;
-  if (const int err = write_all(run.stats_fd_, pair_stats_header()))
+  run.stats_fd_ = UniqueFd(*stats);
+  if (const int err = write_all(run.stats_fd_.get(), pair_stats_header()))
     return Unexpected{(dir / kStatsFile).string() + ": " + errno_text(err)};
   run.stats_crc_ = crc32_extend(0, pair_stats_header());
   Expected<int> annecs = open_log(dir / kAnnecsFile, O_CREAT | O_TRUNC);
   if (!annecs) return Unexpected{annecs.error()};
-  run.annecs_fd_ = *annecs;
-  if (const int err = write_all(run.annecs_fd_, annecs_header()))
+  run.annecs_fd_ = UniqueFd(*annecs);
+  if (const int err = write_all(run.annecs_fd_.get(), annecs_header()))
     return Unexpected{(dir / kAnnecsFile).string() + ": " + errno_text(err)};
   sync_directory(dir);
   return run;
@@ -285,13 +244,14 @@ Expected<std::pair<RunDirectory, RunState>> RunDirectory::resume(const fs::path&
   run.config_ = checkpoint->config();
   Expected<int> events = open_log(dir / kEventsFile, checkpoint->events_bytes() == 0 ? O_CREAT : 0);
   if (!events) return Unexpected{events.error()};
-  run.events_fd_ = *events;
+  run.events_fd_ = UniqueFd(*events);
   Expected<int> stats = open_log(dir / kStatsFile, 0);
   if (!stats) return Unexpected{stats.error()};
-  run.stats_fd_ = *stats;
-  if (auto error = truncate_log(run.events_fd_, dir / kEventsFile, checkpoint->events_bytes()))
+  run.stats_fd_ = UniqueFd(*stats);
+  if (auto error = truncate_log(run.events_fd_.get(), dir / kEventsFile, checkpoint->events_bytes()))
     return Unexpected{*error};
-  if (auto error = truncate_log(run.stats_fd_, dir / kStatsFile, checkpoint->stats_bytes())) return Unexpected{*error};
+  if (auto error = truncate_log(run.stats_fd_.get(), dir / kStatsFile, checkpoint->stats_bytes()))
+    return Unexpected{*error};
   Expected<uint32_t> events_crc = checked_log_crc(dir / kEventsFile, checkpoint->events_bytes(),
                                                   checkpoint->has_events_crc32(), checkpoint->events_crc32());
   if (!events_crc) return Unexpected{events_crc.error()};
@@ -326,7 +286,7 @@ Expected<std::pair<RunDirectory, RunState>> RunDirectory::resume(const fs::path&
     if (auto error = write_named(dir / kAnnecsFile, annecs_lines)) return Unexpected{*error};
   Expected<int> annecs = open_log(dir / kAnnecsFile, 0);
   if (!annecs) return Unexpected{annecs.error()};
-  run.annecs_fd_ = *annecs;
+  run.annecs_fd_ = UniqueFd(*annecs);
 
   // the pair files, up to the checkpoint's state (a crash after the checkpoint's write may have left them behind)
   if (auto error = run.write_pair_files(*state, 0, /*only_changed=*/true)) return Unexpected{*error};
@@ -343,11 +303,11 @@ void RunDirectory::append(const IterationReport& report) {
     events += event.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace) + "\n";
   std::string stats;
   for (const PairStatsRow& row : report.stats) stats += pair_stats_row(row);
-  if (const int err = write_all(events_fd_, events)) {
+  if (const int err = write_all(events_fd_.get(), events)) {
     append_error_ = (dir_ / kEventsFile).string() + ": " + errno_text(err);
-  } else if (const int err2 = write_all(stats_fd_, stats)) {
+  } else if (const int err2 = write_all(stats_fd_.get(), stats)) {
     append_error_ = (dir_ / kStatsFile).string() + ": " + errno_text(err2);
-  } else if (const int err3 = write_all(annecs_fd_, annecs_line(report.iteration, report.annecs))) {
+  } else if (const int err3 = write_all(annecs_fd_.get(), annecs_line(report.iteration, report.annecs))) {
     append_error_ = (dir_ / kAnnecsFile).string() + ": " + errno_text(err3);
   } else {
     events_crc_ = crc32_extend(events_crc_, events);
@@ -390,7 +350,7 @@ std::optional<std::string> RunDirectory::save(const RunState& state) {
   if (append_error_) return append_error_;
 
   // the logs first: the checkpoint must never count bytes that a crash could still lose
-  const std::pair<int, const char*> logs[] = {{events_fd_, kEventsFile}, {stats_fd_, kStatsFile}};
+  const std::pair<int, const char*> logs[] = {{events_fd_.get(), kEventsFile}, {stats_fd_.get(), kStatsFile}};
   int64_t sizes[2] = {0, 0};
   for (int i = 0; i < 2; ++i) {
     const fs::path path = dir_ / logs[i].second;
@@ -400,7 +360,8 @@ std::optional<std::string> RunDirectory::save(const RunState& state) {
     sizes[i] = *size;
   }
   // annecs.csv is not counted by the checkpoint (resume recomputes it), only made durable with it
-  if (const int err = fsync_retrying(annecs_fd_)) return (dir_ / kAnnecsFile).string() + ": fsync: " + errno_text(err);
+  if (const int err = fsync_retrying(annecs_fd_.get()))
+    return (dir_ / kAnnecsFile).string() + ": fsync: " + errno_text(err);
 
   const uint32_t crcs[2] = {events_crc_, stats_crc_};
   const std::string bytes = encode_checkpoint_file(checkpoint_with_logs(config_, state, sizes, crcs));

@@ -39,6 +39,7 @@
 #include "poet/run_state.h"
 #include "run/checkpoint_file.h"
 #include "run/run_lock.h"
+#include "unique_fd.h"
 
 namespace poet {
 
@@ -75,11 +76,11 @@ class RunDirectory {
   // owns, or a missing, corrupt or inconsistent run is an error.
   static Expected<std::pair<RunDirectory, RunState>> resume(const std::filesystem::path& dir);
 
-  RunDirectory(RunDirectory&& other) noexcept;
-  RunDirectory& operator=(RunDirectory&& other) noexcept;
+  RunDirectory(RunDirectory&& other) noexcept = default;
+  RunDirectory& operator=(RunDirectory&& other) noexcept = default;
   RunDirectory(const RunDirectory&) = delete;
   RunDirectory& operator=(const RunDirectory&) = delete;
-  ~RunDirectory();
+  ~RunDirectory() = default;
 
   // Appends the report's events, stats rows and ANNECS line to their files (written through, no user-space buffer). A
   // write error is kept and returned by the next save(), which then writes no checkpoint: the last one stays valid.
@@ -100,7 +101,6 @@ class RunDirectory {
 
  private:
   RunDirectory(std::filesystem::path dir, RunLock lock);
-  void close_logs();
   // Writes the env files of pairs [first_new, n) and the policy files of active pairs and of those active at the
   // last save; with only_changed, every pair's files, each written only when its content differs.
   std::optional<std::string> write_pair_files(const RunState& state, size_t first_new, bool only_changed);
@@ -108,9 +108,9 @@ class RunDirectory {
   std::filesystem::path dir_;
   RunLock lock_;
   pb::RunConfig config_;
-  int events_fd_ = -1;  // opened O_APPEND
-  int stats_fd_ = -1;
-  int annecs_fd_ = -1;       // derived from the state: no size or CRC in the checkpoint
+  UniqueFd events_fd_;  // opened O_APPEND
+  UniqueFd stats_fd_;
+  UniqueFd annecs_fd_;       // derived from the state: no size or CRC in the checkpoint
   uint32_t events_crc_ = 0;  // CRC-32 of each log's bytes so far
   uint32_t stats_crc_ = 0;
   std::vector<std::string> repairs_;
