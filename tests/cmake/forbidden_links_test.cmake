@@ -1,6 +1,7 @@
 # cmake -DPOET_SOURCE_DIR=<source> -DWORK_DIR=<scratch> -P forbidden_links_test.cmake
 # poet_forbid_links (cmake/ForbiddenLinks.cmake) passes a clean library and fails the configure, naming the
-# cause, when the library links a forbidden target directly or through another, or includes a forbidden header.
+# cause, when the library links a forbidden target directly or through another, or includes a forbidden header
+# directly or through a header of another folder.
 
 function(configure_fixture violation out_result out_output)
   set(build "${WORK_DIR}/${violation}")
@@ -18,7 +19,7 @@ if(NOT result EQUAL 0)
 endif()
 
 foreach(case "link;must not link json_like" "transitive_link;must not link json_like"
-             "include;includes a forbidden header")
+             "include;includes a forbidden header" "transitive_include;deeper.h includes a forbidden header")
   list(GET case 0 violation)
   list(GET case 1 expected)
   configure_fixture(${violation} result output)
