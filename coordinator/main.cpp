@@ -460,6 +460,13 @@ int run(const Options& options, StopSignals& signals) {
   };
   keep_anchor();
 
+  // what this process's dispatcher and score cache did, however the loop ends
+  auto log_summaries = [&] {
+    if (rollouts->remote) rollouts->remote->log_summary();
+    if (evaluator.episodes_saved() > 0)
+      spdlog::info("score cache: {} episodes asked for again were not run ({} environment steps)",
+                   evaluator.episodes_saved(), evaluator.steps_saved());
+  };
   signals.loop_started();
   while (!run_complete(state) && !signals.stop_requested()) {
     IterationReport report;
@@ -469,6 +476,7 @@ int run(const Options& options, StopSignals& signals) {
       // the iteration in flight is abandoned; the state in memory is part-way through it and is not saved
       progress.finish();
       go_back_if_asked();
+      log_summaries();
       spdlog::warn(
           "stopped during iteration {}; the run's state is its checkpoint at iteration {}, and a resume "
           "repeats the iterations since: poet-coordinator --run-dir {} --resume",
@@ -502,10 +510,7 @@ int run(const Options& options, StopSignals& signals) {
   if (state.next_iteration != saved_iteration && !save()) return kExitError;
   progress.finish();
 
-  if (rollouts->remote) rollouts->remote->log_summary();
-  if (evaluator.episodes_saved() > 0)
-    spdlog::info("score cache: {} episodes asked for again were not run ({} environment steps)",
-                 evaluator.episodes_saved(), evaluator.steps_saved());
+  log_summaries();
   if (!run_complete(state)) {
     spdlog::warn("interrupted at iteration {}; continue with: poet-coordinator --run-dir {} --resume",
                  state.next_iteration, options.run_dir);
