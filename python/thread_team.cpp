@@ -101,7 +101,6 @@ void ThreadTeam::run(int n, const std::function<void(int)>& fn) {
     start();
   }
   Shared& shared = *shared_;
-  shared.n = n;
   shared.fn = &fn;
   const int members = static_cast<int>(shared.shares.size());
   for (int m = 0; m < members; ++m) {

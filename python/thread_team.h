@@ -28,7 +28,6 @@ class ThreadTeam {
   ThreadTeam& operator=(const ThreadTeam&) = delete;
 
   void run(int n, const std::function<void(int)>& fn);
-  int threads() const { return threads_; }
 
  private:
   // What the threads share; a new one for each team, so that a forked child never touches its parent's.
@@ -43,7 +42,6 @@ class ThreadTeam {
       int end = 0;
     };
     std::vector<Share> shares;
-    int n = 0;
     const std::function<void(int)>* fn = nullptr;
     bool quit = false;
     std::mutex error_mutex;
