@@ -428,8 +428,8 @@ void BM_DispatcherAlone(benchmark::State& state) {
       if (out.empty()) break;
       for (const Outgoing& message : out) {
         if (!message.message.has_job()) continue;
-        const std::string bytes = message.message.SerializeAsString();  // as RemoteEvaluator::send
-        job.ParseFromString(bytes);                                     // the worker's side, kept out of the count
+        const std::string bytes = message.frame();  // as RemoteEvaluator::send
+        job.ParseFromString(bytes);                 // the worker's side, kept out of the count
         wire::Result* result = reply.mutable_result();
         result->Clear();
         result->set_job_id(job.job().job_id());

@@ -1,5 +1,6 @@
 #include "rollout_task_proto.h"
 
+#include <array>
 #include <bit>
 #include <cmath>
 #include <string>
@@ -18,9 +19,15 @@ constexpr int kMaxSteps = 100'000;
 }  // namespace
 
 uint64_t theta_hash(std::span<const double> theta) {
-  uint64_t h = mix64(theta.size());
-  for (double x : theta) h = mix64(h ^ std::bit_cast<uint64_t>(x));
-  return h;
+  // Four chains, each over every fourth value, so that the mixing of one overlaps the others': a worker hashes
+  // every θ it is sent, and one chain of 2,804 dependent mixes took 14 µs.
+  const size_t n = theta.size();
+  std::array<uint64_t, 4> lane{mix64(n), mix64(n + 1), mix64(n + 2), mix64(n + 3)};
+  size_t i = 0;
+  for (; i + 4 <= n; i += 4)
+    for (size_t k = 0; k < 4; ++k) lane[k] = mix64(lane[k] ^ std::bit_cast<uint64_t>(theta[i + k]));
+  for (size_t k = 0; i < n; ++i, ++k) lane[k] = mix64(lane[k] ^ std::bit_cast<uint64_t>(theta[i]));
+  return mix64(lane[0] ^ mix64(lane[1] ^ mix64(lane[2] ^ mix64(lane[3]))));
 }
 
 wire::Task to_wire(const RolloutTask& task, uint64_t hash) {

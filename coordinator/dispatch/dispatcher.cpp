@@ -65,8 +65,7 @@ wire::CoordinatorMessage Dispatcher::on_hello(const WorkerId& id, const wire::He
   worker.view.local = !settings_.local_token.empty() && hello.local_token() == settings_.local_token;
   worker.view.proven = worker.view.local;
   worker.last_sent = now;
-  workers_.emplace(id, std::move(worker));
-  arrival_.push_back(id);
+  arrival_.push_back(&workers_.emplace(id, std::move(worker)).first->second);
   joined_ += 1;
   reply.mutable_welcome()->set_heartbeat_ms(static_cast<uint32_t>(settings_.heartbeat_ms));
   reply.mutable_welcome()->set_liveness_ms(static_cast<uint32_t>(settings_.liveness_ms));
@@ -84,9 +83,10 @@ bool Dispatcher::heard_from(const WorkerId& id, Millis now) {
 void Dispatcher::remove_worker(const WorkerId& id, bool died) {
   const auto it = workers_.find(id);
   if (it == workers_.end()) return;
+  std::erase(arrival_, &it->second);
   const Worker worker = std::move(it->second);
   workers_.erase(it);
-  std::erase(arrival_, id);
+  for (auto& [job_id, job] : jobs_) job.taken_back.erase(id);  // a worker of this id is a new one from now on
   // back to the front, in their order, so the batch finishes in the order it was cut
   for (auto job = worker.jobs.rbegin(); job != worker.jobs.rend(); ++job) release(*job, worker, died);
 }
@@ -230,7 +230,7 @@ void Dispatcher::on_result(const WorkerId& id, const wire::Result& result, Milli
                                         : std::find_if(job->second.leases.begin(), job->second.leases.end(),
                                                        [&](const Lease& l) { return l.worker == id; });
   const bool holds = job != jobs_.end() && lease != job->second.leases.end();
-  const bool taken_back = worker != workers_.end() && worker->second.taken_back.erase(result.job_id()) > 0;
+  const bool taken_back = worker != workers_.end() && job != jobs_.end() && job->second.taken_back.erase(id) > 0;
   if (worker == workers_.end() || job == jobs_.end() || (!holds && !taken_back)) {
     // a job its backup finished first; or a stranger, or a job this worker no longer holds (re-queued, or done)
     const bool late = worker != workers_.end() && worker->second.beaten.erase(result.job_id()) > 0;
@@ -284,11 +284,9 @@ void Dispatcher::on_result(const WorkerId& id, const wire::Result& result, Milli
   w.view.jobs_done += 1;
   w.view.results_done += static_cast<int64_t>(count);
   if (holds) {  // a result taken back from an expired lease says nothing of how long jobs take
-    job_times_.push_back(took);
-    std::vector<Millis> times = job_times_;
-    const auto middle = times.begin() + static_cast<std::ptrdiff_t>(times.size() / 2);
-    std::nth_element(times.begin(), middle, times.end());
-    backup_after_ = std::max(settings_.backup_min_ms, static_cast<Millis>(settings_.backup_factor * *middle));
+    job_times_.add(took);
+    backup_after_ =
+        std::max(settings_.backup_min_ms, static_cast<Millis>(settings_.backup_factor * job_times_.median()));
   }
   on_answer(w, j, std::move(parsed));
 }
@@ -304,6 +302,7 @@ void Dispatcher::on_error(Worker& worker, Job& job, const std::string& error) {
     return;
   }
   job.refusing.insert(worker.view.id);
+  refusals_seen_ = true;
   job.tainted = true;
   if (job.refusing.size() >= std::min<size_t>(2, std::max<size_t>(1, proven_workers()))) {
     if (!failure_)
@@ -382,7 +381,6 @@ void Dispatcher::accept(Job& job, const std::vector<RolloutResult>& results, con
     it->second.jobs.erase(job.id);
     it->second.beaten.insert(job.id);
   }
-  for (auto& [id, worker] : workers_) worker.taken_back.erase(job.id);
   if (job.queued) remove_from_queue(job.id);
   jobs_.erase(job.id);
 }
@@ -429,8 +427,8 @@ void Dispatcher::refuse_wrong(const WorkerId id, const char* why) {  // a copy: 
 
 std::vector<WorkerId> Dispatcher::expire(Millis now) {
   std::vector<WorkerId> dead;
-  for (const WorkerId& id : arrival_)
-    if (now - workers_.at(id).view.last_heard > settings_.liveness_ms) dead.push_back(id);
+  for (const Worker* worker : arrival_)
+    if (now - worker->view.last_heard > settings_.liveness_ms) dead.push_back(worker->view.id);
   for (const WorkerId& id : dead) lose_worker(id);
   return dead;
 }
@@ -439,6 +437,20 @@ Millis Dispatcher::lease_ms() const { return backup_after_ > 0 ? backup_after_ :
 
 void Dispatcher::expire_leases(Millis now) {
   const Millis lease = lease_ms();
+  // leases of proven workers never expire (they are backed up): with none held by others, no job need be looked at
+  if (unproven_holding()) expire_unproven_leases(now, lease);
+  // a job it held ended with its batch, unanswered, and the lease has run out since
+  for (auto& [id, worker] : workers_)
+    if (!worker.view.proven && worker.jobs.empty() && worker.trial_since && now - *worker.trial_since >= lease)
+      demote(worker);
+}
+
+bool Dispatcher::unproven_holding() const {
+  return std::any_of(arrival_.begin(), arrival_.end(),
+                     [](const Worker* w) { return !w->view.proven && !w->jobs.empty(); });
+}
+
+void Dispatcher::expire_unproven_leases(Millis now, Millis lease) {
   for (auto& [job_id, job] : jobs_) {
     const size_t before = job.leases.size();
     std::erase_if(job.leases, [&](const Lease& l) {
@@ -446,7 +458,7 @@ void Dispatcher::expire_leases(Millis now) {
       Worker& holder = workers_.at(l.worker);
       if (holder.view.proven) return false;  // a slow machine: backed up, not taken back
       holder.jobs.erase(job_id);
-      holder.taken_back.insert(job_id);
+      job.taken_back.insert(l.worker);
       job.failed.insert(l.worker);
       demote(holder);
       return true;
@@ -456,10 +468,6 @@ void Dispatcher::expire_leases(Millis now) {
     job.tainted = true;
     if (job.leases.empty()) enqueue_front(job);
   }
-  // a job it held ended with its batch, unanswered, and the lease has run out since
-  for (auto& [id, worker] : workers_)
-    if (!worker.view.proven && worker.jobs.empty() && worker.trial_since && now - *worker.trial_since >= lease)
-      demote(worker);
 }
 
 bool Dispatcher::proven_can_take(const Job& job) const {
@@ -503,7 +511,7 @@ Dispatcher::Job* Dispatcher::next_job(const Worker& worker, Millis now) {
   }
   // Nothing queued: a proven worker takes at once a job held only by workers not proven, since those may never
   // answer; so peers that take jobs and sit on them delay nothing while a proven worker is free.
-  {
+  if (spare_.unproven_holding) {
     for (auto& [job_id, job] : jobs_) {
       // (trials pile onto a job beyond max_leases: they do not count, the first proven holder does)
       if (job.queued || job.leases.empty()) continue;
@@ -513,7 +521,7 @@ Dispatcher::Job* Dispatcher::next_job(const Worker& worker, Millis now) {
       return &job;
     }
   }
-  if (settings_.backup_factor <= 0) return nullptr;
+  if (!spare_.overdue) return nullptr;
   // a backup: a job whose every holder has held it past the lease (proven ones: slow, or silent)
   const Millis lease = lease_ms();
   Job* oldest = nullptr;
@@ -533,6 +541,20 @@ Dispatcher::Job* Dispatcher::next_job(const Worker& worker, Millis now) {
   return oldest;
 }
 
+Dispatcher::Spare Dispatcher::spare_jobs(Millis now) const {
+  Spare spare;
+  spare.unproven_holding = unproven_holding();
+  if (settings_.backup_factor <= 0) return spare;
+  const Millis lease = lease_ms();
+  spare.overdue = std::any_of(jobs_.begin(), jobs_.end(), [&](const auto& entry) {
+    const Job& job = entry.second;
+    if (job.queued || job.leases.empty() || job.leases.size() >= static_cast<size_t>(settings_.max_leases))
+      return false;
+    return std::all_of(job.leases.begin(), job.leases.end(), [&](const Lease& l) { return now - l.since >= lease; });
+  });
+  return spare;
+}
+
 bool Dispatcher::eligible_checker(const Job& job, const Worker& worker) const {
   return worker.ready && !worker.view.demoted && may_take(job, worker);  // may_take: proven workers only
 }
@@ -541,6 +563,7 @@ void Dispatcher::check_unanswerable(Millis now) {
   coordinator_checks_waiting_ = 0;
   const size_t proven = proven_workers();
   for (const uint64_t id : queue_) {
+    if (!refusals_seen_) break;  // (the common case: no queued job to look at)
     const Job& job = jobs_.at(id);
     // proven workers that refused it may now be all there are (the others left): the error rule says again
     if (!job.refusing.empty() && job.refusing.size() >= std::min<size_t>(2, std::max<size_t>(1, proven)) && !failure_)
@@ -548,6 +571,7 @@ void Dispatcher::check_unanswerable(Millis now) {
                  " of the " + std::to_string(proven) + " proven workers connected)";
   }
   const Millis lease = lease_ms();
+  if (settings_.verify_fraction <= 0) return;  // answers are held only to be checked
   for (auto& [id, job] : jobs_) {
     if (job.answers.empty()) continue;
     // queued with no connected worker able to check it, or held for a check past the lease (a proven worker that
@@ -601,67 +625,72 @@ void Dispatcher::settle_by_coordinator(uint64_t batch_id, uint64_t job_id, const
   accept(job, results, kCoordinatorAnswer, true);  // ends the job
 }
 
-wire::Job Dispatcher::job_message(const Job& job, Worker& worker) const {
-  wire::Job out;
-  out.set_job_id(job.id);
-  out.set_batch_id(batch_id_);
+Outgoing Dispatcher::job_message(const Job& job, Worker& worker) {
+  Outgoing out(worker.view.id);
+  wire::Job& message = *out.message.mutable_job();
+  message.set_job_id(job.id);
+  message.set_batch_id(batch_id_);
   for (size_t t = job.begin; t < job.end; ++t) {
     const uint64_t hash = task_theta_hash_[t];
     if (worker.thetas_sent.insert(hash).second) {
-      wire::Theta* theta = out.add_thetas();
-      theta->set_hash(hash);
-      const std::vector<double>& values = *thetas_.at(hash);
-      theta->mutable_values()->Add(values.begin(), values.end());
+      std::shared_ptr<const std::string>& field = theta_fields_[hash];
+      if (!field) field = std::make_shared<const std::string>(encode_theta_field(hash, *thetas_.at(hash)));
+      out.job_thetas.push_back(field);
     }
-    *out.add_tasks() = to_wire(tasks_[t], hash);
+    *message.add_tasks() = to_wire(tasks_[t], hash);
   }
   return out;
 }
 
-void Dispatcher::send(Job& job, const WorkerId& id, Millis now, std::vector<Outgoing>& out) {
-  Worker& worker = workers_.at(id);
+void Dispatcher::send(Job& job, Worker& worker, Millis now, const std::function<void(Outgoing&&)>& deliver) {
+  const WorkerId& id = worker.view.id;
   job.leases.push_back({id, now});
   worker.jobs.insert(job.id);
   if (!worker.view.proven && !worker.trial_since) {
     worker.trial_since = now;
     worker.trial_job = job.id;
   }
-  Outgoing message{id, {}};
-  *message.message.mutable_job() = job_message(job, worker);
-  out.push_back(std::move(message));
+  if (!worker.view.proven) spare_.unproven_holding = true;
+  deliver(job_message(job, worker));
   worker.last_sent = now;
 }
 
 std::vector<Outgoing> Dispatcher::outgoing(Millis now) {
-  std::vector<Outgoing> out = std::exchange(refusals_, {});
+  std::vector<Outgoing> out;
+  outgoing(now, [&](Outgoing&& message) { out.push_back(std::move(message)); });
+  return out;
+}
+
+void Dispatcher::outgoing(Millis now, const std::function<void(Outgoing&&)>& deliver) {
+  for (Outgoing& refusal : std::exchange(refusals_, {})) deliver(std::move(refusal));
   if (batch_active_) {
     expire_leases(now);
     check_unanswerable(now);
   }
+  if (batch_active_) spare_ = spare_jobs(now);
   // one job per worker per pass, so a batch spreads over every worker before any gets a second
   for (bool assigned = true; assigned && !failure_ && batch_active_;) {
     assigned = false;
-    for (const WorkerId& id : arrival_) {
-      Worker& worker = workers_.at(id);
+    for (Worker* held : arrival_) {
+      Worker& worker = *held;
       // a worker not yet proven holds one job at a time; a demoted one none
       const size_t room = worker.view.proven ? static_cast<size_t>(settings_.jobs_ahead) : 1;
       if (!worker.ready || worker.view.demoted || worker.jobs.size() >= room) continue;
       if (!worker.view.proven && worker.trial_since) continue;  // a job of an earlier batch still unanswered
       Job* job = next_job(worker, now);
       if (job == nullptr) continue;
-      send(*job, id, now, out);
+      send(*job, worker, now, deliver);
       assigned = true;
     }
   }
-  for (const WorkerId& id : arrival_) {
-    Worker& worker = workers_.at(id);
+  for (Worker* held : arrival_) {
+    Worker& worker = *held;
     if (now - worker.last_sent < settings_.heartbeat_ms) continue;
-    Outgoing beat{id, {}};
+    Outgoing beat{worker.view.id, {}};
     beat.message.mutable_heartbeat();
-    out.push_back(std::move(beat));
+    deliver(std::move(beat));
     worker.last_sent = now;
   }
-  return out;
 }
 
 void Dispatcher::start_batch(std::span<const RolloutTask> tasks) {
@@ -687,28 +716,40 @@ void Dispatcher::start_batch(std::span<const RolloutTask> tasks) {
   }
   for (auto& [id, worker] : workers_) worker.thetas_sent.clear();
 
-  // about four jobs per thread of the workers present, so that a slow or lost worker delays little
-  int threads = 0;
-  for (const auto& [id, worker] : workers_)
-    if (worker.ready && !worker.view.demoted) threads += worker.view.threads;
-  const size_t per_job = std::clamp<size_t>((tasks.size() + 4 * std::max(threads, 1) - 1) / (4 * std::max(threads, 1)),
-                                            1, static_cast<size_t>(settings_.max_chunk));
-  new_jobs(0, tasks.size(), per_job, 0, /*front=*/false);
+  new_jobs(0, tasks.size(), tasks_per_job(tasks.size()), 0, /*front=*/false);
+}
+
+size_t Dispatcher::tasks_per_job(size_t tasks) const {
+  size_t threads = 0, workers = 0;
+  for (const auto& [id, worker] : workers_) {
+    if (!worker.ready || worker.view.demoted) continue;
+    threads += static_cast<size_t>(worker.view.threads);
+    workers += 1;
+  }
+  const auto ceil_div = [](size_t a, size_t b) { return (a + b - 1) / b; };
+  // About four jobs per thread of the workers present, so that a slow or lost worker delays little. But a batch
+  // that goes out whole at once (jobs_ahead jobs a worker) is not balanced by its queue: there, one job a worker
+  // ends no later and costs the coordinator half the messages or fewer.
+  size_t per_job = ceil_div(tasks, 4 * std::max<size_t>(threads, 1));
+  if (workers > 0 && ceil_div(tasks, per_job) <= static_cast<size_t>(settings_.jobs_ahead) * workers)
+    per_job = ceil_div(tasks, workers);
+  return std::clamp<size_t>(per_job, 1, static_cast<size_t>(settings_.max_chunk));
 }
 
 void Dispatcher::abandon_batch() {
   for (auto& [id, worker] : workers_) {  // their late results will be dropped
     worker.jobs.clear();
     worker.beaten.clear();
-    worker.taken_back.clear();
   }
   job_times_.clear();
   backup_after_ = 0;
+  refusals_seen_ = false;
   to_coordinator_.clear();
   jobs_.clear();
   queue_.clear();
   tasks_.clear();
   thetas_.clear();
+  theta_fields_.clear();
   task_theta_hash_.clear();
   results_.clear();
   have_result_.clear();
@@ -751,9 +792,9 @@ int64_t Dispatcher::in_flight() const {
 
 std::vector<WorkerView> Dispatcher::workers() const {
   std::vector<WorkerView> out;
-  for (const WorkerId& id : arrival_) {
-    WorkerView view = workers_.at(id).view;
-    view.jobs_held = workers_.at(id).jobs.size();
+  for (const Worker* worker : arrival_) {
+    WorkerView view = worker->view;
+    view.jobs_held = worker->jobs.size();
     out.push_back(std::move(view));
   }
   return out;

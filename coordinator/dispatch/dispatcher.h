@@ -28,15 +28,18 @@
 // the secret cannot tell which of its answers will be checked, so one lying on k answers after probation goes
 // unnoticed with probability (1 - verify_fraction)^k whichever it chooses. An answer that no connected worker can
 // check (or whose check was held past the lease), or two that differ with no third worker to decide, go to the
-// coordinator (take_coordinator_checks), whose own results decide as a local worker's do. The worker found wrong is refused from then on (Refused, and its
-// Hellos), and every result of the batch taken from it and not yet reported final is computed again. Unchecked
-// answers of workers that are not local are reported final (take_ready_ranges) only once the batch is whole, as a
-// wrong one may still be found; once they are, only going back to a state computed before them undoes them:
-// take_rollback names the first batch to compute again when a worker refused had unchecked answers made final.
+// coordinator (take_coordinator_checks), whose own results decide as a local worker's do. The worker found wrong is
+// refused from then on (Refused, and its Hellos), and every result of the batch taken from it and not yet reported
+// final is computed again. Unchecked answers of workers that are not local are reported final (take_ready_ranges) only
+// once the batch is whole, as a wrong one may still be found; once they are, only going back to a state computed before
+// them undoes them: take_rollback names the first batch to compute again when a worker refused had unchecked answers
+// made final.
 
 #include <cstdint>
 #include <deque>
+#include <functional>
 #include <map>
+#include <memory>
 #include <optional>
 #include <set>
 #include <span>
@@ -46,6 +49,8 @@
 #include <vector>
 
 #include "dispatch/drop_reason.h"
+#include "dispatch/outgoing.h"
+#include "dispatch/running_median.h"
 #include "rollout_task.h"
 #include "wire.pb.h"
 #include "wire_timing.h"
@@ -53,7 +58,6 @@
 namespace poet {
 
 using Millis = int64_t;
-using WorkerId = std::string;  // the ROUTER's routing id of the worker's socket
 
 struct DispatchSettings {
   // send something to each worker at least this often (and ask the same of them)
@@ -73,12 +77,6 @@ struct DispatchSettings {
   double verify_fraction = 0;       // of the jobs answered by workers that are not local, also run on a second
   uint64_t verify_secret = 0;       // which jobs are checked: drawn from it, the batch and the job; never sent
   int probation_checks = 5;  // with verification: every answer of a worker not local is checked until this many were
-};
-
-// A message for one worker.
-struct Outgoing {
-  WorkerId worker;
-  wire::CoordinatorMessage message;
 };
 
 struct WorkerView {
@@ -143,6 +141,9 @@ class Dispatcher {
   void lose_worker(const WorkerId& id);
   // The jobs to send now (each worker filled up to jobs_ahead) and the heartbeats due.
   std::vector<Outgoing> outgoing(Millis now);
+  // The same, each handed to `deliver` as soon as it is made, so that the first jobs of a batch are on their way
+  // while the rest are made. `deliver` must not call the dispatcher (a send that fails is reported after).
+  void outgoing(Millis now, const std::function<void(Outgoing&&)>& deliver);
 
   // A new batch (the previous one must be done or abandoned). Tasks are copied; θ is shared, not copied.
   void start_batch(std::span<const RolloutTask> tasks);
@@ -204,6 +205,7 @@ class Dispatcher {
     std::set<WorkerId> failed;    // workers that returned an error or let their lease expire: not sent to them again
     std::set<WorkerId> refusing;  // proven workers that returned an error for it
     std::set<WorkerId> missing_theta;  // workers that said they lacked its θ (once each is believed)
+    std::set<WorkerId> taken_back;     // not proven, their lease expired: a result that still comes in time is taken
     std::vector<Answer> answers;       // answers awaiting a check: one, or two that differ
     bool to_coordinator = false;       // handed to the coordinator to check (take_coordinator_checks)
   };
@@ -211,7 +213,6 @@ class Dispatcher {
     WorkerView view;
     std::set<uint64_t> jobs;         // held
     std::set<uint64_t> beaten;       // held, then finished by another holder first: its result is late
-    std::set<uint64_t> taken_back;   // its lease expired: a result that still comes in time is taken
     std::set<uint64_t> thetas_sent;  // this batch
     Millis last_sent = 0;
     // not proven: when it was sent a job it has not answered since (in this batch or an earlier one); it is sent
@@ -227,11 +228,20 @@ class Dispatcher {
   void requeue(Job& job, bool died);
   void enqueue_front(Job& job);
   void remove_from_queue(uint64_t job_id);
-  void send(Job& job, const WorkerId& id, Millis now, std::vector<Outgoing>& out);
+  void send(Job& job, Worker& worker, Millis now, const std::function<void(Outgoing&&)>& deliver);
   Millis lease_ms() const;
   // Takes jobs back from workers not proven whose lease ran out, and demotes them.
   void expire_leases(Millis now);
-  // The queued job worker id may take, or a job to back up on it; nullptr when none.
+  void expire_unproven_leases(Millis now, Millis lease);
+  bool unproven_holding() const;  // some worker not proven holds a job
+  // What an idle worker may be given beyond the queue, found once per outgoing() rather than once per worker:
+  // jobs held by workers not proven (taken at once by proven ones), and jobs held past the lease (backed up).
+  struct Spare {
+    bool unproven_holding = false;  // some worker not proven holds a job
+    bool overdue = false;           // some open job may be backed up: every holder has held it past the lease
+  };
+  Spare spare_jobs(Millis now) const;
+  // The queued job worker id may take, or a job to back up on it; nullptr when none. Reads spare_.
   Job* next_job(const Worker& worker, Millis now);
   bool may_take(const Job& job, const Worker& worker) const;
   bool proven_can_take(const Job& job) const;  // a ready proven worker may take it
@@ -250,24 +260,27 @@ class Dispatcher {
   void demote(Worker& worker);
   void prove(Worker& worker);  // alive and answering: proven, and no longer demoted
   void new_jobs(size_t begin, size_t end, size_t per_job, int deaths, bool front);
+  size_t tasks_per_job(size_t tasks) const;  // how a new batch is cut
   bool chosen_for_check(const Job& job) const;
   bool on_probation(const Worker& worker) const;
   void pass_check(const WorkerId& id);      // an answer of its was found right
   void note_unchecked(const WorkerId& id);  // an answer of its is taken unchecked
   size_t proven_workers() const;
-  wire::Job job_message(const Job& job, Worker& worker) const;
+  // The Job for a worker: the θs it lacks ride along, encoded once per batch (theta_fields_).
+  Outgoing job_message(const Job& job, Worker& worker);
   std::string describe_task(size_t index) const;
 
   DispatchSettings settings_;
   std::unordered_map<WorkerId, Worker> workers_;
-  std::vector<WorkerId> arrival_;  // workers in the order they said Hello: jobs go out in this order
+  std::vector<Worker*> arrival_;  // workers_'s entries in the order they said Hello: jobs go out in this order
 
   // the batch
   bool batch_active_ = false;
   uint64_t batch_id_ = 0;
   std::vector<RolloutTask> tasks_;
   std::vector<uint64_t> task_theta_hash_;
-  std::unordered_map<uint64_t, const std::vector<double>*> thetas_;  // by hash
+  std::unordered_map<uint64_t, const std::vector<double>*> thetas_;                // by hash
+  std::unordered_map<uint64_t, std::shared_ptr<const std::string>> theta_fields_;  // by hash, once sent
   std::vector<RolloutResult> results_;
   std::vector<bool> have_result_;
   std::vector<WorkerId> result_from_;  // who answered each task (empty: no result yet)
@@ -277,8 +290,10 @@ class Dispatcher {
   std::map<uint64_t, Job> jobs_;  // open jobs by id
   std::deque<uint64_t> queue_;
   uint64_t next_job_id_ = 1;
-  std::vector<Millis> job_times_;  // how long this batch's finished jobs took, from send to result
-  Millis backup_after_ = 0;        // the backup time from job_times_ (0: none finished yet)
+  Spare spare_;                 // of the outgoing() under way
+  bool refusals_seen_ = false;  // a proven worker refused a job of this batch
+  RunningMedian job_times_;     // how long this batch's finished jobs took, from send to result
+  Millis backup_after_ = 0;     // the backup time from job_times_ (0: none finished yet)
 
   std::optional<std::string> failure_;
   std::map<std::string, int64_t> dropped_;

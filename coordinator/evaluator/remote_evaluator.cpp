@@ -17,6 +17,8 @@ namespace {
 constexpr size_t kMaxWorkerMessageBytes = 1 << 20;
 // How long closing the socket may wait to deliver what was sent last.
 constexpr int kFinalLingerMs = 500;
+// Messages sent between yields of the socket thread (see loop()).
+constexpr size_t kYieldEvery = 32;
 // libzmq drops the connection of a peer that sends more than this in one frame, before the coordinator sees it
 // (uncounted); frames between kMaxWorkerMessageBytes and this are read, counted as oversized and dropped.
 constexpr int64_t kMaxFrameBytes = 16 << 20;
@@ -235,7 +237,15 @@ void RemoteEvaluator::loop() {
       if (peer_keys_.size() > 2 * dispatcher_.settings().max_workers)
         std::erase_if(peer_keys_, [&](const auto& peer) { return !dispatcher_.has_worker(peer.first); });
     }
-    for (const Outgoing& message : dispatcher_.outgoing(now)) send(message);
+    std::vector<WorkerId> unreachable;  // told to the dispatcher once it has made every message
+    size_t sent = 0;
+    dispatcher_.outgoing(now, [&](Outgoing&& message) {
+      if (!transmit(message)) unreachable.push_back(message.worker);
+      // Making a batch's first jobs takes milliseconds; ZeroMQ's I/O thread, when it shares this thread's core,
+      // would otherwise ship none of them until all are made, and the workers wait.
+      if (++sent % kYieldEvery == 0) std::this_thread::yield();
+    });
+    for (const WorkerId& id : unreachable) dispatcher_.lose_worker(id);
     if (const int64_t demoted = dispatcher_.workers_demoted() - demoted_before; demoted > 0) {
       if (const auto held_back = log_demoted_.admit(now))
         spdlog::warn(
@@ -302,13 +312,14 @@ void RemoteEvaluator::receive_all(Millis now) {
       note_drop(DropReason::kOversized, "peer " + peer_id_text(id));
       continue;
     }
-    handle(id, frames[0].to_string(), now);
+    handle(id, frames[0], now);
   }
 }
 
-void RemoteEvaluator::handle(const std::string& peer, const std::string& payload, Millis now) {
+void RemoteEvaluator::handle(const std::string& peer, const zmq::message_t& payload, Millis now) {
   wire::WorkerMessage message;
-  if (!message.ParseFromString(payload) || message.kind_case() == wire::WorkerMessage::KIND_NOT_SET) {
+  if (!message.ParseFromArray(payload.data(), static_cast<int>(payload.size())) ||
+      message.kind_case() == wire::WorkerMessage::KIND_NOT_SET) {
     note_drop(DropReason::kMalformed, "peer " + peer_id_text(peer));
     return;
   }
@@ -359,18 +370,22 @@ void RemoteEvaluator::handle(const std::string& peer, const std::string& payload
 }
 
 void RemoteEvaluator::send(const Outgoing& message) {
-  const std::string payload = message.message.SerializeAsString();
+  if (!transmit(message)) dispatcher_.lose_worker(message.worker);  // a no-op for a peer it does not know
+}
+
+bool RemoteEvaluator::transmit(const Outgoing& message) {
   try {
     zmq::message_t id(message.worker.data(), message.worker.size());
-    if (!socket_->send(id, zmq::send_flags::sndmore | zmq::send_flags::dontwait) ||
-        !socket_->send(zmq::buffer(payload), zmq::send_flags::dontwait)) {
-      dispatcher_.lose_worker(message.worker);  // its queue is full: it is not keeping up
-    }
+    zmq::message_t payload(message.frame_size());  // written in place: a Job's θs are copied once, here
+    message.write_frame(static_cast<char*>(payload.data()));
+    // false: its queue is full, it is not keeping up
+    return socket_->send(id, zmq::send_flags::sndmore | zmq::send_flags::dontwait) &&
+           socket_->send(payload, zmq::send_flags::dontwait);
   } catch (const zmq::error_t& e) {
     // EHOSTUNREACH: the peer's connection is gone (a killed worker, or libzmq cut it for a frame over
     // maxmsgsize); its jobs go back to the queue
-    dispatcher_.lose_worker(message.worker);  // a no-op for a peer it does not know
     spdlog::debug("send to {}: {}", peer_id_text(message.worker), e.what());
+    return false;
   }
 }
 

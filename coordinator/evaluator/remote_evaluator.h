@@ -27,6 +27,7 @@
 
 namespace zmq {
 class context_t;
+class message_t;
 class socket_t;
 }  // namespace zmq
 
@@ -80,8 +81,9 @@ class RemoteEvaluator final : public Evaluator {
   RemoteEvaluator(DispatchSettings settings, std::stop_token stop);
   void loop();
   void receive_all(Millis now);
-  void handle(const std::string& peer, const std::string& payload, Millis now);
-  void send(const Outgoing& message);
+  void handle(const std::string& peer, const zmq::message_t& payload, Millis now);
+  void send(const Outgoing& message);                         // and a worker it cannot reach is lost
+  bool transmit(const Outgoing& message);                     // false: the worker cannot be reached
   void note_drop(DropReason reason, const std::string& who);  // counts, and logs at most once a second
   // The coordinator's own runs of jobs no worker can check (Dispatcher::take_coordinator_checks), one at a time on
   // a thread of their own, so that the socket thread keeps answering.

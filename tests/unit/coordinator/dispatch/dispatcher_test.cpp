@@ -10,6 +10,7 @@
 #include <optional>
 #include <set>
 #include <span>
+#include <tuple>
 
 #include "envgen/named_courses.h"
 #include "policy/mlp.h"
@@ -79,6 +80,13 @@ DispatchSettings settings() {
   return s;
 }
 
+// Jobs of one task each, however the batch would be cut.
+DispatchSettings one_task_jobs() {
+  DispatchSettings s = settings();
+  s.max_chunk = 1;
+  return s;
+}
+
 // Settings under which every job answered by a worker that is not local is checked by another.
 DispatchSettings checking_every_job() {
   DispatchSettings s = settings();
@@ -117,11 +125,21 @@ TEST(Dispatcher, ABatchSpreadsOverWorkersAndComesBackInTaskOrder) {
   ASSERT_EQ(jobs.size(), 4u);  // two ahead for each worker
   EXPECT_EQ(jobs[0].worker, "a");
   EXPECT_EQ(jobs[1].worker, "b");
-  // θ goes once to each worker in the batch, then by hash only
-  EXPECT_EQ(jobs[0].message.job().thetas_size(), 1);
-  EXPECT_EQ(jobs[1].message.job().thetas_size(), 1);
-  EXPECT_EQ(jobs[2].message.job().thetas_size(), 0);
-  EXPECT_EQ(jobs[0].message.job().thetas(0).hash(), theta_hash(*batch(1)[0].theta));
+  // θ goes once to each worker in the batch, then by hash only; the frame parses as the whole Job
+  const auto on_wire = [](const Outgoing& out) {
+    wire::CoordinatorMessage parsed;
+    EXPECT_TRUE(parsed.ParseFromString(out.frame()));
+    EXPECT_EQ(parsed.job().tasks_size(), out.message.job().tasks_size());
+    EXPECT_EQ(parsed.job().job_id(), out.message.job().job_id());
+    return parsed.job();
+  };
+  EXPECT_EQ(on_wire(jobs[0]).thetas_size(), 1);
+  EXPECT_EQ(on_wire(jobs[1]).thetas_size(), 1);
+  EXPECT_EQ(on_wire(jobs[2]).thetas_size(), 0);
+  EXPECT_EQ(on_wire(jobs[0]).thetas(0).hash(), theta_hash(*batch(1)[0].theta));
+  EXPECT_EQ(on_wire(jobs[0]).thetas(0).values_size(), batch(1)[0].theta->size());
+  EXPECT_EQ(on_wire(jobs[0]).thetas(0).values(7), (*batch(1)[0].theta)[7]);
+  EXPECT_EQ(on_wire(jobs[2]).SerializeAsString(), jobs[2].message.job().SerializeAsString());
   Millis now = 2;
   while (!d.batch_done()) {
     ASSERT_FALSE(jobs.empty()) << "nothing in flight and the batch is not done";
@@ -134,8 +152,25 @@ TEST(Dispatcher, ABatchSpreadsOverWorkersAndComesBackInTaskOrder) {
   expect_task_order(results);
 }
 
+TEST(Dispatcher, ABatchThatGoesOutWholeAtOnceIsCutIntoOneJobAWorker) {
+  // four workers, two jobs ahead each: a batch of up to eight one-task jobs would go out whole at once, with no
+  // queue left to balance, so it goes as one job a worker; a larger batch keeps its small jobs
+  for (const auto& [tasks, expected_jobs, expected_per_job] :
+       {std::tuple{4, 4, 1}, std::tuple{7, 4, 2}, std::tuple{8, 4, 2}, std::tuple{9, 9, 1}, std::tuple{40, 14, 3}}) {
+    Dispatcher d(settings());
+    for (const char* id : {"a", "b", "c", "d"}) join(d, id, hello(), 0);
+    d.start_batch(batch(static_cast<size_t>(tasks)));
+    std::vector<Outgoing> sent = jobs_in(d.outgoing(1));
+    EXPECT_EQ(sent.size() + static_cast<size_t>(d.queue_depth()), static_cast<size_t>(expected_jobs)) << tasks;
+    EXPECT_EQ(sent.front().message.job().tasks_size(), expected_per_job) << tasks;
+    std::set<WorkerId> workers;
+    for (const Outgoing& o : sent) workers.insert(o.worker);
+    EXPECT_EQ(workers.size(), std::min<size_t>(4, sent.size())) << tasks;
+  }
+}
+
 TEST(Dispatcher, DuplicatesAndStrangersAreDropped) {
-  Dispatcher d(settings());
+  Dispatcher d(one_task_jobs());
   join(d, "a", hello(), 0);
   d.start_batch(batch(2));
   const std::vector<Outgoing> jobs = jobs_in(d.outgoing(1));
@@ -241,8 +276,8 @@ TEST(Dispatcher, HellosBeyondTheWorkerLimitAreRefusedAndCounted) {
   EXPECT_TRUE(contains(refused.refused().reason(), "limit")) << refused.refused().reason();
 }
 
-// Two workers, a batch of 4 one-task jobs: a holds jobs 1 and 3, b answers its 2 and 4 at time 20; a beats but
-// never answers. Returns a's jobs.
+// Two workers, a batch of 4 one-task jobs (d made with one_task_jobs()): a holds jobs 1 and 3, b answers its 2 and 4 at
+// time 20; a beats but never answers. Returns a's jobs.
 std::vector<wire::Job> batch_with_a_silent_holder(Dispatcher& d) {
   join(d, "a", hello(), 0);
   join(d, "b", hello(), 0);
@@ -271,7 +306,7 @@ std::vector<wire::Job> backups_at(Dispatcher& d, Millis until) {
 }
 
 TEST(Dispatcher, AJobHeldFarLongerThanTheBatchsJobsGoesToAnIdleWorkerToo) {
-  Dispatcher d(settings());  // backups after 4 × the median job time, at least 1000 ms
+  Dispatcher d(one_task_jobs());  // backups after 4 × the median job time, at least 1000 ms
   const std::vector<wire::Job> held_by_a = batch_with_a_silent_holder(d);
   ASSERT_EQ(held_by_a.size(), 2u);
   EXPECT_TRUE(backups_at(d, 950).empty());  // b's jobs took 19 ms, but not before backup_min_ms
@@ -294,7 +329,7 @@ TEST(Dispatcher, AJobHeldFarLongerThanTheBatchsJobsGoesToAnIdleWorkerToo) {
 }
 
 TEST(Dispatcher, TheFirstHolderToAnswerABackedUpJobWins) {
-  Dispatcher d(settings());
+  Dispatcher d(one_task_jobs());
   const std::vector<wire::Job> held_by_a = batch_with_a_silent_holder(d);
   const std::vector<wire::Job> to_b = backups_at(d, 1050);
   ASSERT_EQ(to_b.size(), 2u);
@@ -310,7 +345,7 @@ TEST(Dispatcher, TheFirstHolderToAnswerABackedUpJobWins) {
 }
 
 TEST(Dispatcher, AHolderLostWhileItsBackupRunsLeavesTheJobToTheBackup) {
-  Dispatcher d(settings());
+  Dispatcher d(one_task_jobs());
   batch_with_a_silent_holder(d);
   const std::vector<wire::Job> to_b = backups_at(d, 1050);
   ASSERT_EQ(to_b.size(), 2u);
