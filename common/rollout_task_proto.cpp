@@ -20,7 +20,7 @@ constexpr int kMaxSteps = 100'000;
 
 uint64_t theta_hash(std::span<const double> theta) {
   // Four chains, each over every fourth value, so that the mixing of one overlaps the others': a worker hashes
-  // every θ it is sent, and one chain of 2,804 dependent mixes took 14 µs.
+  // every θ it is sent, and one chain of 2,804 dependent mixes took 9 µs (four: 3.4).
   const size_t n = theta.size();
   std::array<uint64_t, 4> lane{mix64(n), mix64(n + 1), mix64(n + 2), mix64(n + 3)};
   size_t i = 0;

@@ -668,7 +668,11 @@ void Dispatcher::outgoing(Millis now, const std::function<void(Outgoing&&)>& del
     check_unanswerable(now);
   }
   if (batch_active_) spare_ = spare_jobs(now);
-  // one job per worker per pass, so a batch spreads over every worker before any gets a second
+  // One job per worker per pass, so a batch spreads over every worker before any gets a second. But with queued
+  // jobs enough to fill every worker, a worker's free places are filled at once, with consecutive jobs: these
+  // mostly share a θ, and θ is most of a job's bytes.
+  const bool fill_at_once =
+      batch_active_ && queue_.size() >= static_cast<size_t>(settings_.jobs_ahead) * ready_workers();
   for (bool assigned = true; assigned && !failure_ && batch_active_;) {
     assigned = false;
     for (Worker* held : arrival_) {
@@ -677,10 +681,12 @@ void Dispatcher::outgoing(Millis now, const std::function<void(Outgoing&&)>& del
       const size_t room = worker.view.proven ? static_cast<size_t>(settings_.jobs_ahead) : 1;
       if (!worker.ready || worker.view.demoted || worker.jobs.size() >= room) continue;
       if (!worker.view.proven && worker.trial_since) continue;  // a job of an earlier batch still unanswered
-      Job* job = next_job(worker, now);
-      if (job == nullptr) continue;
-      send(*job, worker, now, deliver);
-      assigned = true;
+      for (size_t places = fill_at_once ? room - worker.jobs.size() : 1; places > 0; --places) {
+        Job* job = next_job(worker, now);
+        if (job == nullptr) break;
+        send(*job, worker, now, deliver);
+        assigned = true;
+      }
     }
   }
   for (Worker* held : arrival_) {
