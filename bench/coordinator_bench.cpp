@@ -18,8 +18,8 @@
 
 #include "config/run_config.h"
 #include "envgen/named_courses.h"
-#include "poet/engine.h"
-#include "poet/iteration_context.h"
+#include "engine/engine.h"
+#include "engine/iteration_context.h"
 #include "policy/mlp.h"
 #include "rng.h"
 

@@ -27,7 +27,7 @@
 #include "es_step_fixture.h"
 #include "evaluator/local_evaluator.h"
 #include "evaluator/remote_evaluator.h"
-#include "poet/rollout_batch.h"
+#include "engine/rollout_batch.h"
 #include "policy/mlp.h"
 #include "rng.h"
 #include "wire.pb.h"

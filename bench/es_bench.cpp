@@ -11,7 +11,7 @@
 #include "es/optimizer.h"
 #include "es_step_fixture.h"
 #include "evaluator/local_evaluator.h"
-#include "poet/rollout_batch.h"
+#include "engine/rollout_batch.h"
 #include "policy/mlp.h"
 #include "rng.h"
 

@@ -7,7 +7,7 @@
 
 #include "envgen/named_courses.h"
 #include "es/es_settings.h"
-#include "poet/rollout_batch.h"
+#include "engine/rollout_batch.h"
 #include "policy/mlp.h"
 #include "rng.h"
 

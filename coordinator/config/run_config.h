@@ -8,9 +8,9 @@
 #include <string>
 #include <string_view>
 
+#include "engine/run_settings.h"
 #include "expected.h"
 #include "poet.pb.h"
-#include "poet/run_settings.h"
 
 namespace poet {
 

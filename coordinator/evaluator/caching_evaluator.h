@@ -14,7 +14,7 @@
 #include <string>
 #include <unordered_map>
 
-#include "evaluator/evaluator.h"
+#include "engine/evaluator.h"
 
 namespace poet {
 

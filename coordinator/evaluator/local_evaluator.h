@@ -5,7 +5,7 @@
 
 #include <stop_token>
 
-#include "evaluator/evaluator.h"
+#include "engine/evaluator.h"
 
 namespace poet {
 

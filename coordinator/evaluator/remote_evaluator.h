@@ -20,7 +20,7 @@
 #include <vector>
 
 #include "dispatch/dispatcher.h"
-#include "evaluator/evaluator.h"
+#include "engine/evaluator.h"
 #include "evaluator/log_throttle.h"
 #include "expected.h"
 #include "wake_pipe.h"

@@ -6,7 +6,7 @@
 #include <functional>
 #include <utility>
 
-#include "evaluator/evaluator.h"
+#include "engine/evaluator.h"
 
 namespace poet {
 

@@ -10,8 +10,8 @@
 #include <optional>
 #include <vector>
 
+#include "engine/run_state.h"
 #include "envgen/env_distance.h"
-#include "poet/run_state.h"
 
 namespace poet {
 

@@ -10,8 +10,8 @@
 #include <string_view>
 #include <vector>
 
+#include "engine/lineage.h"
 #include "expected.h"
-#include "poet/lineage.h"
 
 namespace poet {
 

@@ -2,8 +2,8 @@
 
 #include <map>
 
+#include "engine/engine.h"
 #include "envgen/env_distance.h"
-#include "poet/engine.h"
 
 namespace poet {
 namespace {

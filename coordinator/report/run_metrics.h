@@ -10,8 +10,8 @@
 #include <string>
 #include <vector>
 
+#include "engine/annecs.h"
 #include "envgen/env_distance.h"
-#include "poet/annecs.h"
 #include "report/run_snapshot.h"
 
 namespace poet {

@@ -4,8 +4,8 @@
 
 #include "course_picture.h"
 #include "course_stack.h"
+#include "engine/rollout_batch.h"
 #include "enum_names.h"
-#include "poet/rollout_batch.h"
 #include "report/goal_switching.h"
 #include "report/pair_episode.h"
 #include "report/report_plots.h"

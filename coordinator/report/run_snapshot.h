@@ -10,9 +10,9 @@
 #include <string>
 #include <vector>
 
+#include "engine/run_state.h"
 #include "expected.h"
 #include "poet.pb.h"
-#include "poet/run_state.h"
 #include "report/pair_stats_log.h"
 #include "run/wall_times.h"
 #include "text_file.h"  // is_inside: the analysis tools write nothing in the run directory

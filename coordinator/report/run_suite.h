@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "poet/run_state.h"
+#include "engine/run_state.h"
 #include "suite/course_suite.h"
 
 namespace poet {

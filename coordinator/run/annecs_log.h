@@ -7,8 +7,8 @@
 
 #include <string>
 
-#include "poet/annecs.h"
-#include "poet/run_state.h"
+#include "engine/annecs.h"
+#include "engine/run_state.h"
 
 namespace poet {
 

@@ -9,8 +9,8 @@
 #include <vector>
 
 #include "config/run_config.h"
+#include "engine/state_consistency.h"
 #include "envgen/env_proto.h"
-#include "poet/state_consistency.h"
 #include "policy/mlp.h"
 #include "text_format.h"
 

@@ -3,9 +3,9 @@
 // states serialise to equal bytes; doubles travel as IEEE bits, so from_checkpoint(to_checkpoint(s)) is s
 // exactly. events_bytes and stats_bytes belong to the run directory and are left unset here.
 
+#include "engine/run_state.h"
 #include "expected.h"
 #include "poet.pb.h"
-#include "poet/run_state.h"
 
 namespace poet {
 

@@ -5,8 +5,8 @@
 #include <nlohmann/json.hpp>
 #include <vector>
 
-#include "poet/iteration_report.h"
-#include "poet/run_event.h"
+#include "engine/iteration_report.h"
+#include "engine/run_event.h"
 
 namespace poet {
 

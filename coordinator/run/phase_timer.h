@@ -6,7 +6,7 @@
 #include <functional>
 #include <optional>
 
-#include "poet/phase_observer.h"
+#include "engine/phase_observer.h"
 #include "run/wall_times.h"
 
 namespace poet {

@@ -10,8 +10,8 @@
 #include <string>
 #include <utility>
 
-#include "poet/iteration_report.h"
-#include "poet/run_state.h"
+#include "engine/iteration_report.h"
+#include "engine/run_state.h"
 
 namespace poet {
 

@@ -33,10 +33,10 @@
 #include <utility>
 #include <vector>
 
+#include "engine/iteration_report.h"
+#include "engine/run_state.h"
 #include "expected.h"
 #include "poet.pb.h"
-#include "poet/iteration_report.h"
-#include "poet/run_state.h"
 #include "run/checkpoint_file.h"
 #include "run/run_lock.h"
 #include "unique_fd.h"

@@ -10,7 +10,7 @@
 #include <system_error>
 
 #include "curve_keys.h"
-#include "poet/run_state.h"
+#include "engine/run_state.h"
 #include "run/checkpoint.h"
 #include "run/checkpoint_file.h"
 #include "run/crc32.h"

@@ -9,8 +9,8 @@
 #include <string>
 #include <vector>
 
-#include "poet/annecs.h"
-#include "poet/run_state.h"
+#include "engine/annecs.h"
+#include "engine/run_state.h"
 #include "run/wall_times.h"
 
 namespace poet {

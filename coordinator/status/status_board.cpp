@@ -4,9 +4,9 @@
 #include <array>
 #include <utility>
 
+#include "engine/engine.h"
 #include "enum_names.h"
 #include "envgen/env_distance.h"
-#include "poet/engine.h"
 #include "run/run_directory.h"
 #include "status/prometheus_text.h"
 #include "status/status_messages.h"

@@ -19,8 +19,8 @@
 #include <string>
 #include <string_view>
 
+#include "engine/run_state.h"
 #include "expected.h"
-#include "poet/run_state.h"
 #include "report/pair_stats_log.h"
 #include "status.pb.h"
 #include "status/board_view.h"

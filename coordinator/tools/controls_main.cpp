@@ -15,9 +15,9 @@
 #include <string>
 #include <vector>
 
+#include "engine/lineage.h"
 #include "envgen/env_distance.h"
 #include "envgen/env_encoding.h"
-#include "poet/lineage.h"
 #include "report/report_plots.h"
 #include "report/run_metrics.h"
 #include "report/run_snapshot.h"

@@ -13,8 +13,8 @@
 #include <iostream>
 
 #include "config/run_config.h"
+#include "engine/lineage.h"
 #include "envgen/env_proto.h"
-#include "poet/lineage.h"
 #include "report/run_snapshot.h"
 #include "tool_flags.h"
 

@@ -20,8 +20,8 @@
 #include <optional>
 #include <thread>
 
+#include "engine/engine.h"
 #include "envgen/env_json.h"
-#include "poet/engine.h"
 #include "report/coverage.h"
 #include "report/goal_switching.h"
 #include "report/report_json.h"

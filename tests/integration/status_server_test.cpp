@@ -31,8 +31,8 @@
 
 #include "build_fingerprint.h"
 #include "child_process.h"
+#include "engine/run_state.h"
 #include "loopback_port.h"
-#include "poet/run_state.h"
 #include "run/run_directory.h"
 #include "scratch_dir.h"
 #include "status/status_board.h"
@@ -52,7 +52,7 @@ constexpr auto kMargin = 3s;           // what a loaded machine may add to a bou
 
 // A run at iteration 5: pair 0 retired, pair 1 its child (solved), pair 2 child of 1 with a transfer from 0.
 RunState demo_state() {
-  // by hand: poet/engine.h brings Eigen, whose parameter names <resolv.h> (in httplib.h) defines as a macro
+  // by hand: engine/engine.h brings Eigen, whose parameter names <resolv.h> (in httplib.h) defines as a macro
   RunState state;
   state.settings.seed = 7;
   state.settings.iterations = 100;

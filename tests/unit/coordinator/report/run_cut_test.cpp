@@ -6,7 +6,7 @@
 
 #include <gtest/gtest.h>
 
-#include "../poet/engine_test_support.h"
+#include "../../engine/engine_test_support.h"
 #include "report/coverage.h"
 #include "report/report_json.h"
 #include "report/run_metrics.h"

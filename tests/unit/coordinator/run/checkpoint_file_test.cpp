@@ -8,7 +8,7 @@
 #include <string>
 
 #include "config/run_config.h"
-#include "poet/engine.h"
+#include "engine/engine.h"
 #include "run/checkpoint.h"
 
 namespace poet {

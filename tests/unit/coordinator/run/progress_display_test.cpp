@@ -5,7 +5,7 @@
 #include <gtest/gtest.h>
 
 #include "config/run_config.h"
-#include "poet/engine.h"
+#include "engine/engine.h"
 
 namespace poet {
 namespace {

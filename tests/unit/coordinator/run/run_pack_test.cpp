@@ -15,9 +15,9 @@
 #include <string>
 #include <vector>
 
-#include "../poet/engine_test_support.h"
+#include "../../engine/engine_test_support.h"
+#include "engine/engine.h"
 #include "evaluator/local_evaluator.h"
-#include "poet/engine.h"
 #include "run/checkpoint_file.h"
 #include "run/run_directory.h"
 #include "run/wall_times.h"

@@ -17,7 +17,7 @@
 #include <sstream>
 #include <thread>
 
-#include "../poet/engine_test_support.h"
+#include "../../engine/engine_test_support.h"
 #include "run/run_directory.h"
 #include "scratch_dir.h"
 #include "status/status_json.h"

@@ -10,7 +10,7 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 
-#include "../poet/engine_test_support.h"
+#include "../../engine/engine_test_support.h"
 #include "run/run_directory.h"
 #include "scratch_dir.h"
 
