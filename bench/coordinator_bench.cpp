@@ -16,12 +16,12 @@
 #include <queue>
 #include <thread>
 
-#include "config/run_config.h"
-#include "envgen/named_courses.h"
 #include "engine/engine.h"
 #include "engine/iteration_context.h"
+#include "envgen/named_courses.h"
 #include "policy/mlp.h"
 #include "rng.h"
+#include "run_directory/config/run_config.h"
 
 namespace poet {
 namespace {

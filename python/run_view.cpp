@@ -3,10 +3,10 @@
 #include <stdexcept>
 
 #include "envgen/env_json.h"
-#include "report/coverage.h"
-#include "report/report_json.h"
-#include "report/run_metrics.h"
-#include "report/run_snapshot.h"
+#include "run_directory/reading/coverage.h"
+#include "run_directory/reading/report_json.h"
+#include "run_directory/reading/run_metrics.h"
+#include "run_directory/reading/run_snapshot.h"
 
 namespace poet::python {
 

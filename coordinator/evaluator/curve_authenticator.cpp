@@ -8,7 +8,7 @@
 #include <vector>
 
 #include "curve_keys.h"
-#include "run/run_directory.h"
+#include "run_directory/files/run_directory.h"
 #include "text_file.h"
 
 namespace poet {

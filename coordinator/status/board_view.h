@@ -11,7 +11,7 @@
 
 #include "engine/annecs.h"
 #include "engine/run_state.h"
-#include "run/wall_times.h"
+#include "run_directory/files/wall_times.h"
 
 namespace poet {
 

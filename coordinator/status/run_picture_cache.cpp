@@ -7,7 +7,7 @@
 #include "enum_names.h"
 #include "report/pair_episode.h"
 #include "report/run_pictures.h"
-#include "run/run_directory.h"
+#include "run_directory/files/run_directory.h"
 #include "walker/walker_constants.h"
 
 namespace poet {

@@ -1,6 +1,6 @@
 #pragma once
 // The run's pictures and a pair's episode (for the dashboard's replay) as the status socket serves them: read
-// from the run directory's last checkpoint (report/run_snapshot.h, never changing the directory) and kept until
+// from the run directory's last checkpoint (run_directory/reading/run_snapshot.h, never changing the directory) and kept until
 // the checkpoint changes, so a page polling every few seconds costs one rendering per picture per checkpoint.
 // Thread-safe; a rendering runs outside the lock, so a slow picture never holds up another request.
 
@@ -13,7 +13,7 @@
 
 #include "expected.h"
 #include "report/picture_request.h"
-#include "report/run_snapshot.h"
+#include "run_directory/reading/run_snapshot.h"
 
 namespace poet {
 

@@ -7,7 +7,7 @@
 #include "engine/engine.h"
 #include "enum_names.h"
 #include "envgen/env_distance.h"
-#include "run/run_directory.h"
+#include "run_directory/files/run_directory.h"
 #include "status/prometheus_text.h"
 #include "status/status_messages.h"
 

@@ -21,7 +21,7 @@
 
 #include "engine/run_state.h"
 #include "expected.h"
-#include "report/pair_stats_log.h"
+#include "run_directory/reading/pair_stats_log.h"
 #include "status.pb.h"
 #include "status/board_view.h"
 #include "status/run_picture_cache.h"

@@ -7,7 +7,7 @@
 
 #include "envgen/env_distance.h"
 #include "envgen/env_proto.h"
-#include "report/events_log.h"
+#include "run_directory/reading/events_log.h"
 #include "status/status_board.h"
 #include "text_format.h"
 #include "utf8.h"

@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "expected.h"
-#include "report/pair_stats_log.h"
+#include "run_directory/reading/pair_stats_log.h"
 #include "status.pb.h"
 #include "status/board_view.h"
 
@@ -23,7 +23,7 @@ std::optional<status::PairDetail> pair_detail(const BoardView& view, int id, con
 status::Archive archive_message(const BoardView& view);
 // Heartbeat ages are the published ones plus the view's dispatch_age_s.
 status::WorkerList worker_list(const BoardView& view);
-// A page of events.jsonl's lines (report/events_log.h), each line that is not a JSON object shown as
+// A page of events.jsonl's lines (run_directory/reading/events_log.h), each line that is not a JSON object shown as
 // {"unparsed": line}.
 Expected<status::EventList> event_list(const std::filesystem::path& events_file, int64_t since, int64_t limit);
 

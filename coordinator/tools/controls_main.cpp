@@ -19,8 +19,8 @@
 #include "envgen/env_distance.h"
 #include "envgen/env_encoding.h"
 #include "report/report_plots.h"
-#include "report/run_metrics.h"
-#include "report/run_snapshot.h"
+#include "run_directory/reading/run_metrics.h"
+#include "run_directory/reading/run_snapshot.h"
 #include "tool_flags.h"
 
 namespace poet {

@@ -12,10 +12,10 @@
 #include <cstdio>
 #include <iostream>
 
-#include "config/run_config.h"
 #include "engine/lineage.h"
 #include "envgen/env_proto.h"
-#include "report/run_snapshot.h"
+#include "run_directory/config/run_config.h"
+#include "run_directory/reading/run_snapshot.h"
 #include "tool_flags.h"
 
 int main(int argc, char** argv) {

@@ -4,8 +4,8 @@
 #include <string>
 
 #include "poetctl_exit.h"
-#include "run/run_directory.h"
-#include "run/run_pack.h"
+#include "run_directory/files/run_directory.h"
+#include "run_directory/files/run_pack.h"
 
 namespace poet {
 namespace {

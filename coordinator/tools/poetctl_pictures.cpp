@@ -5,7 +5,7 @@
 #include "canvas.h"
 #include "poetctl_exit.h"
 #include "report/run_pictures.h"
-#include "report/run_snapshot.h"
+#include "run_directory/reading/run_snapshot.h"
 #include "tool_flags.h"
 
 namespace poet {

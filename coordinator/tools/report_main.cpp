@@ -2,8 +2,8 @@
 // finished, live or resumed run and never changes it: it reads the last checkpoint and the log lines that
 // checkpoint has seen, so a run being written is reported as of its last checkpoint.
 //   poet-report --run-dir DIR [--json FILE|-] [--plots DIR] [--target ENV.json] [--coverage-samples FILE]
-//               [--until-iteration T | --until-env-steps N]   the run as it stood then (report/run_cut.h)
-//               [--suite NAME [--threads N]]   every agent of the run on a held-out test suite (report/run_suite.h)
+//               [--until-iteration T | --until-env-steps N]   the run as it stood then (run_directory/reading/run_cut.h)
+//               [--suite NAME [--threads N]]   every agent of the run on a held-out test suite (run_directory/reading/run_suite.h)
 
 #include <CLI/CLI.hpp>
 #include <cerrno>
@@ -22,15 +22,15 @@
 
 #include "engine/engine.h"
 #include "envgen/env_json.h"
-#include "report/coverage.h"
-#include "report/goal_switching.h"
-#include "report/report_json.h"
 #include "report/report_plots.h"
-#include "report/run_cut.h"
-#include "report/run_metrics.h"
 #include "report/run_pictures.h"
-#include "report/run_snapshot.h"
-#include "report/run_suite.h"
+#include "run_directory/reading/coverage.h"
+#include "run_directory/reading/goal_switching.h"
+#include "run_directory/reading/report_json.h"
+#include "run_directory/reading/run_cut.h"
+#include "run_directory/reading/run_metrics.h"
+#include "run_directory/reading/run_snapshot.h"
+#include "run_directory/reading/run_suite.h"
 #include "suite/course_suite.h"
 #include "tool_flags.h"
 
@@ -306,7 +306,7 @@ int main(int argc, char** argv) {
              "--suite", suite_name,
              "Also run every agent of the run (each pair's θ and its best θ) on this held-out test suite and report "
              "the best single agent and the best per group (as poet-eval --run-dir does)")
-          // a cut run keeps today's θs (report/run_cut.h): its agents are not the ones it had then
+          // a cut run keeps today's θs (run_directory/reading/run_cut.h): its agents are not the ones it had then
           ->excludes(until_option, app.get_option("--until-env-steps"));
   app.add_option("--threads", threads, "Threads for --suite's episodes")
       ->check(CLI::Range(1, 256))

@@ -21,8 +21,8 @@
 #include "policy/mlp.h"
 #include "policy/policy_file.h"
 #include "rng.h"
-#include "run/checkpoint_file.h"
-#include "run/run_pack.h"
+#include "run_directory/files/checkpoint_file.h"
+#include "run_directory/files/run_pack.h"
 #include "scratch_dir.h"
 
 namespace {

@@ -18,7 +18,7 @@
 
 #include "coordinator_run_fixture.h"
 #include "loopback_port.h"
-#include "run/checkpoint_file.h"
+#include "run_directory/files/checkpoint_file.h"
 
 namespace {
 

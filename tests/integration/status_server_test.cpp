@@ -33,7 +33,7 @@
 #include "child_process.h"
 #include "engine/run_state.h"
 #include "loopback_port.h"
-#include "run/run_directory.h"
+#include "run_directory/files/run_directory.h"
 #include "scratch_dir.h"
 #include "status/status_board.h"
 

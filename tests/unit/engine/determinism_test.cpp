@@ -7,7 +7,7 @@
 #include "engine/engine.h"
 #include "engine_test_support.h"
 #include "evaluator/local_evaluator.h"
-#include "run/checkpoint.h"
+#include "run_directory/files/checkpoint.h"
 
 namespace poet {
 namespace {

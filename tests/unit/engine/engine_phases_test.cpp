@@ -8,7 +8,7 @@
 
 #include "engine_test_support.h"
 #include "evaluator/local_evaluator.h"
-#include "run/checkpoint.h"
+#include "run_directory/files/checkpoint.h"
 #include "scripted_evaluator.h"
 
 namespace poet::testing {

@@ -20,8 +20,8 @@
 #include "policy/mlp.h"
 #include "rng.h"
 #include "rollout.h"
-#include "run/checkpoint.h"
-#include "run/checkpoint_file.h"
+#include "run_directory/files/checkpoint.h"
+#include "run_directory/files/checkpoint_file.h"
 
 namespace poet {
 namespace {

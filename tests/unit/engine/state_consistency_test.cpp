@@ -12,8 +12,8 @@
 #include "engine_test_support.h"
 #include "envgen/env_proto.h"
 #include "rng.h"
-#include "run/checkpoint.h"
-#include "run/checkpoint_file.h"
+#include "run_directory/files/checkpoint.h"
+#include "run_directory/files/checkpoint_file.h"
 #include "scripted_evaluator.h"
 
 namespace poet::testing {

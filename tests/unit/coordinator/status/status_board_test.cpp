@@ -18,7 +18,7 @@
 #include <thread>
 
 #include "../../engine/engine_test_support.h"
-#include "run/run_directory.h"
+#include "run_directory/files/run_directory.h"
 #include "scratch_dir.h"
 #include "status/status_json.h"
 #include "utf8.h"

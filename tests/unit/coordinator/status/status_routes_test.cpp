@@ -11,7 +11,7 @@
 #include <nlohmann/json.hpp>
 
 #include "../../engine/engine_test_support.h"
-#include "run/run_directory.h"
+#include "run_directory/files/run_directory.h"
 #include "scratch_dir.h"
 
 namespace poet {
