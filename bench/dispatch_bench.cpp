@@ -22,12 +22,12 @@
 
 #include "build_fingerprint.h"
 #include "dispatch/local_workers.h"
+#include "engine/rollout_batch.h"
 #include "envgen/named_courses.h"
 #include "es/optimizer.h"
 #include "es_step_fixture.h"
 #include "evaluator/local_evaluator.h"
 #include "evaluator/remote_evaluator.h"
-#include "engine/rollout_batch.h"
 #include "policy/mlp.h"
 #include "rng.h"
 #include "wire.pb.h"

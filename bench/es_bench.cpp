@@ -7,11 +7,11 @@
 
 #include <chrono>
 
+#include "engine/rollout_batch.h"
 #include "envgen/named_courses.h"
 #include "es/optimizer.h"
 #include "es_step_fixture.h"
 #include "evaluator/local_evaluator.h"
-#include "engine/rollout_batch.h"
 #include "policy/mlp.h"
 #include "rng.h"
 

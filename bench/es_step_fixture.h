@@ -5,9 +5,9 @@
 #include <cstdint>
 #include <vector>
 
+#include "engine/rollout_batch.h"
 #include "envgen/named_courses.h"
 #include "es/es_settings.h"
-#include "engine/rollout_batch.h"
 #include "policy/mlp.h"
 #include "rng.h"
 

@@ -1,8 +1,8 @@
 #pragma once
 // The run's pictures and a pair's episode (for the dashboard's replay) as the status socket serves them: read
-// from the run directory's last checkpoint (run_directory/reading/run_snapshot.h, never changing the directory) and kept until
-// the checkpoint changes, so a page polling every few seconds costs one rendering per picture per checkpoint.
-// Thread-safe; a rendering runs outside the lock, so a slow picture never holds up another request.
+// from the run directory's last checkpoint (run_directory/reading/run_snapshot.h, never changing the directory) and
+// kept until the checkpoint changes, so a page polling every few seconds costs one rendering per picture per
+// checkpoint. Thread-safe; a rendering runs outside the lock, so a slow picture never holds up another request.
 
 #include <filesystem>
 #include <functional>

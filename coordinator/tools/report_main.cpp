@@ -2,8 +2,10 @@
 // finished, live or resumed run and never changes it: it reads the last checkpoint and the log lines that
 // checkpoint has seen, so a run being written is reported as of its last checkpoint.
 //   poet-report --run-dir DIR [--json FILE|-] [--plots DIR] [--target ENV.json] [--coverage-samples FILE]
-//               [--until-iteration T | --until-env-steps N]   the run as it stood then (run_directory/reading/run_cut.h)
-//               [--suite NAME [--threads N]]   every agent of the run on a held-out test suite (run_directory/reading/run_suite.h)
+//               [--until-iteration T | --until-env-steps N]   the run as it stood then
+//               (run_directory/reading/run_cut.h)
+//               [--suite NAME [--threads N]]   every agent of the run on a held-out test suite
+//               (run_directory/reading/run_suite.h)
 
 #include <CLI/CLI.hpp>
 #include <cerrno>

@@ -181,7 +181,8 @@ TEST_F(ReportProcessTest, ReportsTheMetricsTableJsonAndPlotsOfAFinishedRunWithou
   EXPECT_EQ(nlohmann::json::parse(json_out), j);
 }
 
-// --until-iteration and --until-env-steps report the run as it stood earlier (run_directory/reading/run_cut.h checks the numbers).
+// --until-iteration and --until-env-steps report the run as it stood earlier (run_directory/reading/run_cut.h checks
+// the numbers).
 TEST_F(ReportProcessTest, ARunIsReportedAsItStoodAtABudget) {
   const fs::path run = threads_run();
   std::string full, err;
