@@ -36,8 +36,7 @@ done
 # poet-worker beside it (--local-workers)
 binaries=(
   coordinator/poet-coordinator worker/poet-worker
-  coordinator/tools/poetctl coordinator/tools/poet-lineage coordinator/tools/poet-report
-  coordinator/tools/poet-curves coordinator/tools/poet-controls
+  tools/poetctl tools/poet-lineage tools/poet-report tools/poet-curves tools/poet-controls
   tools/poet-rollout tools/poet-eval tools/poet-fidelity
 )
 for b in "${binaries[@]}"; do

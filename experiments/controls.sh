@@ -21,8 +21,8 @@ out=${4:?$usage}
 shift 4
 root=$(cd "$(dirname "$0")/.." && pwd)
 coordinator=$build/coordinator/poet-coordinator
-lineage=$build/coordinator/tools/poet-lineage
-report=$build/coordinator/tools/poet-report
+lineage=$build/tools/poet-lineage
+report=$build/tools/poet-report
 for tool in "$coordinator" "$lineage" "$report"; do [[ -x $tool ]] || { echo "no $tool: build first" >&2; exit 2; }; done
 [[ $pair =~ ^[0-9]+$ ]] || { echo "PAIR must be a pair id (a non-negative integer), got '$pair'" >&2; exit 2; }
 walker=$root/data/walkers/flat-walker.json

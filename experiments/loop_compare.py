@@ -63,7 +63,7 @@ def figures(run_dir, until, report_bin):
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--until-iteration", type=int, required=True, help="compare iterations 0..T")
-    parser.add_argument("--report", default="build/coordinator/tools/poet-report", help="the poet-report binary")
+    parser.add_argument("--report", default="build/tools/poet-report", help="the poet-report binary")
     parser.add_argument("runs", nargs="+", metavar="LABEL=RUN_DIR")
     args = parser.parse_args()
     columns = []

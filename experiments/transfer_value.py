@@ -2,7 +2,7 @@
 """Runs side by side at one budget of environment steps: POET against POET without transfer (spec §3), or any runs.
 
     python3 experiments/transfer_value.py "POET=runs/deep" "without transfer=runs/deep-no-transfer" \
-        [--env-steps N] [--report build/coordinator/tools/poet-report]
+        [--env-steps N] [--report build/tools/poet-report]
 
 Each run as it stood at the end of the last iteration within N environment steps (poet-report --until-env-steps;
 N defaults to the smallest of the runs' own totals, so every run gets the same): its iterations and environment
