@@ -17,12 +17,27 @@
 namespace poet {
 namespace {
 
-// One candidate θ for a target pair.
+const auto u = [](auto v) { return static_cast<uint64_t>(v); };
+
+// One candidate θ for a target pair, and once run, its evaluation.
 struct Candidate {
   int source = kNone;
   bool proposal = false;
   std::vector<double> theta;
-  size_t eval = 0;  // evaluation handle
+  size_t eval = 0;  // evaluation handle in its batch
+  Evaluation evaluation;
+};
+
+// What a transfer test leaves for each active target: the candidates that compete (direct ones in source order,
+// then proposals) and the bar the best must beat strictly.
+struct Contest {
+  std::vector<Candidate> entries;
+  double bar = 0;
+};
+
+struct Round {
+  std::vector<Contest> contests;  // by position in `active`
+  size_t proposals = 0;           // proposal steps paid for
 };
 
 double threshold_of(const Pair& target) {
@@ -30,27 +45,10 @@ double threshold_of(const Pair& target) {
   return *std::max_element(target.recent_scores.begin(), target.recent_scores.end());
 }
 
-}  // namespace
-
-void transfer(IterationContext& ctx) {
-  const int interval = ctx.settings.poet.transfer_interval;
-  const std::vector<size_t> active = ctx.state.active_indices();
-  if (ctx.t % interval != 0 || active.size() < 2) return;
-  ctx.phase(IterationPhase::kTransfer);
-  const bool full = ctx.settings.poet.transfer_test == TransferTest::kFull;
-  const auto u = [](auto v) { return static_cast<uint64_t>(v); };
-  const auto step_of = [&](RolloutBatch& batch, const Pair& target, const Candidate& source) {
-    const uint64_t step_key = ctx.key("transfer-noise", {u(ctx.t), u(target.id), u(source.source)});
-    return batch.add_es_step({share(source.theta), target.env, target.optimizer.sigma, step_key},
-                             ctx.settings.es.perturbations);
-  };
-
-  const int64_t rollouts_before = ctx.state.counters.rollouts;
-
-  // direct evaluations (with the full test, the proposals' ES rollouts in the same batch)
-  RolloutBatch first = ctx.batch();
-  std::vector<std::vector<Candidate>> direct(active.size()), proposals(active.size());
-  std::vector<std::vector<size_t>> es_handles(active.size());
+// Every other active pair's θ on each target's environment, added to `batch` (in source order).
+std::vector<std::vector<Candidate>> add_direct(IterationContext& ctx, const std::vector<size_t>& active,
+                                               RolloutBatch& batch) {
+  std::vector<std::vector<Candidate>> direct(active.size());
   for (size_t a = 0; a < active.size(); ++a) {
     const Pair& target = ctx.state.pairs[active[a]];
     for (size_t b : active) {
@@ -58,28 +56,27 @@ void transfer(IterationContext& ctx) {
       if (source.id == target.id) continue;
       const uint64_t eval_key = ctx.key("transfer-eval", {u(ctx.t), u(target.id), u(source.id), 0});
       direct[a].push_back(
-          {source.id, false, source.theta, first.add_evaluation(share(source.theta), target.env, eval_key)});
-      if (full) es_handles[a].push_back(step_of(first, target, direct[a].back()));
+          {source.id, false, source.theta, batch.add_evaluation(share(source.theta), target.env, eval_key), {}});
     }
   }
-  first.run(ctx.evaluator, ctx.state.counters, ctx.settings.es);
+  return direct;
+}
 
-  // the threshold test: the proposals' ES rollouts, only for the sources that passed it
-  std::vector<std::vector<const Candidate*>> stepped(active.size());
-  RolloutBatch screened = ctx.batch();
-  for (size_t a = 0; a < active.size(); ++a) {
-    const Pair& target = ctx.state.pairs[active[a]];
-    for (const Candidate& d : direct[a]) {
-      if (!full && !(first.evaluation(d.eval).score > threshold_of(target))) continue;
-      stepped[a].push_back(&d);
-      if (!full) es_handles[a].push_back(step_of(screened, target, d));
-    }
-  }
-  if (!full) screened.run(ctx.evaluator, ctx.state.counters, ctx.settings.es);
-  const RolloutBatch& stepped_batch = full ? first : screened;
+// The ES rollouts of the one-step proposal from `source` on the target (the target's σ), added to `batch`.
+size_t add_step(IterationContext& ctx, RolloutBatch& batch, const Pair& target, const Candidate& source) {
+  const uint64_t step_key = ctx.key("transfer-noise", {u(ctx.t), u(target.id), u(source.source)});
+  return batch.add_es_step({share(source.theta), target.env, target.optimizer.sigma, step_key},
+                           ctx.settings.es.perturbations);
+}
 
-  // the proposals' evaluations
-  RolloutBatch second = ctx.batch();
+// The proposals made from the ES steps in `stepped_batch` (made with the target's lr and Adam moments), run in
+// one batch of their evaluations.
+std::vector<std::vector<Candidate>> run_proposals(IterationContext& ctx, const std::vector<size_t>& active,
+                                                  const RolloutBatch& stepped_batch,
+                                                  const std::vector<std::vector<const Candidate*>>& stepped,
+                                                  const std::vector<std::vector<size_t>>& es_handles) {
+  std::vector<std::vector<Candidate>> proposals(active.size());
+  RolloutBatch batch = ctx.batch();
   for (size_t a = 0; a < active.size(); ++a) {
     const Pair& target = ctx.state.pairs[active[a]];
     const std::vector<EsOutcome> outcomes =
@@ -90,70 +87,136 @@ void transfer(IterationContext& ctx) {
                                           target.optimizer, target.optimizer.lr, ctx.settings.es);
       require_finite(ctx, target, theta, "the transfer proposal from pair " + std::to_string(d.source));
       const uint64_t eval_key = ctx.key("transfer-eval", {u(ctx.t), u(target.id), u(d.source), 1});
-      const size_t handle = second.add_evaluation(share(theta), target.env, eval_key);
-      proposals[a].push_back({d.source, true, std::move(theta), handle});
+      const size_t handle = batch.add_evaluation(share(theta), target.env, eval_key);
+      proposals[a].push_back({d.source, true, std::move(theta), handle, {}});
     }
   }
-  second.run(ctx.evaluator, ctx.state.counters);
+  batch.run(ctx.evaluator, ctx.state.counters);
+  for (auto& list : proposals)
+    for (Candidate& c : list) c.evaluation = batch.evaluation(c.eval);
+  return proposals;
+}
 
-  size_t proposal_count = 0;
-  for (const auto& list : proposals) proposal_count += list.size();
-  const int64_t successes_before = ctx.state.counters.transfer_successes;
+// The full test (the paper's): each source directly and as a one-step proposal, in two batches (the direct
+// evaluations with the proposals' ES rollouts, then the proposals' evaluations); all compete against the
+// target's latest score.
+Round full_test(IterationContext& ctx, const std::vector<size_t>& active) {
+  RolloutBatch first = ctx.batch();
+  std::vector<std::vector<Candidate>> direct = add_direct(ctx, active, first);
+  std::vector<std::vector<const Candidate*>> stepped(active.size());
+  std::vector<std::vector<size_t>> es_handles(active.size());
+  for (size_t a = 0; a < active.size(); ++a) {
+    for (const Candidate& d : direct[a]) {
+      stepped[a].push_back(&d);
+      es_handles[a].push_back(add_step(ctx, first, ctx.state.pairs[active[a]], d));
+    }
+  }
+  first.run(ctx.evaluator, ctx.state.counters, ctx.settings.es);
+  std::vector<std::vector<Candidate>> proposals = run_proposals(ctx, active, first, stepped, es_handles);
+  Round round;
+  for (size_t a = 0; a < active.size(); ++a) {
+    Contest contest{{}, ctx.state.pairs[active[a]].latest_score};
+    for (Candidate& d : direct[a]) {
+      d.evaluation = first.evaluation(d.eval);
+      contest.entries.push_back(std::move(d));
+    }
+    round.proposals += proposals[a].size();
+    for (Candidate& p : proposals[a]) contest.entries.push_back(std::move(p));
+    round.contests.push_back(std::move(contest));
+  }
+  return round;
+}
 
-  // the choices: the best transfer, first in order on ties (direct by source order, then proposals), replaces θ
-  // if strictly better than the latest score (full test) or than the threshold, as a proposal (threshold test)
+// The threshold test (Enhanced POET's): direct evaluations first; only a source that beats the target's threshold
+// (the best of its last five evaluation scores) gets the proposal step — two more batches — and the proposals
+// alone compete, against the threshold.
+Round threshold_test(IterationContext& ctx, const std::vector<size_t>& active) {
+  RolloutBatch first = ctx.batch();
+  const std::vector<std::vector<Candidate>> direct = add_direct(ctx, active, first);
+  first.run(ctx.evaluator, ctx.state.counters, ctx.settings.es);
+  std::vector<std::vector<const Candidate*>> stepped(active.size());
+  std::vector<std::vector<size_t>> es_handles(active.size());
+  RolloutBatch screened = ctx.batch();
+  for (size_t a = 0; a < active.size(); ++a) {
+    const Pair& target = ctx.state.pairs[active[a]];
+    for (const Candidate& d : direct[a]) {
+      if (!(first.evaluation(d.eval).score > threshold_of(target))) continue;
+      stepped[a].push_back(&d);
+      es_handles[a].push_back(add_step(ctx, screened, target, d));
+    }
+  }
+  screened.run(ctx.evaluator, ctx.state.counters, ctx.settings.es);
+  std::vector<std::vector<Candidate>> proposals = run_proposals(ctx, active, screened, stepped, es_handles);
+  Round round;
+  for (size_t a = 0; a < active.size(); ++a) {
+    round.proposals += proposals[a].size();
+    round.contests.push_back({std::move(proposals[a]), threshold_of(ctx.state.pairs[active[a]])});
+  }
+  return round;
+}
+
+// The best candidate of a contest, first in order on ties, if it beats the bar strictly.
+const Candidate* winner(const Contest& contest) {
+  const Candidate* best = nullptr;
+  for (const Candidate& c : contest.entries)
+    if (!best || c.evaluation.score > best->evaluation.score) best = &c;
+  return best && best->evaluation.score > contest.bar ? best : nullptr;
+}
+
+// With confirm_transfers (stochastic courses), each choice and the target's θ run on the same fresh courses, and
+// the choice stands only if it scores above θ there; its score is then that one, from courses that did not choose
+// it. Returns how many choices were not confirmed.
+int64_t confirm(IterationContext& ctx, const std::vector<size_t>& active, std::vector<const Candidate*>& chosen,
+                std::vector<Evaluation>& chosen_eval) {
+  int64_t unconfirmed = 0;
+  RolloutBatch batch = ctx.batch();
+  std::vector<std::pair<size_t, size_t>> handles(active.size());
+  for (size_t a = 0; a < active.size(); ++a) {
+    if (!chosen[a]) continue;
+    const Pair& target = ctx.state.pairs[active[a]];
+    const uint64_t key = ctx.key("transfer-confirm", {u(ctx.t), u(target.id)});
+    handles[a] = {batch.add_evaluation(share(chosen[a]->theta), target.env, key),
+                  batch.add_evaluation(share(target.theta), target.env, key)};
+  }
+  batch.run(ctx.evaluator, ctx.state.counters);
+  for (size_t a = 0; a < active.size(); ++a) {
+    if (!chosen[a]) continue;
+    const Evaluation candidate = batch.evaluation(handles[a].first);
+    if (candidate.score > batch.evaluation(handles[a].second).score) {
+      chosen_eval[a] = candidate;
+    } else {
+      chosen[a] = nullptr;
+      unconfirmed += 1;
+    }
+  }
+  return unconfirmed;
+}
+
+}  // namespace
+
+void transfer(IterationContext& ctx) {
+  const int interval = ctx.settings.poet.transfer_interval;
+  const std::vector<size_t> active = ctx.state.active_indices();
+  if (ctx.t % interval != 0 || active.size() < 2) return;
+  ctx.phase(IterationPhase::kTransfer);
+  const bool full = ctx.settings.poet.transfer_test == TransferTest::kFull;
+  const int64_t rollouts_before = ctx.state.counters.rollouts;
+  const Round round = full ? full_test(ctx, active) : threshold_test(ctx, active);
+
+  // the choices; all evaluations used the θs as they stood before the round, and the replacements are applied
+  // together afterwards
   std::vector<const Candidate*> chosen(active.size(), nullptr);
   std::vector<Evaluation> chosen_eval(active.size());
   for (size_t a = 0; a < active.size(); ++a) {
-    Pair& target = ctx.state.pairs[active[a]];
-    const Candidate* best = nullptr;
-    Evaluation best_eval;
-    for (const auto* list : {&direct[a], &proposals[a]}) {
-      if (!full && list == &direct[a]) continue;
-      for (const Candidate& c : *list) {
-        const Evaluation e = (c.proposal ? second : first).evaluation(c.eval);
-        if (!best || e.score > best_eval.score) {
-          best = &c;
-          best_eval = e;
-        }
-      }
-    }
-    target.transfer_attempts += 1;
+    ctx.state.pairs[active[a]].transfer_attempts += 1;
     ctx.state.counters.transfer_attempts += 1;
-    const double bar = full ? target.latest_score : threshold_of(target);
-    if (!best || !(best_eval.score > bar)) continue;
-    chosen[a] = best;
-    chosen_eval[a] = best_eval;
+    chosen[a] = winner(round.contests[a]);
+    if (chosen[a]) chosen_eval[a] = chosen[a]->evaluation;
   }
-
-  // with confirm_transfers (stochastic courses), each choice and the target's θ run on the same fresh courses,
-  // and the choice stands only if it scores above θ there; its score is then that one, from courses that did
-  // not choose it
   std::optional<int64_t> unconfirmed;
-  if (ctx.settings.poet.confirm_transfers) {
-    unconfirmed = 0;
-    RolloutBatch confirm = ctx.batch();
-    std::vector<std::pair<size_t, size_t>> handles(active.size());
-    for (size_t a = 0; a < active.size(); ++a) {
-      if (!chosen[a]) continue;
-      const Pair& target = ctx.state.pairs[active[a]];
-      const uint64_t key = ctx.key("transfer-confirm", {u(ctx.t), u(target.id)});
-      handles[a] = {confirm.add_evaluation(share(chosen[a]->theta), target.env, key),
-                    confirm.add_evaluation(share(target.theta), target.env, key)};
-    }
-    confirm.run(ctx.evaluator, ctx.state.counters);
-    for (size_t a = 0; a < active.size(); ++a) {
-      if (!chosen[a]) continue;
-      const Evaluation candidate = confirm.evaluation(handles[a].first);
-      if (candidate.score > confirm.evaluation(handles[a].second).score) {
-        chosen_eval[a] = candidate;
-      } else {
-        chosen[a] = nullptr;
-        *unconfirmed += 1;
-      }
-    }
-  }
+  if (ctx.settings.poet.confirm_transfers) unconfirmed = confirm(ctx, active, chosen, chosen_eval);
 
+  const int64_t successes_before = ctx.state.counters.transfer_successes;
   for (size_t a = 0; a < active.size(); ++a) {
     if (!chosen[a]) continue;
     Pair& target = ctx.state.pairs[active[a]];
@@ -167,7 +230,7 @@ void transfer(IterationContext& ctx) {
     record_evaluation(ctx, target, target.theta, chosen_eval[a]);
   }
   // what the round cost: with the threshold test, the proposals it paid for out of the N(N−1) of the full test
-  ctx.event(TransferRoundEvent{full, active.size(), active.size() * (active.size() - 1), proposal_count,
+  ctx.event(TransferRoundEvent{full, active.size(), active.size() * (active.size() - 1), round.proposals,
                                ctx.state.counters.transfer_successes - successes_before,
                                ctx.state.counters.rollouts - rollouts_before, unconfirmed});
 }
