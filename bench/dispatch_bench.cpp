@@ -498,7 +498,7 @@ void BM_EsStepRemoteVsLocal(benchmark::State& state) {
     return;
   }
   const std::unique_ptr<RemoteEvaluator> remote = std::move(*bound);
-  remote->on_snapshot([&connected](const Dispatcher& d) { connected = d.worker_count(); });
+  remote->on_snapshot([&connected](const DispatchView& d) { connected = d.workers.size(); });
   // as --local-workers starts them, without the local token: the workers earn their trust as remote ones do
   const Expected<std::unique_ptr<LocalWorkers>> processes =
       LocalWorkers::start(POET_WORKER_BINARY, remote->endpoint(), 2, 1, "");

@@ -346,32 +346,9 @@ int run(const Options& options, StopSignals& signals) {
   });
   CachingEvaluator evaluator(waiting, kScoreCacheBytes);
   if (rollouts->remote) {
-    rollouts->remote->on_snapshot([&board](const Dispatcher& d) {
-      DispatchSnapshot snapshot;
-      for (const WorkerView& w : d.workers()) {
-        WorkerSnapshot ws;
-        ws.id = w.id;
-        ws.address = w.name;
-        ws.threads = w.threads;
-        ws.jobs_done = w.jobs_done;
-        ws.results_done = w.results_done;
-        ws.fingerprint_digest = w.fingerprint_digest;
-        snapshot.workers.push_back(std::move(ws));
-      }
-      snapshot.queue_depth = d.queue_depth();
-      snapshot.in_flight_jobs = d.in_flight();
-      snapshot.dropped_frames = d.dropped();
-      snapshot.workers_joined = d.workers_joined();
-      snapshot.workers_lost = d.workers_lost();
-      snapshot.backup_jobs = d.backup_jobs();
-      snapshot.leases_expired = d.leases_expired();
-      snapshot.workers_demoted = d.workers_demoted();
-      snapshot.verified_jobs = d.verified_jobs();
-      snapshot.wrong_workers = static_cast<int64_t>(d.wrong_workers().size());
-      snapshot.coordinator_checks = d.coordinator_checks();
-      snapshot.rollbacks = d.rollbacks();
-      const bool waiting = d.ready_workers() == 0 && d.queue_depth() > 0;
-      board.publish_dispatch(std::move(snapshot));
+    rollouts->remote->on_snapshot([&board](DispatchView view) {
+      const bool waiting = view.ready_workers == 0 && view.queue_depth > 0;
+      board.publish_dispatch(std::move(view));
       board.set_state(waiting ? RunPhase::kWaitingForWorkers : RunPhase::kRunning,
                       waiting ? "no worker is connected" : "");
     });

@@ -806,6 +806,26 @@ std::vector<WorkerView> Dispatcher::workers() const {
   return out;
 }
 
+DispatchView Dispatcher::view(Millis now) const {
+  DispatchView v;
+  v.workers = workers();
+  v.at = now;
+  v.ready_workers = ready_workers();
+  v.queue_depth = queue_depth();
+  v.in_flight_jobs = in_flight();
+  v.dropped_frames = dropped_;
+  v.workers_joined = joined_;
+  v.workers_lost = lost_;
+  v.backup_jobs = backups_;
+  v.leases_expired = leases_expired_;
+  v.workers_demoted = demoted_;
+  v.verified_jobs = verified_;
+  v.wrong_workers = static_cast<int64_t>(wrong_workers_.size());
+  v.coordinator_checks = coordinator_checks_;
+  v.rollbacks = rollbacks_;
+  return v;
+}
+
 std::string Dispatcher::describe_task(size_t index) const {
   const RolloutTask& task = tasks_.at(index);
   std::string text = "task " + std::to_string(index) + " of the batch (course " + task.env.encoding.name + " seed " +

@@ -48,6 +48,7 @@
 #include <utility>
 #include <vector>
 
+#include "dispatch/dispatch_view.h"
 #include "dispatch/drop_reason.h"
 #include "dispatch/outgoing.h"
 #include "dispatch/running_median.h"
@@ -56,8 +57,6 @@
 #include "wire_timing.h"
 
 namespace poet {
-
-using Millis = int64_t;
 
 struct DispatchSettings {
   // send something to each worker at least this often (and ask the same of them)
@@ -77,21 +76,6 @@ struct DispatchSettings {
   double verify_fraction = 0;       // of the jobs answered by workers that are not local, also run on a second
   uint64_t verify_secret = 0;       // which jobs are checked: drawn from it, the batch and the job; never sent
   int probation_checks = 5;  // with verification: every answer of a worker not local is checked until this many were
-};
-
-struct WorkerView {
-  WorkerId id;
-  std::string name;
-  int threads = 0;
-  uint64_t fingerprint_digest = 0;
-  int64_t jobs_done = 0;
-  int64_t results_done = 0;
-  Millis last_heard = 0;
-  size_t jobs_held = 0;
-  int64_t checks_passed = 0;  // its answers that another worker or the coordinator computed alike
-  bool local = false;         // started by this coordinator (showed local_token)
-  bool proven = false;        // local, or has returned a valid result: alive and answering (not: right)
-  bool demoted = false;       // not proven, and let a lease expire or returned an error: given no more jobs
 };
 
 class Dispatcher {
@@ -166,6 +150,7 @@ class Dispatcher {
   int64_t queue_depth() const { return static_cast<int64_t>(queue_.size()); }
   int64_t in_flight() const;
   std::vector<WorkerView> workers() const;
+  DispatchView view(Millis now) const;  // the workers and every counter below, for the status socket
   // Frames and Hellos refused or dropped, by reason's name (drop_reason.h).
   const std::map<std::string, int64_t>& dropped() const { return dropped_; }
   int64_t workers_joined() const { return joined_; }          // Welcomes given

@@ -12,11 +12,10 @@
 #include <utility>
 #include <vector>
 
+#include "dispatch/dispatch_view.h"
 #include "wire.pb.h"
 
 namespace poet {
-
-using WorkerId = std::string;  // the ROUTER's routing id of the worker's socket
 
 struct Outgoing {
   Outgoing() = default;

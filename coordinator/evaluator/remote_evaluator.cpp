@@ -115,7 +115,7 @@ void RemoteEvaluator::forget_batches_from(uint64_t batch) {
   dispatcher_.forget_batches_from(batch);
 }
 
-void RemoteEvaluator::on_snapshot(std::function<void(const Dispatcher&)> publish) {
+void RemoteEvaluator::on_snapshot(std::function<void(DispatchView)> publish) {
   std::lock_guard lock(mutex_);
   publish_ = std::move(publish);
 }
@@ -279,7 +279,7 @@ void RemoteEvaluator::loop() {
     }
     if (dispatcher_.batch_done() || dispatcher_.failure()) changed_.notify_all();
     if (publish_ && now - last_publish >= 500) {
-      publish_(dispatcher_);
+      publish_(dispatcher_.view(now));
       last_publish = now;
     }
   }

@@ -74,8 +74,8 @@ class RemoteEvaluator final : public Evaluator {
   uint64_t batch_id();
   std::vector<uint64_t> unchecked_since();
   void forget_batches_from(uint64_t batch);
-  // Called on the socket thread about twice a second, with the dispatcher under the lock (for the status board).
-  void on_snapshot(std::function<void(const Dispatcher&)> publish);
+  // Called on the socket thread about twice a second with the dispatcher's view of itself (for the status board).
+  void on_snapshot(std::function<void(DispatchView)> publish);
 
  private:
   RemoteEvaluator(DispatchSettings settings, std::stop_token stop);
@@ -99,7 +99,7 @@ class RemoteEvaluator final : public Evaluator {
   std::mutex mutex_;
   std::condition_variable changed_;
   Dispatcher dispatcher_;
-  std::function<void(const Dispatcher&)> publish_;
+  std::function<void(DispatchView)> publish_;
   const ResultsReady* ready_ = nullptr;  // the batch's listener, while evaluate() runs
   bool quit_ = false;
   std::string shutdown_reason_;

@@ -63,8 +63,8 @@ std::string prometheus_text(const BoardView& v) {
   sample("poet_annecs{definition=\"at_admission\"}", run.annecs.at_admission);
   sample("poet_annecs{definition=\"at_archiving\"}", run.annecs.at_archiving);
 
-  const DispatchSnapshot no_dispatch;
-  const DispatchSnapshot& dispatch = v.dispatch ? *v.dispatch : no_dispatch;
+  const DispatchView no_dispatch;
+  const DispatchView& dispatch = v.dispatch ? *v.dispatch : no_dispatch;
   struct Series {
     const char* name;
     const char* type;

@@ -92,10 +92,10 @@ void StatusBoard::publish_run(const RunState& state, int last_checkpoint_iterati
   while (rate_samples_.size() > kRateWindow) rate_samples_.pop_front();
 }
 
-void StatusBoard::publish_dispatch(DispatchSnapshot snapshot) {
-  auto shared = std::make_shared<const DispatchSnapshot>(std::move(snapshot));
+void StatusBoard::publish_dispatch(DispatchView snapshot) {
+  auto shared = std::make_shared<const DispatchView>(std::move(snapshot));
   const SteadyTime now = clock_();
-  std::shared_ptr<const DispatchSnapshot> previous;  // freed after the lock is released
+  std::shared_ptr<const DispatchView> previous;  // freed after the lock is released
   std::lock_guard lock(mutex_);
   previous = std::exchange(dispatch_, std::move(shared));
   dispatch_at_ = now;

@@ -49,7 +49,7 @@ class StatusBoard {
   // last checkpoint written. Copies the pairs' summaries and lineage (not θ, not the optimizer): O(pairs).
   void publish_run(const RunState& state, int last_checkpoint_iteration);
   // The dispatcher's state; replaces the previous one.
-  void publish_dispatch(DispatchSnapshot snapshot);
+  void publish_dispatch(DispatchView snapshot);
   // The phase and a free-text note (empty clears it). The board starts in kStarting.
   void set_state(RunPhase phase, std::string note = "");
   // A file of the CURVE authorized/ folder was found to hold no key, and skipped (counted once per file).
@@ -100,7 +100,7 @@ class StatusBoard {
 
   mutable std::mutex mutex_;  // guards the members below; held only to copy or swap
   std::shared_ptr<const PublishedRun> run_;
-  std::shared_ptr<const DispatchSnapshot> dispatch_;
+  std::shared_ptr<const DispatchView> dispatch_;
   std::chrono::steady_clock::time_point dispatch_at_;
   RunPhase phase_ = RunPhase::kStarting;
   std::string note_;

@@ -39,7 +39,7 @@ status::PairSummary summary(const PairInfo& info) {
 }
 
 template <class Map>
-void copy_dropped_frames(const DispatchSnapshot& dispatch, Map& out) {
+void copy_dropped_frames(const DispatchView& dispatch, Map& out) {
   for (const auto& [reason, count] : dispatch.dropped_frames) out[valid_utf8(reason)] = count;
 }
 
@@ -150,14 +150,14 @@ status::Archive archive_message(const BoardView& v) {
 status::WorkerList worker_list(const BoardView& v) {
   status::WorkerList list;
   if (!v.dispatch) return list;
-  for (const WorkerSnapshot& w : v.dispatch->workers) {
+  for (const WorkerView& w : v.dispatch->workers) {
     status::Worker* worker = list.add_workers();
     worker->set_id(peer_id_text(w.id));
-    worker->set_address(valid_utf8(w.address));
+    worker->set_address(valid_utf8(w.name));
     worker->set_threads(w.threads);
     worker->set_jobs_done(w.jobs_done);
     worker->set_results_done(w.results_done);
-    worker->set_seconds_since_heartbeat(w.seconds_since_heartbeat + v.dispatch_age_s);
+    worker->set_seconds_since_heartbeat(static_cast<double>(v.dispatch->at - w.last_heard) / 1000 + v.dispatch_age_s);
     worker->set_fingerprint_digest(hex_text(w.fingerprint_digest));
   }
   list.set_queue_depth(v.dispatch->queue_depth);

@@ -168,7 +168,14 @@ class StatusServerTest : public ::testing::Test {
 
     board_ = std::make_unique<StatusBoard>(root_ / "run");
     board_->publish_run(demo_state(), 5);
-    board_->publish_dispatch({.workers = {{"w-1", "10.1.2.3", 2, 40, 38, 0.25, 0x1234}},
+    board_->publish_dispatch({.workers = {{.id = "w-1",
+                                           .name = "10.1.2.3",
+                                           .threads = 2,
+                                           .fingerprint_digest = 0x1234,
+                                           .jobs_done = 40,
+                                           .results_done = 38,
+                                           .last_heard = 750}},
+                              .at = 1'000,
                               .queue_depth = 6,
                               .in_flight_jobs = 2,
                               .dropped_frames = {{"malformed", 1}}});

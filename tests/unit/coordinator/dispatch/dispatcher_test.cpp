@@ -171,6 +171,27 @@ TEST(Dispatcher, ABatchThatGoesOutWholeAtOnceIsCutIntoOneJobAWorker) {
   }
 }
 
+TEST(Dispatcher, ItsViewHoldsItsWorkersWhenLastHeardAndEveryCounter) {
+  Dispatcher d(settings());
+  join(d, "a", hello(3), 0);
+  join(d, "b", hello(), 0);
+  d.heard_from("a", 1'200);
+  d.start_batch(batch(8));
+  const std::vector<Outgoing> sent = jobs_in(d.outgoing(1'300));
+  d.on_result("stranger", answer(sent[0].message.job()), 1'400);
+  const DispatchView view = d.view(2'500);
+  EXPECT_EQ(view.at, 2'500);
+  ASSERT_EQ(view.workers.size(), 2u);
+  EXPECT_EQ(view.workers[0].id, "a");
+  EXPECT_EQ(view.workers[0].threads, 3);
+  EXPECT_EQ(view.workers[0].last_heard, 1'200);  // a heartbeat 1.3 s before the view
+  EXPECT_EQ(view.ready_workers, 2u);
+  EXPECT_EQ(view.in_flight_jobs, d.in_flight());
+  EXPECT_EQ(view.queue_depth, d.queue_depth());
+  EXPECT_EQ(view.workers_joined, 2);
+  EXPECT_EQ(view.dropped_frames.at("unexpected_result"), 1);
+}
+
 TEST(Dispatcher, DuplicatesAndStrangersAreDropped) {
   Dispatcher d(one_task_jobs());
   join(d, "a", hello(), 0);

@@ -272,9 +272,17 @@ TEST_F(StatusBoardTest, RatesAreMeasuredOverTheLastPublishes) {
 
 TEST_F(StatusBoardTest, UptimeAndHeartbeatAgesFollowTheClock) {
   StatusBoard board(dir_, clock_.function());
-  DispatchSnapshot dispatch;
-  dispatch.workers.push_back({"worker-a", "10.0.0.2", 4, 12, 11, 1.5, 0x00ab'cdef'0123'4567ULL});
-  dispatch.workers.push_back({std::string("\x00\x01\xfe", 3), "", 1, 0, 0, 0, 1});
+  DispatchView dispatch;
+  dispatch.at = 10'000;  // the dispatcher's clock: a-worker was last heard 1.5 s before
+  dispatch.workers.push_back({.id = "worker-a",
+                              .name = "10.0.0.2",
+                              .threads = 4,
+                              .fingerprint_digest = 0x00ab'cdef'0123'4567ULL,
+                              .jobs_done = 12,
+                              .results_done = 11,
+                              .last_heard = 8'500});
+  dispatch.workers.push_back(
+      {.id = std::string("\x00\x01\xfe", 3), .threads = 1, .fingerprint_digest = 1, .last_heard = 10'000});
   dispatch.queue_depth = 7;
   dispatch.in_flight_jobs = 3;
   dispatch.dropped_frames = {{"malformed", 2}};
@@ -349,7 +357,7 @@ TEST_F(StatusBoardTest, EventsAreReadFromEventsJsonlByLine) {
 TEST_F(StatusBoardTest, MetricsAreInPrometheusTextFormat) {
   StatusBoard board(dir_, clock_.function());
   board.publish_run(three_pairs(), 10);
-  DispatchSnapshot dispatch;
+  DispatchView dispatch;
   dispatch.workers.resize(2);
   dispatch.queue_depth = 5;
   dispatch.in_flight_jobs = 4;
@@ -460,8 +468,7 @@ TEST_F(StatusBoardTest, PublishersAndReadersRunConcurrently) {
   });
   for (int i = 0; i < 300; ++i) {
     board.publish_run(state, i);
-    board.publish_dispatch(
-        DispatchSnapshot{.workers = {}, .queue_depth = i, .in_flight_jobs = 0, .dropped_frames = {}});
+    board.publish_dispatch(DispatchView{.workers = {}, .queue_depth = i, .in_flight_jobs = 0, .dropped_frames = {}});
     board.set_state(RunPhase::kRunning);
   }
   done = true;
