@@ -296,6 +296,217 @@ bool start_local_workers(const Options& options, Rollouts& r) {
   return true;
 }
 
+// The run loop once the run is open: iterations, checkpoints and the wall times, going back to a checkpoint when
+// a worker was found wrong (with verification), and the end of the run. It owns the opened run directory and
+// state, and the evaluators in front of the rollouts (the score cache and the time spent waiting).
+class RunLoop {
+ public:
+  RunLoop(const Options& options, StopSignals& signals, StatusBoard& board, Rollouts& rollouts,
+          std::pair<RunDirectory, RunState> opened, WallTimes wall_times, std::chrono::steady_clock::time_point started)
+      : options_(options),
+        signals_(signals),
+        board_(board),
+        rollouts_(rollouts),
+        opened_(std::move(opened)),
+        wall_times_(std::move(wall_times)),
+        started_(started),
+        waiting_(
+            *rollouts.evaluator,
+            [] { return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count(); }),
+        evaluator_(waiting_, kScoreCacheBytes),
+        progress_(!options.quiet),
+        phase_timer_([this] { return elapsed(); }),
+        saved_iteration_(state().next_iteration),
+        verified_(rollouts.remote && rollouts.remote->verifies()) {}
+
+  // Iterations until the run is complete or a stop is asked for; then the shutdown. The process's exit code.
+  int run() {
+    keep_anchor();
+    signals_.loop_started();
+    while (!run_complete(state()) && !signals_.stop_requested()) {
+      if (const std::optional<int> ended = iterate()) return *ended;
+    }
+    return finish();
+  }
+
+ private:
+  RunDirectory& dir() { return opened_->first; }  // both replaced in place when the run goes back (go_back)
+  RunState& state() { return opened_->second; }
+  double elapsed() const { return std::chrono::duration<double>(std::chrono::steady_clock::now() - started_).count(); }
+
+  // One iteration, logged, recorded and saved when due; an exit code when the run must end here.
+  std::optional<int> iterate() {
+    IterationReport report;
+    try {
+      report = run_iteration(state(), evaluator_, &phase_timer_);
+    } catch (const EvaluationStopped&) {
+      // the iteration in flight is abandoned; the state in memory is part-way through it and is not saved
+      progress_.finish();
+      go_back_if_asked();
+      log_summaries();
+      spdlog::warn(
+          "stopped during iteration {}; the run's state is its checkpoint at iteration {}, and a resume "
+          "repeats the iterations since: poet-coordinator --run-dir {} --resume",
+          state().next_iteration, saved_iteration_, options_.run_dir);
+      return signals_.exit_code();
+    } catch (const RunDiverged& e) {
+      progress_.finish();
+      go_back_if_asked();
+      spdlog::error("{} (the checkpoint at iteration {} precedes the divergence)", e.what(), saved_iteration_);
+      return kExitError;
+    } catch (const std::exception&) {  // the workers' failure, told by the caller
+      progress_.finish();
+      go_back_if_asked();
+      throw;
+    }
+    if (const std::optional<bool> went = go_back_if_asked()) {
+      if (!*went) return kExitError;
+      return std::nullopt;
+    }
+    dir().append(report);
+    if (!report.events.empty() && spdlog::should_log(spdlog::level::info)) progress_.clear();
+    for (const auto& event : events_json(report)) spdlog::log(log_level_of(event), "{}", describe_event(event));
+    const int interval = state().settings.checkpoint_interval;
+    if (state().next_iteration % interval == 0 || run_complete(state()) || signals_.stop_requested()) {
+      if (!save()) return kExitError;
+    }
+    progress_.update(state(), report);
+    board_.publish_run(state(), saved_iteration_);
+    board_.publish_cache(evaluator_.episodes_saved(), evaluator_.steps_saved());
+    return std::nullopt;
+  }
+
+  // The loop ended: the last iterations saved, the summaries logged, the workers told when the run is finished.
+  int finish() {
+    // a stop between an iteration's save check and the loop test leaves that iteration unsaved
+    if (state().next_iteration != saved_iteration_ && !save()) return kExitError;
+    progress_.finish();
+    log_summaries();
+    if (!run_complete(state())) {
+      spdlog::warn("interrupted at iteration {}; continue with: poet-coordinator --run-dir {} --resume",
+                   state().next_iteration, options_.run_dir);
+      print_summary(state(), elapsed());
+      return signals_.exit_code();
+    }
+    if (budget_reached(state()))
+      spdlog::info("run finished at iteration {}: its environment-step budget of {} reached ({} steps)",
+                   state().next_iteration, state().settings.env_step_budget, state().counters.env_steps);
+    else
+      spdlog::info("run finished at iteration {}", state().next_iteration);
+    board_.set_state(RunPhase::kFinished);
+    if (rollouts_.remote) {
+      rollouts_.remote->on_snapshot(nullptr);
+      rollouts_.remote->shutdown_workers("the run is finished");
+    }
+    print_summary(state(), elapsed());
+    return 0;
+  }
+
+  // With verification, the checkpoint just written, kept in memory while a rollback may need it.
+  void keep_anchor() {
+    if (!verified_) return;
+    Expected<std::string> bytes = read_text_file(dir().path() / kCheckpointFile, kMaxCheckpointBytes);
+    if (!bytes) {  // then an older one stands in, which only costs more recomputation
+      spdlog::warn("{}: {}", (dir().path() / kCheckpointFile).string(), bytes.error());
+      return;
+    }
+    anchors_.add({rollouts_.remote->batch_id(), state().next_iteration, std::move(*bytes)});
+    const std::vector<uint64_t> needed = rollouts_.remote->unchecked_since();
+    anchors_.prune(needed);
+  }
+
+  bool save() {
+    if (auto error = dir().save(state())) {
+      progress_.finish();
+      spdlog::error("{}", *error);
+      return false;
+    }
+    saved_iteration_ = state().next_iteration;
+    keep_anchor();
+    // the times are the run's record of its machine, not its state: a failed write is reported, not fatal
+    const PhaseSeconds phases = phase_timer_.take();
+    const double waited = waiting_.take();
+    for (size_t k = 0; k < phases.size(); ++k) phase_totals_[k] += phases[k];
+    waiting_total_ += waited;
+    board_.publish_phases(phase_totals_, waiting_total_);
+    if (auto error = wall_times_.record(state().next_iteration - 1, elapsed() - wall_offset_, phases, waited))
+      spdlog::warn("{}", *error);
+    return true;
+  }
+
+  // Going back: with verification, each checkpoint a rollback may need is kept in memory (checkpoint_anchors.h);
+  // when a worker found wrong had unchecked answers taken, the run returns to the newest saved before them and
+  // computes again from there without it: deterministic, so the numbers end as if it never joined.
+  std::optional<std::string> go_back(uint64_t first_bad) {
+    const CheckpointAnchor* anchor = anchors_.before(first_bad);
+    if (anchor == nullptr) return "no checkpoint precedes batch " + std::to_string(first_bad);
+    progress_.finish();
+    spdlog::warn(
+        "a worker found wrong had unchecked answers taken since batch {}: the run goes back to its checkpoint at "
+        "iteration {} and computes again from there without it",
+        first_bad, anchor->next_iteration);
+    if (auto error = write_file_atomically(dir().path() / kCheckpointFile, anchor->bytes))
+      return (dir().path() / kCheckpointFile).string() + ": " + *error;
+    rollouts_.remote->forget_batches_from(anchor->last_batch + 1);
+    evaluator_.clear();  // the wrong worker's results may be among those remembered
+    anchors_.keep_until(*anchor);
+    opened_.reset();  // its lock released, for the resume to take
+    Expected<std::pair<RunDirectory, RunState>> resumed = RunDirectory::resume(options_.run_dir);
+    if (!resumed) return resumed.error();
+    opened_.emplace(std::move(*resumed));
+    std::string warning;
+    const double carried_before = wall_times_.carried();
+    wall_times_ = WallTimes::open(options_.run_dir, state().next_iteration, &warning);
+    wall_offset_ += wall_times_.carried() - carried_before;
+    if (!warning.empty()) spdlog::warn("{}", warning);
+    saved_iteration_ = state().next_iteration;
+    board_.publish_run(state(), saved_iteration_);
+    return std::nullopt;
+  }
+
+  // Whether the run went back (true), did not need to (nothing), or could not (false; logged). Also asked when the
+  // iteration in flight is given up: a liar caught then may have unchecked answers in the checkpoint on disk, which
+  // a resume must not go on from.
+  std::optional<bool> go_back_if_asked() {
+    const std::optional<uint64_t> first_bad = rollouts_.remote ? rollouts_.remote->take_rollback() : std::nullopt;
+    if (!first_bad) return std::nullopt;
+    if (auto error = go_back(*first_bad)) {
+      spdlog::error("going back: {}", *error);
+      return false;
+    }
+    return true;
+  }
+
+  // what this process's dispatcher and score cache did, however the loop ends
+  void log_summaries() {
+    if (rollouts_.remote) rollouts_.remote->log_summary();
+    if (evaluator_.episodes_saved() > 0)
+      spdlog::info("score cache: {} episodes asked for again were not run ({} environment steps)",
+                   evaluator_.episodes_saved(), evaluator_.steps_saved());
+  }
+
+  const Options& options_;
+  StopSignals& signals_;
+  StatusBoard& board_;
+  Rollouts& rollouts_;
+  std::optional<std::pair<RunDirectory, RunState>> opened_;
+  WallTimes wall_times_;
+  const std::chrono::steady_clock::time_point started_;
+  TimedEvaluator waiting_;      // the loop's time waiting for rollouts; the rest of its time is its own work
+  CachingEvaluator evaluator_;  // the cache answers without any
+  ProgressDisplay progress_;
+  PhaseTimer phase_timer_;
+  PhaseSeconds phase_totals_{};  // this process's, for /metrics
+  double waiting_total_ = 0;     // the same
+  int saved_iteration_;
+  CheckpointAnchors anchors_;
+  // the run's wall time stays the machine's time after going back: the times of the iterations given up are in it
+  double wall_offset_ = 0;
+  const bool verified_;
+};
+
+// Set-up: the status socket, the rollouts' socket, the run opened (restored from a pack first, when asked), the
+// servers started and the local workers; then the loop.
 int run(const Options& options, StopSignals& signals) {
   const auto started = std::chrono::steady_clock::now();
   spdlog::debug("build fingerprint {:016x}", build_fingerprint_digest());
@@ -319,14 +530,12 @@ int run(const Options& options, StopSignals& signals) {
   }
   std::optional<std::pair<RunDirectory, RunState>> opened = options.resume ? resume_run(options) : start_run(options);
   if (!opened) return kExitUsage;
-  RunDirectory& dir = opened->first;  // both replaced in place when the run goes back (go_back)
-  RunState& state = opened->second;
-  for (const std::string& repair : dir.repairs()) spdlog::warn("{}", repair);
+  for (const std::string& repair : opened->first.repairs()) spdlog::warn("{}", repair);
   std::string wall_warning;
-  WallTimes wall_times = WallTimes::open(options.run_dir, state.next_iteration, &wall_warning);
+  WallTimes wall_times = WallTimes::open(options.run_dir, opened->second.next_iteration, &wall_warning);
   if (!wall_warning.empty()) spdlog::warn("{}", wall_warning);
 
-  board.publish_run(state, state.next_iteration);
+  board.publish_run(opened->second, opened->second.next_iteration);
   board.set_state(RunPhase::kRunning);
   auto serve = [](StatusServer& s, const std::string& address, const char* name, const char* path) {
     if (address.empty()) return;
@@ -340,11 +549,6 @@ int run(const Options& options, StopSignals& signals) {
   serve(server, options.status_address, "status", "/status");
   serve(health, options.health_address, "health", "/healthz");
   if (rollouts->remote && !start_local_workers(options, *rollouts)) return kExitUsage;
-  // the loop's time waiting for rollouts (the cache answers without any); the rest of its time is its own work
-  TimedEvaluator waiting(*rollouts->evaluator, [] {
-    return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
-  });
-  CachingEvaluator evaluator(waiting, kScoreCacheBytes);
   if (rollouts->remote) {
     rollouts->remote->on_snapshot([&board](DispatchView view) {
       const bool waiting = view.ready_workers == 0 && view.queue_depth > 0;
@@ -353,159 +557,8 @@ int run(const Options& options, StopSignals& signals) {
                       waiting ? "no worker is connected" : "");
     });
   }
-  ProgressDisplay progress(!options.quiet);
-  auto elapsed = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count(); };
-  PhaseTimer phase_timer(elapsed);
-  PhaseSeconds phase_totals{};  // this process's, for /metrics
-  double waiting_total = 0;     // the same
-  const int interval = state.settings.checkpoint_interval;
-  int saved_iteration = state.next_iteration;
-  CheckpointAnchors anchors;
-  // the run's wall time stays the machine's time after going back: the times of the iterations given up are in it
-  double wall_offset = 0;
-  const bool verified = rollouts->remote && rollouts->remote->verifies();
-  auto keep_anchor = [&] {
-    if (!verified) return;
-    Expected<std::string> bytes = read_text_file(dir.path() / kCheckpointFile, kMaxCheckpointBytes);
-    if (!bytes) {  // then an older one stands in, which only costs more recomputation
-      spdlog::warn("{}: {}", (dir.path() / kCheckpointFile).string(), bytes.error());
-      return;
-    }
-    anchors.add({rollouts->remote->batch_id(), state.next_iteration, std::move(*bytes)});
-    const std::vector<uint64_t> needed = rollouts->remote->unchecked_since();
-    anchors.prune(needed);
-  };
-  auto save = [&]() {
-    if (auto error = dir.save(state)) {
-      progress.finish();
-      spdlog::error("{}", *error);
-      return false;
-    }
-    saved_iteration = state.next_iteration;
-    keep_anchor();
-    // the times are the run's record of its machine, not its state: a failed write is reported, not fatal
-    const PhaseSeconds phases = phase_timer.take();
-    const double waited = waiting.take();
-    for (size_t k = 0; k < phases.size(); ++k) phase_totals[k] += phases[k];
-    waiting_total += waited;
-    board.publish_phases(phase_totals, waiting_total);
-    if (auto error = wall_times.record(state.next_iteration - 1, elapsed() - wall_offset, phases, waited))
-      spdlog::warn("{}", *error);
-    return true;
-  };
-
-  // Going back: with verification, each checkpoint a rollback may need is kept in memory (checkpoint_anchors.h);
-  // when a worker found wrong had unchecked answers taken, the run returns to the newest saved before them and
-  // computes again from there without it: deterministic, so the numbers end as if it never joined.
-  auto go_back = [&](uint64_t first_bad) -> std::optional<std::string> {
-    const CheckpointAnchor* anchor = anchors.before(first_bad);
-    if (anchor == nullptr) return "no checkpoint precedes batch " + std::to_string(first_bad);
-    progress.finish();
-    spdlog::warn(
-        "a worker found wrong had unchecked answers taken since batch {}: the run goes back to its checkpoint at "
-        "iteration {} and computes again from there without it",
-        first_bad, anchor->next_iteration);
-    if (auto error = write_file_atomically(dir.path() / kCheckpointFile, anchor->bytes))
-      return (dir.path() / kCheckpointFile).string() + ": " + *error;
-    rollouts->remote->forget_batches_from(anchor->last_batch + 1);
-    evaluator.clear();  // the wrong worker's results may be among those remembered
-    anchors.keep_until(*anchor);
-    opened.reset();  // its lock released, for the resume to take
-    Expected<std::pair<RunDirectory, RunState>> resumed = RunDirectory::resume(options.run_dir);
-    if (!resumed) return resumed.error();
-    opened.emplace(std::move(*resumed));
-    std::string warning;
-    const double carried_before = wall_times.carried();
-    wall_times = WallTimes::open(options.run_dir, state.next_iteration, &warning);
-    wall_offset += wall_times.carried() - carried_before;
-    if (!warning.empty()) spdlog::warn("{}", warning);
-    saved_iteration = state.next_iteration;
-    board.publish_run(state, saved_iteration);
-    return std::nullopt;
-  };
-  // Whether the run went back (true), did not need to (nothing), or could not (false; logged). Also asked when the
-  // iteration in flight is given up: a liar caught then may have unchecked answers in the checkpoint on disk, which
-  // a resume must not go on from.
-  auto go_back_if_asked = [&]() -> std::optional<bool> {
-    const std::optional<uint64_t> first_bad = rollouts->remote ? rollouts->remote->take_rollback() : std::nullopt;
-    if (!first_bad) return std::nullopt;
-    if (auto error = go_back(*first_bad)) {
-      spdlog::error("going back: {}", *error);
-      return false;
-    }
-    return true;
-  };
-  keep_anchor();
-
-  // what this process's dispatcher and score cache did, however the loop ends
-  auto log_summaries = [&] {
-    if (rollouts->remote) rollouts->remote->log_summary();
-    if (evaluator.episodes_saved() > 0)
-      spdlog::info("score cache: {} episodes asked for again were not run ({} environment steps)",
-                   evaluator.episodes_saved(), evaluator.steps_saved());
-  };
-  signals.loop_started();
-  while (!run_complete(state) && !signals.stop_requested()) {
-    IterationReport report;
-    try {
-      report = run_iteration(state, evaluator, &phase_timer);
-    } catch (const EvaluationStopped&) {
-      // the iteration in flight is abandoned; the state in memory is part-way through it and is not saved
-      progress.finish();
-      go_back_if_asked();
-      log_summaries();
-      spdlog::warn(
-          "stopped during iteration {}; the run's state is its checkpoint at iteration {}, and a resume "
-          "repeats the iterations since: poet-coordinator --run-dir {} --resume",
-          state.next_iteration, saved_iteration, options.run_dir);
-      return signals.exit_code();
-    } catch (const RunDiverged& e) {
-      progress.finish();
-      go_back_if_asked();
-      spdlog::error("{} (the checkpoint at iteration {} precedes the divergence)", e.what(), saved_iteration);
-      return kExitError;
-    } catch (const std::exception&) {  // the workers' failure, told by the caller
-      progress.finish();
-      go_back_if_asked();
-      throw;
-    }
-    if (const std::optional<bool> went = go_back_if_asked()) {
-      if (!*went) return kExitError;
-      continue;
-    }
-    dir.append(report);
-    if (!report.events.empty() && spdlog::should_log(spdlog::level::info)) progress.clear();
-    for (const auto& event : events_json(report)) spdlog::log(log_level_of(event), "{}", describe_event(event));
-    if (state.next_iteration % interval == 0 || run_complete(state) || signals.stop_requested()) {
-      if (!save()) return kExitError;
-    }
-    progress.update(state, report);
-    board.publish_run(state, saved_iteration);
-    board.publish_cache(evaluator.episodes_saved(), evaluator.steps_saved());
-  }
-  // a stop between an iteration's save check and the loop test leaves that iteration unsaved
-  if (state.next_iteration != saved_iteration && !save()) return kExitError;
-  progress.finish();
-
-  log_summaries();
-  if (!run_complete(state)) {
-    spdlog::warn("interrupted at iteration {}; continue with: poet-coordinator --run-dir {} --resume",
-                 state.next_iteration, options.run_dir);
-    print_summary(state, elapsed());
-    return signals.exit_code();
-  }
-  if (budget_reached(state))
-    spdlog::info("run finished at iteration {}: its environment-step budget of {} reached ({} steps)",
-                 state.next_iteration, state.settings.env_step_budget, state.counters.env_steps);
-  else
-    spdlog::info("run finished at iteration {}", state.next_iteration);
-  board.set_state(RunPhase::kFinished);
-  if (rollouts->remote) {
-    rollouts->remote->on_snapshot(nullptr);
-    rollouts->remote->shutdown_workers("the run is finished");
-  }
-  print_summary(state, elapsed());
-  return 0;
+  RunLoop loop(options, signals, board, *rollouts, std::move(*opened), std::move(wall_times), started);
+  return loop.run();
 }
 
 }  // namespace
