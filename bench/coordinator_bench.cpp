@@ -18,10 +18,10 @@
 
 #include "engine/engine.h"
 #include "engine/iteration_context.h"
-#include "envgen/named_courses.h"
-#include "policy/mlp.h"
-#include "rng.h"
 #include "run_directory/config/run_config.h"
+#include "simulation/envgen/named_courses.h"
+#include "simulation/policy/mlp.h"
+#include "simulation/rng.h"
 
 namespace poet {
 namespace {

@@ -20,18 +20,18 @@
 #include <thread>
 #include <zmq.hpp>
 
-#include "build_fingerprint.h"
-#include "dispatch/local_workers.h"
+#include "common/build_fingerprint.h"
+#include "coordinator/dispatch/local_workers.h"
+#include "coordinator/evaluator/local_evaluator.h"
+#include "coordinator/evaluator/remote_evaluator.h"
 #include "engine/rollout_batch.h"
-#include "envgen/named_courses.h"
-#include "es/optimizer.h"
 #include "es_step_fixture.h"
-#include "evaluator/local_evaluator.h"
-#include "evaluator/remote_evaluator.h"
-#include "policy/mlp.h"
-#include "rng.h"
+#include "simulation/envgen/named_courses.h"
+#include "simulation/es/optimizer.h"
+#include "simulation/policy/mlp.h"
+#include "simulation/rng.h"
 #include "wire.pb.h"
-#include "worker_session.h"
+#include "worker/worker_session.h"
 
 namespace poet {
 namespace {

@@ -7,13 +7,13 @@
 
 #include <chrono>
 
+#include "coordinator/evaluator/local_evaluator.h"
 #include "engine/rollout_batch.h"
-#include "envgen/named_courses.h"
-#include "es/optimizer.h"
 #include "es_step_fixture.h"
-#include "evaluator/local_evaluator.h"
-#include "policy/mlp.h"
-#include "rng.h"
+#include "simulation/envgen/named_courses.h"
+#include "simulation/es/optimizer.h"
+#include "simulation/policy/mlp.h"
+#include "simulation/rng.h"
 
 namespace poet {
 namespace {

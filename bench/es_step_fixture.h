@@ -6,10 +6,10 @@
 #include <vector>
 
 #include "engine/rollout_batch.h"
-#include "envgen/named_courses.h"
-#include "es/es_settings.h"
-#include "policy/mlp.h"
-#include "rng.h"
+#include "simulation/envgen/named_courses.h"
+#include "simulation/es/es_settings.h"
+#include "simulation/policy/mlp.h"
+#include "simulation/rng.h"
 
 namespace poet {
 

@@ -7,12 +7,12 @@
 #include <string>
 #include <vector>
 
-#include "envgen/named_courses.h"
-#include "policy/mlp.h"
-#include "rng.h"
-#include "rollout.h"
-#include "walker/terrain.h"
-#include "walker/walker_env.h"
+#include "simulation/envgen/named_courses.h"
+#include "simulation/policy/mlp.h"
+#include "simulation/rng.h"
+#include "simulation/rollout.h"
+#include "simulation/walker/terrain.h"
+#include "simulation/walker/walker_env.h"
 
 namespace poet {
 namespace {

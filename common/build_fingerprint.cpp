@@ -1,4 +1,4 @@
-#include "build_fingerprint.h"
+#include "common/build_fingerprint.h"
 
 #include <box2d/b2_common.h>
 
@@ -6,9 +6,9 @@
 #include <cfloat>
 #include <initializer_list>
 
-#include "rng.h"
-#include "walker/walker_constants.h"
-#include "text_format.h"
+#include "common/text_format.h"
+#include "simulation/rng.h"
+#include "simulation/walker/walker_constants.h"
 
 // Each guard refuses a build whose arithmetic could differ from the coordinator's or a worker's.
 #ifdef __FAST_MATH__
@@ -111,7 +111,9 @@ uint64_t build_fingerprint_digest() {
   return digest;
 }
 
-std::string build_fingerprint() { return fingerprint_body() + "digest: " + hex_text(build_fingerprint_digest()) + "\n"; }
+std::string build_fingerprint() {
+  return fingerprint_body() + "digest: " + hex_text(build_fingerprint_digest()) + "\n";
+}
 
 std::string build_fingerprint_line() {
   return "digest " + hex_text(build_fingerprint_digest()) + ", float mode " POET_FLOAT_MODE;

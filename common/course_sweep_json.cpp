@@ -1,4 +1,4 @@
-#include "course_sweep_json.h"
+#include "common/course_sweep_json.h"
 
 namespace poet {
 

@@ -3,7 +3,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "course_sweep.h"
+#include "simulation/course_sweep.h"
 
 namespace poet {
 

@@ -1,4 +1,4 @@
-#include "csv_fields.h"
+#include "common/csv_fields.h"
 
 namespace poet {
 

@@ -1,4 +1,4 @@
-#include "curve_keys.h"
+#include "common/curve_keys.h"
 
 #include <fcntl.h>
 #include <unistd.h>
@@ -8,7 +8,7 @@
 #include <cstring>
 #include <system_error>
 
-#include "text_file.h"
+#include "common/text_file.h"
 
 namespace poet {
 namespace {

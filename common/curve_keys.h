@@ -11,7 +11,7 @@
 #include <string_view>
 #include <vector>
 
-#include "expected.h"
+#include "common/expected.h"
 
 namespace poet {
 

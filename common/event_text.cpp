@@ -1,6 +1,6 @@
-#include "event_text.h"
+#include "common/event_text.h"
 
-#include "text_format.h"
+#include "common/text_format.h"
 
 namespace poet {
 namespace {

@@ -1,4 +1,4 @@
-#include "local_token.h"
+#include "common/local_token.h"
 
 #include <random>
 

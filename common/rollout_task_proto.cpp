@@ -1,13 +1,13 @@
-#include "rollout_task_proto.h"
+#include "common/rollout_task_proto.h"
 
 #include <array>
 #include <bit>
 #include <cmath>
 #include <string>
 
-#include "envgen/env_proto.h"
-#include "policy/mlp.h"
-#include "rng.h"
+#include "common/envgen/env_proto.h"
+#include "simulation/policy/mlp.h"
+#include "simulation/rng.h"
 
 namespace poet {
 namespace {

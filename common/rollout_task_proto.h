@@ -9,8 +9,8 @@
 #include <unordered_map>
 #include <vector>
 
-#include "expected.h"
-#include "rollout_task.h"
+#include "common/expected.h"
+#include "simulation/rollout_task.h"
 #include "wire.pb.h"
 
 namespace poet {

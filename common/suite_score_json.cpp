@@ -1,6 +1,6 @@
-#include "suite_score_json.h"
+#include "common/suite_score_json.h"
 
-#include "envgen/env_json.h"
+#include "common/envgen/env_json.h"
 
 namespace poet {
 namespace {

@@ -4,7 +4,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "suite/course_suite.h"
+#include "simulation/suite/course_suite.h"
 
 namespace poet {
 

@@ -1,4 +1,4 @@
-#include "suite_score_table.h"
+#include "common/suite_score_table.h"
 
 #include <cstdio>
 

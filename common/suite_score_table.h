@@ -4,7 +4,7 @@
 
 #include <string>
 
-#include "suite/course_suite.h"
+#include "simulation/suite/course_suite.h"
 
 namespace poet {
 

@@ -10,7 +10,7 @@
 #include <string>
 #include <string_view>
 
-#include "expected.h"
+#include "common/expected.h"
 
 namespace poet {
 

@@ -1,8 +1,8 @@
-#include "tool_flags.h"
+#include "common/tool_flags.h"
 
 #include <iostream>
 
-#include "build_fingerprint.h"
+#include "common/build_fingerprint.h"
 
 namespace poet {
 

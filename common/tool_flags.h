@@ -7,8 +7,8 @@
 #include <optional>
 #include <string>
 
-#include "walker/walker_constants.h"
-#include "walker/walker_env.h"
+#include "simulation/walker/walker_constants.h"
+#include "simulation/walker/walker_env.h"
 
 namespace poet {
 

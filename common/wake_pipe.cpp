@@ -1,4 +1,4 @@
-#include "wake_pipe.h"
+#include "common/wake_pipe.h"
 
 #include <fcntl.h>
 #include <unistd.h>

@@ -7,8 +7,8 @@
 #include <stdexcept>
 
 #include "engine/iteration_context.h"
-#include "envgen/env_distance.h"
-#include "envgen/mutation.h"
+#include "simulation/envgen/env_distance.h"
+#include "simulation/envgen/mutation.h"
 
 namespace poet {
 namespace {

@@ -2,8 +2,8 @@
 // The direct-path curriculum control (spec §3 "Controls"): environments from flat toward a target, one mutation
 // step at a time.
 
-#include "envgen/env_encoding.h"
-#include "rng.h"
+#include "simulation/envgen/env_encoding.h"
+#include "simulation/rng.h"
 
 namespace poet {
 

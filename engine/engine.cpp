@@ -4,10 +4,10 @@
 #include <string>
 
 #include "engine/iteration_context.h"
-#include "envgen/cppn_mutation.h"
-#include "envgen/named_courses.h"
-#include "policy/mlp.h"
-#include "rng.h"
+#include "simulation/envgen/cppn_mutation.h"
+#include "simulation/envgen/named_courses.h"
+#include "simulation/policy/mlp.h"
+#include "simulation/rng.h"
 
 namespace poet {
 

@@ -8,7 +8,7 @@
 #include <stdexcept>
 #include <vector>
 
-#include "rollout_task.h"
+#include "simulation/rollout_task.h"
 
 namespace poet {
 

@@ -10,7 +10,7 @@
 #include "engine/phase_observer.h"
 #include "engine/rollout_batch.h"
 #include "engine/run_state.h"
-#include "es/es_settings.h"
+#include "simulation/es/es_settings.h"
 
 namespace poet {
 

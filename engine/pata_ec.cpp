@@ -5,8 +5,8 @@
 #include <stdexcept>
 #include <string>
 
-#include "envgen/env_distance.h"
-#include "es/centered_ranks.h"
+#include "simulation/envgen/env_distance.h"
+#include "simulation/es/centered_ranks.h"
 
 namespace poet {
 

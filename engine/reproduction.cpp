@@ -9,9 +9,9 @@
 
 #include "engine/iteration_context.h"
 #include "engine/pata_ec.h"
-#include "envgen/env_distance.h"
-#include "envgen/mutation.h"
-#include "rng.h"
+#include "simulation/envgen/env_distance.h"
+#include "simulation/envgen/mutation.h"
+#include "simulation/rng.h"
 
 namespace poet {
 namespace {

@@ -7,10 +7,10 @@
 #include <thread>
 
 #include "engine/background_pool.h"
-#include "envgen/level_sample.h"
-#include "es/es_gradient.h"
-#include "parallel_for.h"
-#include "rng.h"
+#include "simulation/envgen/level_sample.h"
+#include "simulation/es/es_gradient.h"
+#include "simulation/parallel_for.h"
+#include "simulation/rng.h"
 
 namespace poet {
 namespace {

@@ -13,7 +13,7 @@
 
 #include "engine/evaluator.h"
 #include "engine/run_state.h"
-#include "es/es_settings.h"
+#include "simulation/es/es_settings.h"
 
 namespace poet {
 

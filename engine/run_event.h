@@ -9,7 +9,7 @@
 #include <string>
 #include <variant>
 
-#include "envgen/env_distance.h"
+#include "simulation/envgen/env_distance.h"
 
 namespace poet {
 

@@ -2,7 +2,7 @@
 
 #include <array>
 
-#include "enum_names.h"
+#include "simulation/enum_names.h"
 
 namespace poet {
 

@@ -8,11 +8,11 @@
 #include <optional>
 #include <string_view>
 
-#include "envgen/env_distance.h"
-#include "envgen/env_encoding.h"
-#include "envgen/mutation.h"
-#include "es/es_settings.h"
-#include "walker/walker_env.h"
+#include "simulation/envgen/env_distance.h"
+#include "simulation/envgen/env_encoding.h"
+#include "simulation/envgen/mutation.h"
+#include "simulation/es/es_settings.h"
+#include "simulation/walker/walker_env.h"
 
 namespace poet {
 

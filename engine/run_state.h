@@ -7,8 +7,8 @@
 #include <vector>
 
 #include "engine/run_settings.h"
-#include "envgen/env_encoding.h"
-#include "es/optimizer.h"
+#include "simulation/envgen/env_encoding.h"
+#include "simulation/es/optimizer.h"
 
 namespace poet {
 

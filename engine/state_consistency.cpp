@@ -3,7 +3,7 @@
 #include <cstdint>
 #include <string>
 
-#include "envgen/named_courses.h"
+#include "simulation/envgen/named_courses.h"
 
 namespace poet {
 namespace {

@@ -1,4 +1,4 @@
-#include "canvas.h"
+#include "pictures/canvas.h"
 
 #include <cairo-svg.h>
 

@@ -7,7 +7,7 @@
 #include <functional>
 #include <string>
 
-#include "expected.h"
+#include "common/expected.h"
 
 namespace poet {
 

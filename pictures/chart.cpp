@@ -1,4 +1,4 @@
-#include "chart.h"
+#include "pictures/chart.h"
 
 #include <algorithm>
 #include <cmath>

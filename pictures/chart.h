@@ -9,7 +9,7 @@
 #include <utility>
 #include <vector>
 
-#include "canvas.h"
+#include "pictures/canvas.h"
 
 namespace poet {
 

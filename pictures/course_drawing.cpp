@@ -1,8 +1,8 @@
-#include "course_drawing.h"
+#include "pictures/course_drawing.h"
 
 #include <cmath>
 
-#include "walker/walker_constants.h"
+#include "simulation/walker/walker_constants.h"
 
 namespace poet {
 namespace {

@@ -4,8 +4,8 @@
 
 #include <cairo.h>
 
-#include "walker/terrain.h"
-#include "walker/walker_env.h"
+#include "simulation/walker/terrain.h"
+#include "simulation/walker/walker_env.h"
 
 namespace poet {
 

@@ -1,10 +1,10 @@
-#include "course_picture.h"
+#include "pictures/course_picture.h"
 
 #include <algorithm>
 
-#include "canvas.h"
-#include "course_drawing.h"
-#include "walker/walker_constants.h"
+#include "pictures/canvas.h"
+#include "pictures/course_drawing.h"
+#include "simulation/walker/walker_constants.h"
 
 namespace poet {
 

@@ -1,8 +1,8 @@
-#include "course_stack.h"
+#include "pictures/course_stack.h"
 
 #include <algorithm>
 
-#include "course_drawing.h"
+#include "pictures/course_drawing.h"
 
 namespace poet {
 

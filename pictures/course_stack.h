@@ -6,9 +6,9 @@
 #include <string>
 #include <vector>
 
-#include "canvas.h"
-#include "expected.h"
-#include "walker/terrain.h"
+#include "common/expected.h"
+#include "pictures/canvas.h"
+#include "simulation/walker/terrain.h"
 
 namespace poet {
 

@@ -1,11 +1,11 @@
-#include "walker_frame.h"
+#include "pictures/walker_frame.h"
 
 #include <cairo.h>
 
 #include <memory>
 #include <string>
 
-#include "course_drawing.h"
+#include "pictures/course_drawing.h"
 
 namespace poet {
 

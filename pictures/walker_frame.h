@@ -7,9 +7,9 @@
 #include <string>
 #include <vector>
 
-#include "expected.h"
-#include "walker/terrain.h"
-#include "walker/walker_env.h"
+#include "common/expected.h"
+#include "simulation/walker/terrain.h"
+#include "simulation/walker/walker_env.h"
 
 namespace poet {
 

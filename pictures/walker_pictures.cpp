@@ -1,4 +1,4 @@
-#include "walker_pictures.h"
+#include "pictures/walker_pictures.h"
 
 #include <gif_lib.h>
 
@@ -7,7 +7,7 @@
 #include <cstdio>
 #include <memory>
 
-#include "course_drawing.h"
+#include "pictures/course_drawing.h"
 
 namespace poet {
 namespace {

@@ -5,10 +5,10 @@
 
 #include <string>
 
-#include "canvas.h"
-#include "expected.h"
-#include "rollout.h"
-#include "walker/terrain.h"
+#include "common/expected.h"
+#include "pictures/canvas.h"
+#include "simulation/rollout.h"
+#include "simulation/walker/terrain.h"
 
 namespace poet {
 

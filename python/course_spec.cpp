@@ -3,8 +3,8 @@
 #include <filesystem>
 #include <stdexcept>
 
-#include "envgen/env_json.h"
-#include "envgen/named_courses.h"
+#include "common/envgen/env_json.h"
+#include "simulation/envgen/named_courses.h"
 
 namespace poet::python {
 

@@ -6,7 +6,7 @@
 #include <optional>
 #include <string>
 
-#include "envgen/env_encoding.h"
+#include "simulation/envgen/env_encoding.h"
 
 namespace poet::python {
 

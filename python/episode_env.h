@@ -8,8 +8,8 @@
 #include <optional>
 
 #include "course_spec.h"
-#include "walker/terrain.h"
-#include "walker/walker_env.h"
+#include "simulation/walker/terrain.h"
+#include "simulation/walker/walker_env.h"
 
 namespace poet::python {
 

@@ -14,18 +14,18 @@
 #include <string>
 #include <vector>
 
+#include "common/policy/policy_file.h"
+#include "common/suite_score_json.h"
 #include "course_spec.h"
-#include "course_sweep.h"
 #include "episode_env.h"
-#include "policy/mlp.h"
-#include "policy/policy_file.h"
-#include "rollout.h"
+#include "pictures/walker_frame.h"
 #include "run_view.h"
-#include "suite/course_suite.h"
-#include "suite_score_json.h"
+#include "simulation/course_sweep.h"
+#include "simulation/policy/mlp.h"
+#include "simulation/rollout.h"
+#include "simulation/suite/course_suite.h"
+#include "simulation/walker/walker_constants.h"
 #include "thread_team.h"
-#include "walker/walker_constants.h"
-#include "walker_frame.h"
 
 namespace py = pybind11;
 

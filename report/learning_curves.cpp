@@ -7,8 +7,8 @@
 #include <map>
 #include <sstream>
 
-#include "chart.h"
-#include "csv_fields.h"
+#include "common/csv_fields.h"
+#include "pictures/chart.h"
 
 namespace poet {
 namespace {

@@ -9,8 +9,8 @@
 #include <string>
 #include <vector>
 
-#include "canvas.h"
-#include "expected.h"
+#include "common/expected.h"
+#include "pictures/canvas.h"
 
 namespace poet {
 

@@ -1,9 +1,9 @@
 #pragma once
 // A pair's episode as the pictures and the dashboard's replay show it.
 
-#include "expected.h"
-#include "rollout.h"
+#include "common/expected.h"
 #include "run_directory/reading/run_snapshot.h"
+#include "simulation/rollout.h"
 
 namespace poet {
 

@@ -7,7 +7,7 @@
 #include <map>
 #include <utility>
 
-#include "chart.h"
+#include "pictures/chart.h"
 
 namespace poet {
 namespace {

@@ -11,8 +11,8 @@
 #include <string>
 #include <vector>
 
-#include "canvas.h"
-#include "expected.h"
+#include "common/expected.h"
+#include "pictures/canvas.h"
 #include "run_directory/reading/run_metrics.h"
 #include "run_directory/reading/run_snapshot.h"
 

@@ -2,15 +2,15 @@
 
 #include <array>
 
-#include "course_picture.h"
-#include "course_stack.h"
 #include "engine/rollout_batch.h"
-#include "enum_names.h"
+#include "pictures/course_picture.h"
+#include "pictures/course_stack.h"
+#include "pictures/walker_pictures.h"
 #include "report/pair_episode.h"
 #include "report/report_plots.h"
 #include "run_directory/reading/goal_switching.h"
 #include "run_directory/reading/run_metrics.h"
-#include "walker_pictures.h"
+#include "simulation/enum_names.h"
 
 namespace poet {
 namespace {

@@ -1,13 +1,13 @@
-#include "course_statistics.h"
+#include "simulation/course_statistics.h"
 
 #include <algorithm>
 #include <cmath>
 #include <vector>
 
-#include "parallel_for.h"
-#include "policy/mlp.h"
-#include "rng.h"
-#include "rollout.h"
+#include "simulation/parallel_for.h"
+#include "simulation/policy/mlp.h"
+#include "simulation/rng.h"
+#include "simulation/rollout.h"
 
 namespace poet {
 namespace {

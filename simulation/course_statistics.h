@@ -4,8 +4,8 @@
 
 #include <cstdint>
 
-#include "envgen/env_encoding.h"
-#include "walker/walker_env.h"
+#include "simulation/envgen/env_encoding.h"
+#include "simulation/walker/walker_env.h"
 
 namespace poet {
 

@@ -1,9 +1,9 @@
-#include "course_sweep.h"
+#include "simulation/course_sweep.h"
 
 #include <algorithm>
 #include <stdexcept>
 
-#include "parallel_for.h"
+#include "simulation/parallel_for.h"
 
 namespace poet {
 

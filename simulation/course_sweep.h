@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "rollout.h"
+#include "simulation/rollout.h"
 
 namespace poet {
 

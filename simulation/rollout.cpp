@@ -1,4 +1,4 @@
-#include "rollout.h"
+#include "simulation/rollout.h"
 
 namespace poet {
 

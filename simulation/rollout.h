@@ -6,11 +6,11 @@
 #include <stop_token>
 #include <vector>
 
-#include "envgen/env_encoding.h"
-#include "policy/mlp.h"
-#include "walker/terrain.h"
-#include "walker/walker_constants.h"
-#include "walker/walker_env.h"
+#include "simulation/envgen/env_encoding.h"
+#include "simulation/policy/mlp.h"
+#include "simulation/walker/terrain.h"
+#include "simulation/walker/walker_constants.h"
+#include "simulation/walker/walker_env.h"
 
 namespace poet {
 

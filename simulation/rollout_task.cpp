@@ -1,10 +1,10 @@
-#include "rollout_task.h"
+#include "simulation/rollout_task.h"
 
 #include <stdexcept>
 
-#include "es/perturbation.h"
-#include "policy/mlp.h"
-#include "walker/terrain.h"
+#include "simulation/es/perturbation.h"
+#include "simulation/policy/mlp.h"
+#include "simulation/walker/terrain.h"
 
 namespace poet {
 

@@ -9,9 +9,9 @@
 #include <stop_token>
 #include <vector>
 
-#include "envgen/env_encoding.h"
-#include "rollout.h"
-#include "walker/walker_env.h"
+#include "simulation/envgen/env_encoding.h"
+#include "simulation/rollout.h"
+#include "simulation/walker/walker_env.h"
 
 namespace poet {
 

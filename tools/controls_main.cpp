@@ -15,13 +15,13 @@
 #include <string>
 #include <vector>
 
+#include "common/tool_flags.h"
 #include "engine/lineage.h"
-#include "envgen/env_distance.h"
-#include "envgen/env_encoding.h"
 #include "report/report_plots.h"
 #include "run_directory/reading/run_metrics.h"
 #include "run_directory/reading/run_snapshot.h"
-#include "tool_flags.h"
+#include "simulation/envgen/env_distance.h"
+#include "simulation/envgen/env_encoding.h"
 
 namespace poet {
 namespace {

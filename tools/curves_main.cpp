@@ -7,8 +7,8 @@
 #include <string>
 #include <vector>
 
+#include "common/tool_flags.h"
 #include "report/learning_curves.h"
-#include "tool_flags.h"
 
 namespace poet {
 namespace {

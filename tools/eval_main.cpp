@@ -10,17 +10,17 @@
 #include <thread>
 #include <vector>
 
-#include "course_sweep_json.h"
-#include "envgen/env_json.h"
-#include "envgen/named_courses.h"
-#include "policy/policy_file.h"
+#include "common/course_sweep_json.h"
+#include "common/envgen/env_json.h"
+#include "common/policy/policy_file.h"
+#include "common/suite_score_json.h"
+#include "common/suite_score_table.h"
+#include "common/text_file.h"
+#include "common/tool_flags.h"
 #include "run_directory/reading/run_snapshot.h"
 #include "run_directory/reading/run_suite.h"
-#include "suite/course_suite.h"
-#include "suite_score_json.h"
-#include "suite_score_table.h"
-#include "text_file.h"
-#include "tool_flags.h"
+#include "simulation/envgen/named_courses.h"
+#include "simulation/suite/course_suite.h"
 
 namespace {
 

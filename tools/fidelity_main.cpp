@@ -12,13 +12,13 @@
 #include <string>
 #include <thread>
 
-#include "course_statistics.h"
-#include "course_sweep.h"
-#include "envgen/named_courses.h"
-#include "policy/policy_file.h"
-#include "rng.h"
-#include "rollout.h"
-#include "tool_flags.h"
+#include "common/policy/policy_file.h"
+#include "common/tool_flags.h"
+#include "simulation/course_statistics.h"
+#include "simulation/course_sweep.h"
+#include "simulation/envgen/named_courses.h"
+#include "simulation/rng.h"
+#include "simulation/rollout.h"
 
 namespace {
 

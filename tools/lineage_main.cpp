@@ -12,11 +12,11 @@
 #include <cstdio>
 #include <iostream>
 
+#include "common/envgen/env_proto.h"
+#include "common/tool_flags.h"
 #include "engine/lineage.h"
-#include "envgen/env_proto.h"
 #include "run_directory/config/run_config.h"
 #include "run_directory/reading/run_snapshot.h"
-#include "tool_flags.h"
 
 int main(int argc, char** argv) {
   using namespace poet;

@@ -5,9 +5,9 @@
 #include <array>
 #include <cstdio>
 
-#include "curve_keys.h"
+#include "common/curve_keys.h"
+#include "common/tool_flags.h"
 #include "poetctl_exit.h"
-#include "tool_flags.h"
 
 namespace poet {
 

@@ -16,15 +16,15 @@
 #include <optional>
 #include <string>
 
+#include "common/tool_flags.h"
+#include "coordinator/status_client/status_defaults.h"
+#include "coordinator/status_client/status_request.h"
+#include "coordinator/status_client/status_tables.h"
 #include "poetctl_exit.h"
 #include "poetctl_keygen.h"
 #include "poetctl_pack.h"
 #include "poetctl_pictures.h"
 #include "status.pb.h"
-#include "status_client/status_defaults.h"
-#include "status_client/status_request.h"
-#include "status_client/status_tables.h"
-#include "tool_flags.h"
 
 namespace poet {
 namespace {

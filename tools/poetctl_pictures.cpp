@@ -2,11 +2,11 @@
 
 #include <cstdio>
 
-#include "canvas.h"
+#include "common/tool_flags.h"
+#include "pictures/canvas.h"
 #include "poetctl_exit.h"
 #include "report/run_pictures.h"
 #include "run_directory/reading/run_snapshot.h"
-#include "tool_flags.h"
 
 namespace poet {
 

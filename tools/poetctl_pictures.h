@@ -4,7 +4,7 @@
 
 #include <string>
 
-#include "expected.h"
+#include "common/expected.h"
 #include "report/picture_request.h"
 
 namespace poet {

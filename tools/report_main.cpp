@@ -22,8 +22,9 @@
 #include <optional>
 #include <thread>
 
+#include "common/envgen/env_json.h"
+#include "common/tool_flags.h"
 #include "engine/engine.h"
-#include "envgen/env_json.h"
 #include "report/report_plots.h"
 #include "report/run_pictures.h"
 #include "run_directory/reading/coverage.h"
@@ -33,8 +34,7 @@
 #include "run_directory/reading/run_metrics.h"
 #include "run_directory/reading/run_snapshot.h"
 #include "run_directory/reading/run_suite.h"
-#include "suite/course_suite.h"
-#include "tool_flags.h"
+#include "simulation/suite/course_suite.h"
 
 namespace poet {
 namespace {

@@ -7,15 +7,15 @@
 #include <optional>
 #include <string>
 
-#include "course_picture.h"
-#include "envgen/env_json.h"
-#include "envgen/named_courses.h"
-#include "policy/mlp.h"
-#include "policy/policy_file.h"
-#include "rng.h"
-#include "rollout.h"
-#include "tool_flags.h"
-#include "walker_pictures.h"
+#include "common/envgen/env_json.h"
+#include "common/policy/policy_file.h"
+#include "common/tool_flags.h"
+#include "pictures/course_picture.h"
+#include "pictures/walker_pictures.h"
+#include "simulation/envgen/named_courses.h"
+#include "simulation/policy/mlp.h"
+#include "simulation/rng.h"
+#include "simulation/rollout.h"
 
 namespace {
 

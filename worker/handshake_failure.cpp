@@ -1,4 +1,4 @@
-#include "handshake_failure.h"
+#include "worker/handshake_failure.h"
 
 #include <spdlog/fmt/fmt.h>
 #include <zmq.h>

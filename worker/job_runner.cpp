@@ -1,10 +1,10 @@
-#include "job_runner.h"
+#include "worker/job_runner.h"
 
 #include <exception>
 #include <stdexcept>
 #include <utility>
 
-#include "parallel_for.h"
+#include "simulation/parallel_for.h"
 
 namespace poet::worker {
 

@@ -16,7 +16,7 @@
 #include <thread>
 #include <vector>
 
-#include "rollout_task.h"
+#include "simulation/rollout_task.h"
 
 namespace poet::worker {
 

@@ -24,12 +24,12 @@
 #include <string>
 #include <thread>
 
-#include "build_fingerprint.h"
-#include "curve_keys.h"
-#include "local_token.h"
-#include "stop_signals.h"
-#include "tool_flags.h"
-#include "worker_loop.h"
+#include "common/build_fingerprint.h"
+#include "common/curve_keys.h"
+#include "common/local_token.h"
+#include "common/stop_signals.h"
+#include "common/tool_flags.h"
+#include "worker/worker_loop.h"
 
 namespace poet::worker {
 namespace {

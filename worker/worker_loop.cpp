@@ -1,4 +1,4 @@
-#include "worker_loop.h"
+#include "worker/worker_loop.h"
 
 #include <fcntl.h>
 #include <spdlog/spdlog.h>
@@ -13,8 +13,8 @@
 #include <utility>
 #include <zmq.hpp>
 
-#include "handshake_failure.h"
-#include "job_runner.h"
+#include "worker/handshake_failure.h"
+#include "worker/job_runner.h"
 
 namespace poet::worker {
 namespace {

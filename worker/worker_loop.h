@@ -11,8 +11,8 @@
 #include <optional>
 #include <string>
 
-#include "wake_pipe.h"
-#include "worker_session.h"
+#include "common/wake_pipe.h"
+#include "worker/worker_session.h"
 
 namespace poet::worker {
 

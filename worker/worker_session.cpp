@@ -1,4 +1,4 @@
-#include "worker_session.h"
+#include "worker/worker_session.h"
 
 #include <spdlog/fmt/fmt.h>
 #include <spdlog/spdlog.h>
@@ -6,8 +6,8 @@
 #include <algorithm>
 #include <utility>
 
-#include "build_fingerprint.h"
-#include "rng.h"
+#include "common/build_fingerprint.h"
+#include "simulation/rng.h"
 
 namespace poet::worker {
 namespace {

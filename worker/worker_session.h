@@ -29,10 +29,10 @@
 #include <string_view>
 #include <vector>
 
-#include "job_runner.h"
-#include "rollout_task_proto.h"
+#include "common/rollout_task_proto.h"
+#include "common/wire_timing.h"
 #include "wire.pb.h"
-#include "wire_timing.h"
+#include "worker/job_runner.h"
 
 namespace poet::worker {
 

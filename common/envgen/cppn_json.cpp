@@ -1,4 +1,4 @@
-#include "envgen/cppn_json.h"
+#include "common/envgen/cppn_json.h"
 
 #include <algorithm>
 #include <cmath>

@@ -10,8 +10,8 @@
 
 #include <nlohmann/json.hpp>
 
-#include "envgen/cppn_genome.h"
-#include "expected.h"
+#include "common/expected.h"
+#include "simulation/envgen/cppn_genome.h"
 
 namespace poet {
 

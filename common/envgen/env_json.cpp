@@ -1,4 +1,4 @@
-#include "envgen/env_json.h"
+#include "common/envgen/env_json.h"
 
 #include <algorithm>
 #include <array>
@@ -8,8 +8,8 @@
 #include <sstream>
 #include <vector>
 
-#include "envgen/cppn_json.h"
-#include "text_file.h"
+#include "common/envgen/cppn_json.h"
+#include "common/text_file.h"
 
 namespace poet {
 namespace {

@@ -2,11 +2,12 @@
 // Environment definitions in the reference's JSON form:
 //   {"config": {"name", "ground_roughness", "pit_gap", "stump_width", "stump_height", "stump_float",
 //               "stair_height", "stair_width", "stair_steps"}, "seed": s}
-// with an absent type as [], and for a CPPN course a "cppn" key in "config" (envgen/cppn_json.h). Reading is a boundary: malformed JSON, missing, unknown or duplicate keys, wrong
-// types, non-finite numbers, a seed outside [0, 10^6) and anything validate() refuses give an error naming the
-// field, never an exception or a default. Every key is required except "name" (default: reference_name of the
-// genes) and "cppn" (present only for a CPPN course). Whole-valued genes and the seed may be written as JSON integers or floats. Numbers are written so they
-// parse back bit for bit.
+// with an absent type as [], and for a CPPN course a "cppn" key in "config" (envgen/cppn_json.h). Reading is a
+// boundary: malformed JSON, missing, unknown or duplicate keys, wrong types, non-finite numbers, a seed outside [0,
+// 10^6) and anything validate() refuses give an error naming the field, never an exception or a default. Every key is
+// required except "name" (default: reference_name of the genes) and "cppn" (present only for a CPPN course).
+// Whole-valued genes and the seed may be written as JSON integers or floats. Numbers are written so they parse back bit
+// for bit.
 
 #include <cstdint>
 #include <filesystem>
@@ -15,8 +16,8 @@
 #include <string>
 #include <string_view>
 
-#include "envgen/env_encoding.h"
-#include "expected.h"
+#include "common/expected.h"
+#include "simulation/envgen/env_encoding.h"
 
 namespace poet {
 

@@ -1,12 +1,12 @@
-#include "envgen/env_proto.h"
+#include "common/envgen/env_proto.h"
 
 #include <optional>
 #include <string>
 #include <string_view>
 #include <utility>
 
-#include "text_format.h"
-#include "utf8.h"
+#include "common/text_format.h"
+#include "common/utf8.h"
 
 namespace poet {
 namespace {

@@ -3,9 +3,9 @@
 // (pb::EnvEncoding, pb::EnvDef), for run configs and checkpoints. Conversion to proto is exact, so
 // from_proto(to_proto(x)) gives x back bit for bit; reading a message is a boundary and validates.
 
-#include "envgen/env_encoding.h"
-#include "expected.h"
+#include "common/expected.h"
 #include "poet.pb.h"
+#include "simulation/envgen/env_encoding.h"
 
 namespace poet {
 

@@ -1,13 +1,11 @@
-#include "policy/policy_file.h"
-
+#include "common/policy/policy_file.h"
 
 #include <cmath>
+#include <nlohmann/json.hpp>
 #include <stdexcept>
 
-#include <nlohmann/json.hpp>
-
-#include "policy/mlp.h"
-#include "text_file.h"
+#include "common/text_file.h"
+#include "simulation/policy/mlp.h"
 
 namespace poet {
 namespace {

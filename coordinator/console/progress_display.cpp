@@ -1,4 +1,4 @@
-#include "console/progress_display.h"
+#include "coordinator/console/progress_display.h"
 
 #include <unistd.h>
 

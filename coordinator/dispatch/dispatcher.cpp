@@ -1,11 +1,11 @@
-#include "dispatch/dispatcher.h"
+#include "coordinator/dispatch/dispatcher.h"
 
 #include <algorithm>
 #include <bit>
 
-#include "rng.h"
-#include "rollout_task_proto.h"
-#include "text_format.h"
+#include "common/rollout_task_proto.h"
+#include "common/text_format.h"
+#include "simulation/rng.h"
 
 namespace poet {
 namespace {

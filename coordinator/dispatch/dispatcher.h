@@ -48,13 +48,13 @@
 #include <utility>
 #include <vector>
 
-#include "dispatch/dispatch_view.h"
-#include "dispatch/drop_reason.h"
-#include "dispatch/outgoing.h"
-#include "dispatch/running_median.h"
-#include "rollout_task.h"
+#include "common/wire_timing.h"
+#include "coordinator/dispatch/dispatch_view.h"
+#include "coordinator/dispatch/drop_reason.h"
+#include "coordinator/dispatch/outgoing.h"
+#include "coordinator/dispatch/running_median.h"
+#include "simulation/rollout_task.h"
 #include "wire.pb.h"
-#include "wire_timing.h"
 
 namespace poet {
 

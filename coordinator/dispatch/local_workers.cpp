@@ -1,4 +1,4 @@
-#include "dispatch/local_workers.h"
+#include "coordinator/dispatch/local_workers.h"
 
 #include <signal.h>
 #include <spawn.h>
@@ -10,7 +10,7 @@
 #include <filesystem>
 #include <string_view>
 
-#include "local_token.h"
+#include "common/local_token.h"
 
 extern char** environ;
 
@@ -41,8 +41,15 @@ Expected<std::unique_ptr<LocalWorkers>> LocalWorkers::start(const std::string& b
   std::unique_ptr<LocalWorkers> workers(new LocalWorkers());
   workers->binary_ = binary;
   // --parent-pid: a worker ends with this process, also when it is killed and cannot stop its workers itself
-  workers->args_ = {binary,        "--connect", endpoint, "--threads",           std::to_string(threads),
-                    "--log-level", "warn",      "--parent-pid", std::to_string(::getpid())};
+  workers->args_ = {binary,
+                    "--connect",
+                    endpoint,
+                    "--threads",
+                    std::to_string(threads),
+                    "--log-level",
+                    "warn",
+                    "--parent-pid",
+                    std::to_string(::getpid())};
   workers->args_.insert(workers->args_.end(), extra_args.begin(), extra_args.end());
   const std::string prefix = std::string(kLocalTokenVariable) + "=";
   for (char** variable = environ; *variable != nullptr; ++variable)

@@ -14,7 +14,7 @@
 #include <thread>
 #include <vector>
 
-#include "expected.h"
+#include "common/expected.h"
 
 namespace poet {
 

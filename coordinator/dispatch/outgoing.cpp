@@ -1,4 +1,4 @@
-#include "dispatch/outgoing.h"
+#include "coordinator/dispatch/outgoing.h"
 
 #include <google/protobuf/io/coded_stream.h>
 #include <google/protobuf/wire_format_lite.h>

@@ -12,7 +12,7 @@
 #include <utility>
 #include <vector>
 
-#include "dispatch/dispatch_view.h"
+#include "coordinator/dispatch/dispatch_view.h"
 #include "wire.pb.h"
 
 namespace poet {

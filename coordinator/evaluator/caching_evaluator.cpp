@@ -1,10 +1,10 @@
-#include "evaluator/caching_evaluator.h"
+#include "coordinator/evaluator/caching_evaluator.h"
 
 #include <stdexcept>
 #include <string>
 #include <utility>
 
-#include "rollout_task_proto.h"
+#include "common/rollout_task_proto.h"
 
 namespace poet {
 

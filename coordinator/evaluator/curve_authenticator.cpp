@@ -1,4 +1,4 @@
-#include "evaluator/curve_authenticator.h"
+#include "coordinator/evaluator/curve_authenticator.h"
 
 #include <spdlog/spdlog.h>
 
@@ -7,9 +7,9 @@
 #include <sstream>
 #include <vector>
 
-#include "curve_keys.h"
+#include "common/curve_keys.h"
+#include "common/text_file.h"
 #include "run_directory/files/run_directory.h"
-#include "text_file.h"
 
 namespace poet {
 namespace {

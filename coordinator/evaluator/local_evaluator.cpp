@@ -1,8 +1,8 @@
-#include "evaluator/local_evaluator.h"
+#include "coordinator/evaluator/local_evaluator.h"
 
 #include <mutex>
 
-#include "parallel_for.h"
+#include "simulation/parallel_for.h"
 
 namespace poet {
 

@@ -1,4 +1,4 @@
-#include "evaluator/remote_evaluator.h"
+#include "coordinator/evaluator/remote_evaluator.h"
 
 #include <spdlog/spdlog.h>
 
@@ -6,9 +6,9 @@
 #include <stdexcept>
 #include <zmq.hpp>
 
-#include "evaluator/curve_authenticator.h"
-#include "rollout_task.h"
-#include "text_format.h"
+#include "common/text_format.h"
+#include "coordinator/evaluator/curve_authenticator.h"
+#include "simulation/rollout_task.h"
 
 namespace poet {
 namespace {

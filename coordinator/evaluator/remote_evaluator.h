@@ -19,11 +19,11 @@
 #include <unordered_map>
 #include <vector>
 
-#include "dispatch/dispatcher.h"
+#include "common/expected.h"
+#include "common/wake_pipe.h"
+#include "coordinator/dispatch/dispatcher.h"
+#include "coordinator/evaluator/log_throttle.h"
 #include "engine/evaluator.h"
-#include "evaluator/log_throttle.h"
-#include "expected.h"
-#include "wake_pipe.h"
 
 namespace zmq {
 class context_t;

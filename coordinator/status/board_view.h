@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "dispatch/dispatch_view.h"
+#include "coordinator/dispatch/dispatch_view.h"
 #include "engine/annecs.h"
 #include "engine/run_state.h"
 #include "run_directory/files/wall_times.h"
@@ -39,9 +39,9 @@ struct PublishedRun {
 };
 
 struct BoardView {
-  std::shared_ptr<const PublishedRun> run;           // null before the first publish_run
+  std::shared_ptr<const PublishedRun> run;       // null before the first publish_run
   std::shared_ptr<const DispatchView> dispatch;  // null without a dispatcher
-  double dispatch_age_s = 0;                         // since the dispatcher's snapshot was published
+  double dispatch_age_s = 0;                     // since the dispatcher's snapshot was published
   RunPhase phase = RunPhase::kStarting;
   std::string note;
   double rollouts_per_s = 0;

@@ -1,9 +1,9 @@
-#include "status/prometheus_text.h"
+#include "coordinator/status/prometheus_text.h"
 
 #include <cstdio>
 #include <map>
 
-#include "dispatch/drop_reason.h"
+#include "coordinator/dispatch/drop_reason.h"
 
 namespace poet {
 namespace {

@@ -4,7 +4,7 @@
 
 #include <string>
 
-#include "status/board_view.h"
+#include "coordinator/status/board_view.h"
 
 namespace poet {
 

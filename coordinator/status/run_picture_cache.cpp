@@ -1,14 +1,14 @@
-#include "status/run_picture_cache.h"
+#include "coordinator/status/run_picture_cache.h"
 
 #include <array>
 #include <cmath>
 #include <nlohmann/json.hpp>
 
-#include "enum_names.h"
 #include "report/pair_episode.h"
 #include "report/run_pictures.h"
 #include "run_directory/files/run_directory.h"
-#include "walker/walker_constants.h"
+#include "simulation/enum_names.h"
+#include "simulation/walker/walker_constants.h"
 
 namespace poet {
 namespace {

@@ -11,7 +11,7 @@
 #include <mutex>
 #include <string>
 
-#include "expected.h"
+#include "common/expected.h"
 #include "report/picture_request.h"
 #include "run_directory/reading/run_snapshot.h"
 

@@ -1,15 +1,15 @@
-#include "status/status_board.h"
+#include "coordinator/status/status_board.h"
 
 #include <algorithm>
 #include <array>
 #include <utility>
 
+#include "coordinator/status/prometheus_text.h"
+#include "coordinator/status/status_messages.h"
 #include "engine/engine.h"
-#include "enum_names.h"
-#include "envgen/env_distance.h"
 #include "run_directory/files/run_directory.h"
-#include "status/prometheus_text.h"
-#include "status/status_messages.h"
+#include "simulation/enum_names.h"
+#include "simulation/envgen/env_distance.h"
 
 namespace poet {
 namespace {

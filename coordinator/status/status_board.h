@@ -19,13 +19,13 @@
 #include <string>
 #include <string_view>
 
+#include "common/expected.h"
+#include "coordinator/status/board_view.h"
+#include "coordinator/status/run_picture_cache.h"
+#include "coordinator/status_client/status_defaults.h"
 #include "engine/run_state.h"
-#include "expected.h"
 #include "run_directory/reading/pair_stats_log.h"
 #include "status.pb.h"
-#include "status/board_view.h"
-#include "status/run_picture_cache.h"
-#include "status_client/status_defaults.h"
 
 namespace poet {
 

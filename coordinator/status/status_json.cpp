@@ -1,9 +1,9 @@
-#include "status/status_json.h"
+#include "coordinator/status/status_json.h"
 
 #include <google/protobuf/util/json_util.h>
 
+#include "common/utf8.h"
 #include "status.pb.h"
-#include "utf8.h"
 
 namespace poet {
 

@@ -1,16 +1,16 @@
-#include "status/status_messages.h"
+#include "coordinator/status/status_messages.h"
 
 #include <google/protobuf/util/json_util.h>
 
 #include <algorithm>
 #include <unordered_map>
 
-#include "envgen/env_distance.h"
-#include "envgen/env_proto.h"
+#include "common/envgen/env_proto.h"
+#include "common/text_format.h"
+#include "common/utf8.h"
+#include "coordinator/status/status_board.h"
 #include "run_directory/reading/events_log.h"
-#include "status/status_board.h"
-#include "text_format.h"
-#include "utf8.h"
+#include "simulation/envgen/env_distance.h"
 
 namespace poet {
 namespace {

@@ -9,10 +9,10 @@
 #include <string>
 #include <vector>
 
-#include "expected.h"
+#include "common/expected.h"
+#include "coordinator/status/board_view.h"
 #include "run_directory/reading/pair_stats_log.h"
 #include "status.pb.h"
-#include "status/board_view.h"
 
 namespace poet {
 

@@ -1,4 +1,4 @@
-#include "status/status_routes.h"
+#include "coordinator/status/status_routes.h"
 
 #include <algorithm>
 #include <charconv>
@@ -7,9 +7,9 @@
 #include <optional>
 #include <string_view>
 
-#include "status/dashboard.h"
-#include "status/status_json.h"
-#include "utf8.h"
+#include "common/utf8.h"
+#include "coordinator/status/dashboard.h"
+#include "coordinator/status/status_json.h"
 
 namespace poet {
 namespace {

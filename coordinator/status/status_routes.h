@@ -15,7 +15,7 @@
 #include <map>
 #include <string>
 
-#include "status/status_board.h"
+#include "coordinator/status/status_board.h"
 
 namespace poet {
 

@@ -1,4 +1,4 @@
-#include "status/status_server.h"
+#include "coordinator/status/status_server.h"
 
 #include <microhttpd.h>
 #include <netdb.h>
@@ -9,8 +9,8 @@
 #include <cstring>
 #include <exception>
 
-#include "status/status_routes.h"
-#include "utf8.h"
+#include "common/utf8.h"
+#include "coordinator/status/status_routes.h"
 
 namespace poet {
 namespace {

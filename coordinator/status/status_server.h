@@ -18,10 +18,10 @@
 #include <memory>
 #include <string>
 
-#include "expected.h"
-#include "status/status_board.h"
-#include "status_client/host_port.h"
-#include "status_client/status_defaults.h"
+#include "common/expected.h"
+#include "coordinator/status/status_board.h"
+#include "coordinator/status_client/host_port.h"
+#include "coordinator/status_client/status_defaults.h"
 
 namespace poet {
 

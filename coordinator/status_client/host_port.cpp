@@ -1,8 +1,8 @@
-#include "status_client/host_port.h"
+#include "coordinator/status_client/host_port.h"
 
 #include <charconv>
 
-#include "utf8.h"
+#include "common/utf8.h"
 
 namespace poet {
 

@@ -3,7 +3,7 @@
 
 #include <string>
 
-#include "expected.h"
+#include "common/expected.h"
 
 namespace poet {
 

@@ -1,4 +1,4 @@
-#include "status_client/status_request.h"
+#include "coordinator/status_client/status_request.h"
 
 #include <httplib.h>
 

@@ -8,8 +8,8 @@
 #include <optional>
 #include <string>
 
-#include "expected.h"
-#include "status_client/host_port.h"
+#include "common/expected.h"
+#include "coordinator/status_client/host_port.h"
 
 namespace poet {
 

@@ -1,4 +1,4 @@
-#include "status_client/status_tables.h"
+#include "coordinator/status_client/status_tables.h"
 
 #include <google/protobuf/util/json_util.h>
 
@@ -8,8 +8,8 @@
 #include <string>
 #include <vector>
 
-#include "event_text.h"
-#include "text_format.h"
+#include "common/event_text.h"
+#include "common/text_format.h"
 
 namespace poet {
 namespace {

@@ -4,7 +4,7 @@
 
 #include <google/protobuf/struct.pb.h>
 
-#include "event_text.h"
+#include "common/event_text.h"
 #include "status.pb.h"
 
 namespace poet {

@@ -13,9 +13,9 @@
 #include <utility>
 #include <vector>
 
-#include "envgen/env_proto.h"
-#include "text_file.h"
-#include "text_format.h"
+#include "common/envgen/env_proto.h"
+#include "common/text_file.h"
+#include "common/text_format.h"
 
 namespace poet {
 namespace {

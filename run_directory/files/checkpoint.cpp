@@ -8,11 +8,11 @@
 #include <utility>
 #include <vector>
 
+#include "common/envgen/env_proto.h"
+#include "common/text_format.h"
 #include "engine/state_consistency.h"
-#include "envgen/env_proto.h"
-#include "policy/mlp.h"
 #include "run_directory/config/run_config.h"
-#include "text_format.h"
+#include "simulation/policy/mlp.h"
 
 namespace poet {
 namespace {

@@ -6,7 +6,7 @@
 #include <filesystem>
 #include <string_view>
 
-#include "expected.h"
+#include "common/expected.h"
 
 namespace poet {
 

@@ -7,7 +7,7 @@
 #include <optional>
 #include <string>
 
-#include "expected.h"
+#include "common/expected.h"
 
 namespace poet {
 

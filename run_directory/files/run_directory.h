@@ -33,13 +33,13 @@
 #include <utility>
 #include <vector>
 
+#include "common/expected.h"
+#include "common/unique_fd.h"
 #include "engine/iteration_report.h"
 #include "engine/run_state.h"
-#include "expected.h"
 #include "poet.pb.h"
 #include "run_directory/files/checkpoint_file.h"
 #include "run_directory/files/run_lock.h"
-#include "unique_fd.h"
 
 namespace poet {
 

@@ -9,7 +9,8 @@
 #include <optional>
 #include <system_error>
 
-#include "curve_keys.h"
+#include "common/curve_keys.h"
+#include "common/text_file.h"
 #include "engine/run_state.h"
 #include "run_directory/files/checkpoint.h"
 #include "run_directory/files/checkpoint_file.h"
@@ -18,7 +19,6 @@
 #include "run_directory/files/log_prefix.h"
 #include "run_directory/files/run_directory.h"
 #include "run_directory/files/wall_times.h"
-#include "text_file.h"
 
 namespace poet {
 namespace fs = std::filesystem;

@@ -22,7 +22,7 @@
 #include <string_view>
 #include <vector>
 
-#include "expected.h"
+#include "common/expected.h"
 
 namespace poet {
 

@@ -10,7 +10,7 @@
 #include <system_error>
 #include <vector>
 
-#include "text_file.h"
+#include "common/text_file.h"
 
 namespace poet {
 namespace {

@@ -18,7 +18,7 @@
 #include <string_view>
 #include <vector>
 
-#include "expected.h"
+#include "common/expected.h"
 
 namespace poet {
 

@@ -2,8 +2,8 @@
 
 #include <algorithm>
 
-#include "envgen/level_sample.h"
-#include "rng.h"
+#include "simulation/envgen/level_sample.h"
+#include "simulation/rng.h"
 
 namespace poet {
 

@@ -11,7 +11,7 @@
 #include <vector>
 
 #include "engine/run_state.h"
-#include "envgen/env_distance.h"
+#include "simulation/envgen/env_distance.h"
 
 namespace poet {
 

@@ -3,8 +3,8 @@
 #include <algorithm>
 #include <array>
 
-#include "enum_names.h"
 #include "run_directory/reading/event_fields.h"
+#include "simulation/enum_names.h"
 
 namespace poet {
 namespace {

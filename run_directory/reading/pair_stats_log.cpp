@@ -5,7 +5,7 @@
 #include <optional>
 #include <utility>
 
-#include "csv_fields.h"
+#include "common/csv_fields.h"
 #include "run_directory/reading/log_lines.h"
 
 namespace poet {

@@ -3,7 +3,7 @@
 #include <map>
 
 #include "engine/engine.h"
-#include "envgen/env_distance.h"
+#include "simulation/envgen/env_distance.h"
 
 namespace poet {
 namespace {

@@ -11,8 +11,8 @@
 #include <vector>
 
 #include "engine/annecs.h"
-#include "envgen/env_distance.h"
 #include "run_directory/reading/run_snapshot.h"
+#include "simulation/envgen/env_distance.h"
 
 namespace poet {
 

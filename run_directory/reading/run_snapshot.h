@@ -10,12 +10,12 @@
 #include <string>
 #include <vector>
 
+#include "common/expected.h"
+#include "common/text_file.h"  // is_inside: the analysis tools write nothing in the run directory
 #include "engine/run_state.h"
-#include "expected.h"
 #include "poet.pb.h"
 #include "run_directory/files/wall_times.h"
 #include "run_directory/reading/pair_stats_log.h"
-#include "text_file.h"  // is_inside: the analysis tools write nothing in the run directory
 
 namespace poet {
 

@@ -4,8 +4,8 @@
 #include <map>
 #include <tuple>
 
-#include "suite_score_json.h"
-#include "suite_score_table.h"
+#include "common/suite_score_json.h"
+#include "common/suite_score_table.h"
 
 namespace poet {
 namespace {

@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "engine/run_state.h"
-#include "suite/course_suite.h"
+#include "simulation/suite/course_suite.h"
 
 namespace poet {
 

@@ -1,9 +1,9 @@
-#include "envgen/cppn_course.h"
+#include "simulation/envgen/cppn_course.h"
 
 #include <cmath>
 #include <numbers>
 
-#include "walker/walker_constants.h"
+#include "simulation/walker/walker_constants.h"
 
 namespace poet {
 

@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "envgen/cppn_genome.h"
+#include "simulation/envgen/cppn_genome.h"
 
 namespace poet {
 

@@ -1,4 +1,4 @@
-#include "envgen/cppn_genome.h"
+#include "simulation/envgen/cppn_genome.h"
 
 #include <algorithm>
 #include <bit>

@@ -1,9 +1,9 @@
-#include "envgen/cppn_mutation.h"
+#include "simulation/envgen/cppn_mutation.h"
 
 #include <algorithm>
 #include <cmath>
 
-#include "envgen/cppn_course.h"
+#include "simulation/envgen/cppn_course.h"
 
 namespace poet {
 namespace {

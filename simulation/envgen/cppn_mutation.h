@@ -3,8 +3,8 @@
 // structural mutation): every random number comes from the caller's RandomStream, so a child is a pure function
 // of (parent, stream).
 
-#include "envgen/cppn_genome.h"
-#include "rng.h"
+#include "simulation/envgen/cppn_genome.h"
+#include "simulation/rng.h"
 
 namespace poet {
 

@@ -1,4 +1,4 @@
-#include "envgen/env_distance.h"
+#include "simulation/envgen/env_distance.h"
 
 #include <algorithm>
 #include <array>
@@ -6,7 +6,7 @@
 #include <stdexcept>
 #include <vector>
 
-#include "enum_names.h"
+#include "simulation/enum_names.h"
 
 namespace poet {
 

@@ -8,7 +8,7 @@
 #include <string_view>
 #include <vector>
 
-#include "envgen/env_encoding.h"
+#include "simulation/envgen/env_encoding.h"
 
 namespace poet {
 

@@ -1,10 +1,10 @@
-#include "envgen/env_encoding.h"
+#include "simulation/envgen/env_encoding.h"
 
 #include <charconv>
 #include <cmath>
 #include <string_view>
 
-#include "envgen/cppn_course.h"
+#include "simulation/envgen/cppn_course.h"
 
 namespace poet {
 

@@ -7,7 +7,7 @@
 #include <optional>
 #include <string>
 
-#include "envgen/cppn_genome.h"
+#include "simulation/envgen/cppn_genome.h"
 
 namespace poet {
 
@@ -58,7 +58,8 @@ inline constexpr double kMaxRoughness = 20.0;
 inline constexpr double kMaxIntervalValue = 20.0;  // any interval bound, in terrain steps or counts
 
 // Checks every field of an encoding: finite, non-negative, lo <= hi, integer genes whole with lo < hi, types
-// complete, within the maxima; a CPPN course's genome as validate_cppn_course checks it. Returns a message naming the first bad field, or nothing when valid.
+// complete, within the maxima; a CPPN course's genome as validate_cppn_course checks it. Returns a message naming the
+// first bad field, or nothing when valid.
 std::optional<std::string> validate(const EnvEncoding& encoding);
 
 // The reference's label r<rough>[.p<lo>_<hi>][.b<w>_<hlo>_<hhi>][.s<steps_lo>_<stair_h_hi>], numbers in

@@ -1,4 +1,4 @@
-#include "envgen/level_sample.h"
+#include "simulation/envgen/level_sample.h"
 
 namespace poet {
 

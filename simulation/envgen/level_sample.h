@@ -5,8 +5,8 @@
 
 #include <string>
 
-#include "envgen/env_distance.h"
-#include "rng.h"
+#include "simulation/envgen/env_distance.h"
+#include "simulation/rng.h"
 
 namespace poet {
 

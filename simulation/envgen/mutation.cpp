@@ -1,8 +1,8 @@
-#include "envgen/mutation.h"
+#include "simulation/envgen/mutation.h"
 
 #include <cmath>
 
-#include "envgen/cppn_mutation.h"
+#include "simulation/envgen/cppn_mutation.h"
 
 namespace poet {
 

@@ -4,9 +4,9 @@
 
 #include <vector>
 
-#include "envgen/env_encoding.h"
-#include "rng.h"
 #include "schema_defaults.h"
+#include "simulation/envgen/env_encoding.h"
+#include "simulation/rng.h"
 
 namespace poet {
 

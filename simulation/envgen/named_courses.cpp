@@ -1,4 +1,4 @@
-#include "envgen/named_courses.h"
+#include "simulation/envgen/named_courses.h"
 
 #include <array>
 

@@ -6,7 +6,7 @@
 #include <span>
 #include <string_view>
 
-#include "envgen/env_encoding.h"
+#include "simulation/envgen/env_encoding.h"
 
 namespace poet {
 

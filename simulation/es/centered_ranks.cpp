@@ -1,4 +1,4 @@
-#include "es/centered_ranks.h"
+#include "simulation/es/centered_ranks.h"
 
 #include <algorithm>
 #include <numeric>

@@ -1,10 +1,10 @@
-#include "es/es_gradient.h"
+#include "simulation/es/es_gradient.h"
 
 #include <Eigen/Core>
 #include <stdexcept>
 
-#include "es/centered_ranks.h"
-#include "es/perturbation.h"
+#include "simulation/es/centered_ranks.h"
+#include "simulation/es/perturbation.h"
 
 namespace poet {
 

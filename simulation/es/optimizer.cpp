@@ -1,4 +1,4 @@
-#include "es/optimizer.h"
+#include "simulation/es/optimizer.h"
 
 #include <algorithm>
 #include <cmath>

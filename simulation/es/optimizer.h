@@ -7,7 +7,7 @@
 #include <span>
 #include <vector>
 
-#include "es/es_settings.h"
+#include "simulation/es/es_settings.h"
 
 namespace poet {
 

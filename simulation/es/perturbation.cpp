@@ -1,9 +1,9 @@
-#include "es/perturbation.h"
+#include "simulation/es/perturbation.h"
 
 #include <cmath>
 #include <stdexcept>
 
-#include "rng.h"
+#include "simulation/rng.h"
 
 namespace poet {
 namespace {

@@ -1,4 +1,4 @@
-#include "policy/mlp.h"
+#include "simulation/policy/mlp.h"
 
 #include <algorithm>
 #include <cmath>

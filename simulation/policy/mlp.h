@@ -8,7 +8,7 @@
 #include <span>
 #include <vector>
 
-#include "rng.h"
+#include "simulation/rng.h"
 
 namespace poet {
 

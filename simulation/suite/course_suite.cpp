@@ -1,4 +1,4 @@
-#include "suite/course_suite.h"
+#include "simulation/suite/course_suite.h"
 
 #include <algorithm>
 #include <array>
@@ -7,12 +7,12 @@
 #include <numeric>
 #include <stdexcept>
 
-#include "envgen/level_sample.h"
-#include "envgen/named_courses.h"
-#include "parallel_for.h"
-#include "rng.h"
-#include "walker/terrain.h"
-#include "walker/walker_constants.h"
+#include "simulation/envgen/level_sample.h"
+#include "simulation/envgen/named_courses.h"
+#include "simulation/parallel_for.h"
+#include "simulation/rng.h"
+#include "simulation/walker/terrain.h"
+#include "simulation/walker/walker_constants.h"
 
 namespace poet {
 namespace {

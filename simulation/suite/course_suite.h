@@ -12,8 +12,8 @@
 #include <string_view>
 #include <vector>
 
-#include "envgen/env_encoding.h"
-#include "rollout.h"
+#include "simulation/envgen/env_encoding.h"
+#include "simulation/rollout.h"
 
 namespace poet {
 

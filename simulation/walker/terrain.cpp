@@ -1,11 +1,11 @@
-#include "walker/terrain.h"
+#include "simulation/walker/terrain.h"
 
 #include <cmath>
 #include <stdexcept>
 
-#include "envgen/cppn_course.h"
-#include "rng.h"
-#include "walker/walker_constants.h"
+#include "simulation/envgen/cppn_course.h"
+#include "simulation/rng.h"
+#include "simulation/walker/walker_constants.h"
 
 namespace poet {
 namespace {

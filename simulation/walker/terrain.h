@@ -6,7 +6,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "envgen/env_encoding.h"
+#include "simulation/envgen/env_encoding.h"
 
 namespace poet {
 

@@ -1,4 +1,4 @@
-#include "walker/walker_env.h"
+#include "simulation/walker/walker_env.h"
 
 #include <box2d/box2d.h>
 
@@ -6,7 +6,7 @@
 #include <cmath>
 #include <stdexcept>
 
-#include "walker/walker_constants.h"
+#include "simulation/walker/walker_constants.h"
 
 namespace poet {
 

@@ -7,8 +7,8 @@
 #include <memory>
 #include <span>
 
-#include "walker/terrain.h"
-#include "walker/walker_constants.h"
+#include "simulation/walker/terrain.h"
+#include "simulation/walker/walker_constants.h"
 
 class b2World;
 class b2Body;

@@ -1,11 +1,11 @@
 // Distribution statistics of this project's courses and random initial policies over terrain seeds 0..49, against
 // the reference walker's figures (reference/STATISTICS.md, quoted here so the checks run without the data).
 
-#include "course_statistics.h"
+#include "simulation/course_statistics.h"
 
 #include <gtest/gtest.h>
 
-#include "envgen/named_courses.h"
+#include "simulation/envgen/named_courses.h"
 
 namespace poet {
 namespace {
@@ -33,7 +33,8 @@ TEST(CourseStatistics, ObstacleCountsAndSizesMatchReference) {
   EXPECT_NEAR(like.mean_pit_width, 3.048, 0.1);
   EXPECT_NEAR(like.mean_stump_height, 1.229, 0.1);
   // the kind of each obstacle is a uniform draw among three: each about a third of the obstacles
-  for (double kind : {like.pits, like.stumps, like.stairs}) EXPECT_NEAR(kind, like.obstacles / 3, 0.2 * like.obstacles / 3);
+  for (double kind : {like.pits, like.stumps, like.stairs})
+    EXPECT_NEAR(kind, like.obstacles / 3, 0.2 * like.obstacles / 3);
 }
 
 TEST(CourseStatistics, RandomInitialPoliciesBehaveLikeReference) {

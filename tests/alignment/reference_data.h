@@ -6,11 +6,10 @@
 
 #include <filesystem>
 #include <fstream>
+#include <nlohmann/json.hpp>
 #include <string>
 
-#include <nlohmann/json.hpp>
-
-#include "policy/policy_file.h"
+#include "common/policy/policy_file.h"
 
 namespace poet::alignment {
 
@@ -27,12 +26,12 @@ inline std::string reference_missing() {
 }
 
 // Skips the calling test (with the reason) when the reference data is not there.
-#define POET_REQUIRE_REFERENCE()                                                                            \
-  do {                                                                                                      \
-    if (const std::string missing = ::poet::alignment::reference_missing(); !missing.empty())               \
-      GTEST_SKIP() << missing                                                                               \
+#define POET_REQUIRE_REFERENCE()                                                                                \
+  do {                                                                                                          \
+    if (const std::string missing = ::poet::alignment::reference_missing(); !missing.empty())                   \
+      GTEST_SKIP() << missing                                                                                   \
                    << ": these alignment checks need the authors' traces and the estool walkers; the walker's " \
-                      "own unit tests still run";                                                           \
+                      "own unit tests still run";                                                               \
   } while (0)
 
 inline nlohmann::json load_trace(const std::string& name) {

@@ -3,9 +3,9 @@
 
 #include <gtest/gtest.h>
 
-#include "course_sweep.h"
-#include "envgen/named_courses.h"
 #include "reference_data.h"
+#include "simulation/course_sweep.h"
+#include "simulation/envgen/named_courses.h"
 
 namespace poet::alignment {
 namespace {

@@ -5,9 +5,9 @@
 
 #include <cmath>
 
-#include "envgen/named_courses.h"
 #include "reference_data.h"
-#include "rollout.h"
+#include "simulation/envgen/named_courses.h"
+#include "simulation/rollout.h"
 
 namespace poet::alignment {
 namespace {

@@ -18,12 +18,12 @@
 #include <vector>
 
 #include "child_process.h"
-#include "policy/mlp.h"
-#include "policy/policy_file.h"
-#include "rng.h"
+#include "common/policy/policy_file.h"
 #include "run_directory/files/checkpoint_file.h"
 #include "run_directory/files/run_pack.h"
 #include "scratch_dir.h"
+#include "simulation/policy/mlp.h"
+#include "simulation/rng.h"
 
 namespace {
 

@@ -5,7 +5,7 @@
 // as a real process. Every wait is bounded; TearDown closes every socket, kills every child, stops the server and
 // removes the directory, even when a test fails.
 
-#include "status/status_server.h"
+#include "coordinator/status/status_server.h"
 
 #include <arpa/inet.h>
 #include <gtest/gtest.h>
@@ -29,13 +29,13 @@
 #include <thread>
 #include <vector>
 
-#include "build_fingerprint.h"
 #include "child_process.h"
+#include "common/build_fingerprint.h"
+#include "coordinator/status/status_board.h"
 #include "engine/run_state.h"
 #include "loopback_port.h"
 #include "run_directory/files/run_directory.h"
 #include "scratch_dir.h"
-#include "status/status_board.h"
 
 namespace poet {
 namespace {

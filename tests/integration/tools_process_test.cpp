@@ -13,8 +13,8 @@
 #include <string>
 #include <vector>
 
-#include "build_fingerprint.h"
 #include "child_process.h"
+#include "common/build_fingerprint.h"
 #include "scratch_dir.h"
 
 namespace {

@@ -26,14 +26,14 @@
 #include <vector>
 #include <zmq.hpp>
 
-#include "build_fingerprint.h"
 #include "child_process.h"
-#include "envgen/named_courses.h"
+#include "common/build_fingerprint.h"
+#include "common/rollout_task_proto.h"
 #include "loopback_port.h"
-#include "policy/mlp.h"
-#include "rng.h"
-#include "rollout_task_proto.h"
 #include "scratch_dir.h"
+#include "simulation/envgen/named_courses.h"
+#include "simulation/policy/mlp.h"
+#include "simulation/rng.h"
 #include "wire.pb.h"
 
 namespace poet {

@@ -1,4 +1,4 @@
-#include "build_fingerprint.h"
+#include "common/build_fingerprint.h"
 
 #include <gtest/gtest.h>
 

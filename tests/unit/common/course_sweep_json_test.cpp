@@ -1,6 +1,6 @@
 // Tests common/course_sweep_json.cpp: a sweep's JSON carries its counts and names the seeds it finished on.
 
-#include "course_sweep_json.h"
+#include "common/course_sweep_json.h"
 
 #include <gtest/gtest.h>
 

@@ -1,7 +1,7 @@
 // Tests common/curve_keys.cpp: Z85 keys checked, pairs written with the secret private and never replaced, and
 // every kind of bad key file refused with its name.
 
-#include "curve_keys.h"
+#include "common/curve_keys.h"
 
 #include <gtest/gtest.h>
 

@@ -1,10 +1,10 @@
 // Tests common/event_text: the one shape of an event line, from a view and from the engine's JSON events.
 
-#include "event_text.h"
+#include "common/event_text.h"
 
 #include <gtest/gtest.h>
 
-#include "text_format.h"
+#include "common/text_format.h"
 
 namespace poet {
 namespace {

@@ -1,13 +1,13 @@
-#include "rollout_task_proto.h"
+#include "common/rollout_task_proto.h"
 
 #include <gtest/gtest.h>
 
 #include <bit>
 #include <memory>
 
-#include "envgen/cppn_mutation.h"
-#include "policy/mlp.h"
-#include "rng.h"
+#include "simulation/envgen/cppn_mutation.h"
+#include "simulation/policy/mlp.h"
+#include "simulation/rng.h"
 
 namespace poet {
 namespace {

@@ -1,13 +1,13 @@
 // Tests common/suite_score_json.cpp and suite_score_table.cpp: the JSON holds every episode under its course and
 // seed with the group's figures; the tables print a line per group and per policy.
 
-#include "suite_score_json.h"
+#include "common/suite_score_json.h"
 
 #include <gtest/gtest.h>
 
-#include "policy/mlp.h"
-#include "policy/policy_file.h"
-#include "suite_score_table.h"
+#include "common/policy/policy_file.h"
+#include "common/suite_score_table.h"
+#include "simulation/policy/mlp.h"
 
 namespace poet {
 namespace {

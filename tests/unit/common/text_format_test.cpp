@@ -1,6 +1,6 @@
 // Tests common/text_format: numbers that read back to their bits, zero-padded hex, peer ids.
 
-#include "text_format.h"
+#include "common/text_format.h"
 
 #include <gtest/gtest.h>
 

@@ -1,11 +1,11 @@
-#include "tool_flags.h"
+#include "common/tool_flags.h"
 
 #include <gtest/gtest.h>
 
 #include <string>
 #include <vector>
 
-#include "build_fingerprint.h"
+#include "common/build_fingerprint.h"
 
 namespace poet {
 namespace {

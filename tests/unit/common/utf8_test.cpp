@@ -1,7 +1,7 @@
 // Tests common/utf8: well-formed UTF-8 accepted; stray, overlong, surrogate, out-of-range and cut sequences refused,
 // and replaced by '?' byte by byte in valid_utf8.
 
-#include "utf8.h"
+#include "common/utf8.h"
 
 #include <gtest/gtest.h>
 

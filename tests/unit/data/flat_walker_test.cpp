@@ -3,9 +3,9 @@
 
 #include <gtest/gtest.h>
 
-#include "envgen/named_courses.h"
-#include "policy/policy_file.h"
-#include "rollout_task.h"
+#include "common/policy/policy_file.h"
+#include "simulation/envgen/named_courses.h"
+#include "simulation/rollout_task.h"
 
 namespace poet {
 namespace {

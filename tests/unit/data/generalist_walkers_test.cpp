@@ -10,9 +10,9 @@
 #include <nlohmann/json.hpp>
 #include <optional>
 
-#include "policy/policy_file.h"
-#include "rollout.h"
-#include "suite/course_suite.h"
+#include "common/policy/policy_file.h"
+#include "simulation/rollout.h"
+#include "simulation/suite/course_suite.h"
 #include "walker_manifest.h"
 
 namespace poet {

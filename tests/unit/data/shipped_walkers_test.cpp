@@ -8,10 +8,10 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 
-#include "envgen/env_distance.h"
-#include "envgen/env_json.h"
-#include "policy/policy_file.h"
-#include "rollout_task.h"
+#include "common/envgen/env_json.h"
+#include "common/policy/policy_file.h"
+#include "simulation/envgen/env_distance.h"
+#include "simulation/rollout_task.h"
 #include "walker_manifest.h"
 
 namespace poet {

@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "policy/policy_file.h"
+#include "common/policy/policy_file.h"
 
 namespace poet::test {
 

@@ -5,12 +5,12 @@
 
 #include <cmath>
 
+#include "common/envgen/env_proto.h"
 #include "engine/curriculum.h"
 #include "engine/state_consistency.h"
 #include "engine_test_support.h"
-#include "envgen/env_proto.h"
-#include "es/perturbation.h"
 #include "scripted_evaluator.h"
+#include "simulation/es/perturbation.h"
 
 namespace poet::testing {
 namespace {

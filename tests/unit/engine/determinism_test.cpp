@@ -4,9 +4,9 @@
 
 #include <gtest/gtest.h>
 
+#include "coordinator/evaluator/local_evaluator.h"
 #include "engine/engine.h"
 #include "engine_test_support.h"
-#include "evaluator/local_evaluator.h"
 #include "run_directory/files/checkpoint.h"
 
 namespace poet {

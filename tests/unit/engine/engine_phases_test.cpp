@@ -6,8 +6,8 @@
 #include <algorithm>
 #include <vector>
 
+#include "coordinator/evaluator/local_evaluator.h"
 #include "engine_test_support.h"
-#include "evaluator/local_evaluator.h"
 #include "run_directory/files/checkpoint.h"
 #include "scripted_evaluator.h"
 

@@ -3,13 +3,13 @@
 
 #include <vector>
 
+#include "coordinator/evaluator/local_evaluator.h"
 #include "engine/engine.h"
-#include "envgen/named_courses.h"
-#include "evaluator/local_evaluator.h"
-#include "policy/mlp.h"
 #include "run_directory/config/run_config.h"
 #include "run_directory/files/event_json.h"
 #include "run_directory/files/run_directory.h"
+#include "simulation/envgen/named_courses.h"
+#include "simulation/policy/mlp.h"
 
 namespace poet::testing {
 

@@ -11,17 +11,17 @@
 #include <string>
 #include <vector>
 
-#include "build_fingerprint.h"
+#include "common/build_fingerprint.h"
+#include "coordinator/evaluator/caching_evaluator.h"
+#include "coordinator/evaluator/local_evaluator.h"
 #include "engine/engine.h"
 #include "engine_test_support.h"
-#include "envgen/named_courses.h"
-#include "evaluator/caching_evaluator.h"
-#include "evaluator/local_evaluator.h"
-#include "policy/mlp.h"
-#include "rng.h"
-#include "rollout.h"
 #include "run_directory/files/checkpoint.h"
 #include "run_directory/files/checkpoint_file.h"
+#include "simulation/envgen/named_courses.h"
+#include "simulation/policy/mlp.h"
+#include "simulation/rng.h"
+#include "simulation/rollout.h"
 
 namespace poet {
 namespace {

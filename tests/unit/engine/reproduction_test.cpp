@@ -8,8 +8,8 @@
 #include <string>
 
 #include "engine_test_support.h"
-#include "envgen/env_distance.h"
 #include "scripted_evaluator.h"
+#include "simulation/envgen/env_distance.h"
 
 namespace poet::testing {
 namespace {

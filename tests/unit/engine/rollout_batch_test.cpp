@@ -12,8 +12,8 @@
 #include <thread>
 
 #include "engine_test_support.h"
-#include "es/es_gradient.h"
 #include "scripted_evaluator.h"
+#include "simulation/es/es_gradient.h"
 
 namespace poet::testing {
 namespace {

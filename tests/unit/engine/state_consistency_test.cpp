@@ -9,12 +9,12 @@
 #include <map>
 #include <string>
 
+#include "common/envgen/env_proto.h"
 #include "engine_test_support.h"
-#include "envgen/env_proto.h"
-#include "rng.h"
 #include "run_directory/files/checkpoint.h"
 #include "run_directory/files/checkpoint_file.h"
 #include "scripted_evaluator.h"
+#include "simulation/rng.h"
 
 namespace poet::testing {
 namespace {

@@ -1,4 +1,4 @@
-#include "course_picture.h"
+#include "pictures/course_picture.h"
 
 #include <gtest/gtest.h>
 
@@ -6,9 +6,9 @@
 #include <fstream>
 #include <sstream>
 
-#include "envgen/named_courses.h"
-#include "policy/mlp.h"
 #include "scratch_dir.h"
+#include "simulation/envgen/named_courses.h"
+#include "simulation/policy/mlp.h"
 
 namespace poet {
 namespace {

@@ -1,11 +1,11 @@
-#include "course_stack.h"
+#include "pictures/course_stack.h"
 
 #include <gtest/gtest.h>
 
 #include <memory>
 
-#include "envgen/cppn_genome.h"
-#include "envgen/named_courses.h"
+#include "simulation/envgen/cppn_genome.h"
+#include "simulation/envgen/named_courses.h"
 
 namespace poet {
 namespace {

@@ -1,14 +1,14 @@
 // Tests pictures/walker_frame.cpp: a frame is width × height RGB with the sky, the ground and the walker in it,
 // follows the walker as it moves, and options out of range are errors, not pictures.
 
-#include "walker_frame.h"
+#include "pictures/walker_frame.h"
 
 #include <gtest/gtest.h>
 
 #include <set>
 #include <tuple>
 
-#include "envgen/named_courses.h"
+#include "simulation/envgen/named_courses.h"
 
 namespace poet {
 namespace {

@@ -1,12 +1,12 @@
 // Tests simulation/course_sweep.cpp: a sweep runs one episode per terrain seed and counts the outcomes.
 
-#include "course_sweep.h"
+#include "simulation/course_sweep.h"
 
 #include <gtest/gtest.h>
 
-#include "envgen/named_courses.h"
-#include "policy/mlp.h"
-#include "policy/policy_file.h"
+#include "common/policy/policy_file.h"
+#include "simulation/envgen/named_courses.h"
+#include "simulation/policy/mlp.h"
 
 namespace poet {
 namespace {

@@ -1,4 +1,4 @@
-#include "rng.h"
+#include "simulation/rng.h"
 
 #include <gtest/gtest.h>
 

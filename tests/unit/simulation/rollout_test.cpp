@@ -1,9 +1,9 @@
-#include "rollout.h"
+#include "simulation/rollout.h"
 
 #include <gtest/gtest.h>
 
-#include "envgen/named_courses.h"
-#include "rng.h"
+#include "simulation/envgen/named_courses.h"
+#include "simulation/rng.h"
 
 namespace poet {
 namespace {

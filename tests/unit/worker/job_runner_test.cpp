@@ -1,4 +1,4 @@
-#include "job_runner.h"
+#include "worker/job_runner.h"
 
 #include <gtest/gtest.h>
 
@@ -8,9 +8,9 @@
 #include <memory>
 #include <thread>
 
-#include "envgen/named_courses.h"
-#include "policy/mlp.h"
-#include "rng.h"
+#include "simulation/envgen/named_courses.h"
+#include "simulation/policy/mlp.h"
+#include "simulation/rng.h"
 
 namespace poet::worker {
 namespace {

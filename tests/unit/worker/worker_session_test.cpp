@@ -1,13 +1,13 @@
-#include "worker_session.h"
+#include "worker/worker_session.h"
 
 #include <gtest/gtest.h>
 
 #include <string>
 
-#include "build_fingerprint.h"
-#include "envgen/named_courses.h"
-#include "policy/mlp.h"
-#include "rng.h"
+#include "common/build_fingerprint.h"
+#include "simulation/envgen/named_courses.h"
+#include "simulation/policy/mlp.h"
+#include "simulation/rng.h"
 
 namespace poet::worker {
 namespace {
@@ -155,8 +155,8 @@ TEST(WorkerSession, RejoinDropsTheJobsAndSaysHelloAgain) {
   EXPECT_EQ(session.state(), SessionState::kGreeting);
   EXPECT_EQ(session.cached_thetas(), 0u);
   // the job's outcome belongs to the coordinator's earlier life: not sent
-  EXPECT_TRUE(session.on_job_finished(JobOutcome{.job_id = 5, .results = {}, .error = std::nullopt}, kT0 + 30ms)
-                  .send.empty());
+  EXPECT_TRUE(
+      session.on_job_finished(JobOutcome{.job_id = 5, .results = {}, .error = std::nullopt}, kT0 + 30ms).send.empty());
   // a Rejoin while greeting answers a message sent before the Hello: the Welcome is on its way
   EXPECT_TRUE(session.on_message(rejoin, kT0 + 40ms).send.empty());
   EXPECT_TRUE(only_heartbeat(session.on_message(welcome(), kT0 + 50ms)));

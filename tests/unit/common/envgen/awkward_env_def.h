@@ -6,7 +6,7 @@
 
 #include <cmath>
 
-#include "envgen/env_encoding.h"
+#include "simulation/envgen/env_encoding.h"
 
 namespace poet::testing {
 

@@ -1,13 +1,13 @@
-#include "envgen/cppn_json.h"
+#include "common/envgen/cppn_json.h"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <string>
 
-#include "envgen/env_json.h"
-#include "envgen/env_proto.h"
-#include "text_format.h"
+#include "common/envgen/env_json.h"
+#include "common/envgen/env_proto.h"
+#include "common/text_format.h"
 
 namespace poet {
 namespace {

@@ -1,4 +1,4 @@
-#include "envgen/env_json.h"
+#include "common/envgen/env_json.h"
 
 #include <gtest/gtest.h>
 #include <unistd.h>
@@ -10,8 +10,8 @@
 #include <vector>
 
 #include "awkward_env_def.h"
-#include "envgen/named_courses.h"
 #include "scratch_dir.h"
+#include "simulation/envgen/named_courses.h"
 
 namespace poet {
 namespace {
@@ -209,7 +209,6 @@ TEST(EnvJson, DeepNestingIsAnErrorNotACrash) {
 
 class EnvJsonFile : public ::testing::Test {
  protected:
-
   std::vector<fs::path> entries() const {
     std::vector<fs::path> out;
     for (const auto& entry : fs::directory_iterator(dir_)) out.push_back(entry.path().filename());

@@ -1,4 +1,4 @@
-#include "envgen/env_proto.h"
+#include "common/envgen/env_proto.h"
 
 #include <google/protobuf/text_format.h>
 #include <google/protobuf/util/message_differencer.h>
@@ -8,7 +8,7 @@
 #include <string>
 
 #include "../../common/envgen/awkward_env_def.h"
-#include "envgen/named_courses.h"
+#include "simulation/envgen/named_courses.h"
 
 namespace poet {
 namespace {

@@ -1,10 +1,9 @@
 // Tests common/policy/policy_file.cpp: exact round trips, an error naming the problem for each kind of hostile
 // input, and atomic saving.
 
-#include "policy/policy_file.h"
+#include "common/policy/policy_file.h"
 
 #include <gtest/gtest.h>
-
 #include <unistd.h>
 
 #include <bit>
@@ -18,9 +17,9 @@
 #include <string>
 #include <vector>
 
-#include "policy/mlp.h"
-#include "rng.h"
 #include "scratch_dir.h"
+#include "simulation/policy/mlp.h"
+#include "simulation/rng.h"
 
 namespace poet {
 namespace {
@@ -31,8 +30,12 @@ namespace fs = std::filesystem;
 std::vector<double> tricky_params() {
   RandomStream rng(stream_key(1, "policy_file_test"));
   std::vector<double> p = random_params(rng, 1.0);
-  const std::vector<double> specials = {-0.0, 0.1, 1.0 / 3.0, 5e-324, -DBL_MIN, DBL_MAX, -DBL_MAX, 1e22, 1e23,
-                                        123456789012345678.0, 2.0, -1.0000000000000002};
+  const std::vector<double> specials = {-0.0,      0.1,
+                                        1.0 / 3.0, 5e-324,
+                                        -DBL_MIN,  DBL_MAX,
+                                        -DBL_MAX,  1e22,
+                                        1e23,      123456789012345678.0,
+                                        2.0,       -1.0000000000000002};
   for (size_t i = 0; i < specials.size(); ++i) p[i * 97] = specials[i];
   return p;
 }
@@ -64,7 +67,6 @@ std::vector<std::string> with(size_t index, const std::string& value) {
 // A fresh empty directory per test, removed afterwards.
 class PolicyFileDirTest : public ::testing::Test {
  protected:
-
   std::vector<fs::path> files() const {
     std::vector<fs::path> out;
     for (const auto& entry : fs::directory_iterator(dir_)) out.push_back(entry.path().filename());

@@ -1,6 +1,6 @@
 // The progress line's text, and that --quiet turns the display off.
 
-#include "console/progress_display.h"
+#include "coordinator/console/progress_display.h"
 
 #include <gtest/gtest.h>
 

@@ -3,7 +3,7 @@
 // strangers dropped, re-queueing on departure and on silence, the poison-job rule naming the task, and backup jobs
 // for a worker that holds its jobs far longer than the batch's jobs take.
 
-#include "dispatch/dispatcher.h"
+#include "coordinator/dispatch/dispatcher.h"
 
 #include <gtest/gtest.h>
 
@@ -12,10 +12,10 @@
 #include <span>
 #include <tuple>
 
-#include "envgen/named_courses.h"
-#include "policy/mlp.h"
-#include "rng.h"
-#include "rollout_task_proto.h"
+#include "common/rollout_task_proto.h"
+#include "simulation/envgen/named_courses.h"
+#include "simulation/policy/mlp.h"
+#include "simulation/rng.h"
 
 namespace poet {
 namespace {

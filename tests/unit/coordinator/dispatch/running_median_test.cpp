@@ -1,4 +1,4 @@
-#include "dispatch/running_median.h"
+#include "coordinator/dispatch/running_median.h"
 
 #include <gtest/gtest.h>
 
@@ -6,7 +6,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "rng.h"
+#include "simulation/rng.h"
 
 namespace poet {
 namespace {

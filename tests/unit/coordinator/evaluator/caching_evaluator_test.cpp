@@ -2,15 +2,15 @@
 // result it had; perturbed tasks always run; every index is reported ready once with its final result; the memory
 // bound evicts the oldest; clear() forgets; an inner evaluator's stop or wrong count passes through.
 
-#include "evaluator/caching_evaluator.h"
+#include "coordinator/evaluator/caching_evaluator.h"
 
 #include <gtest/gtest.h>
 
 #include <map>
 
-#include "envgen/named_courses.h"
-#include "evaluator/local_evaluator.h"
-#include "policy/mlp.h"
+#include "coordinator/evaluator/local_evaluator.h"
+#include "simulation/envgen/named_courses.h"
+#include "simulation/policy/mlp.h"
 
 namespace poet {
 namespace {

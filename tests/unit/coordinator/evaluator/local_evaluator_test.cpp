@@ -2,7 +2,7 @@
 // reported final once as its episode ends; a stop request abandons a batch, cutting its episodes short; and
 // run_task's perturbed episode is the plain rollout of θ + sign·σ·ε.
 
-#include "evaluator/local_evaluator.h"
+#include "coordinator/evaluator/local_evaluator.h"
 
 #include <gtest/gtest.h>
 
@@ -10,9 +10,9 @@
 #include <chrono>
 #include <thread>
 
-#include "envgen/named_courses.h"
-#include "es/perturbation.h"
-#include "policy/mlp.h"
+#include "simulation/envgen/named_courses.h"
+#include "simulation/es/perturbation.h"
+#include "simulation/policy/mlp.h"
 
 namespace poet {
 namespace {

@@ -1,7 +1,7 @@
 // TimedEvaluator: the seconds spent in evaluate() on the given clock, summed until take(), a stop's included; the
 // results and the ready calls are the inner evaluator's.
 
-#include "evaluator/timed_evaluator.h"
+#include "coordinator/evaluator/timed_evaluator.h"
 
 #include <gtest/gtest.h>
 

@@ -3,7 +3,7 @@
 // every message as well-formed JSON; rates and ages follow a fake clock; events and scores are read from the run
 // directory's files (whole lines only); /metrics is Prometheus text format.
 
-#include "status/status_board.h"
+#include "coordinator/status/status_board.h"
 
 #include <gtest/gtest.h>
 #include <unistd.h>
@@ -18,10 +18,10 @@
 #include <thread>
 
 #include "../../engine/engine_test_support.h"
+#include "common/utf8.h"
+#include "coordinator/status/status_json.h"
 #include "run_directory/files/run_directory.h"
 #include "scratch_dir.h"
-#include "status/status_json.h"
-#include "utf8.h"
 
 namespace poet {
 namespace {

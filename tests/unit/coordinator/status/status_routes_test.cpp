@@ -1,7 +1,7 @@
 // Tests coordinator/status/status_routes.cpp: every endpoint's status, content type and body, and the 404, 405
 // and 400 rules, without a socket.
 
-#include "status/status_routes.h"
+#include "coordinator/status/status_routes.h"
 
 #include <gtest/gtest.h>
 #include <unistd.h>

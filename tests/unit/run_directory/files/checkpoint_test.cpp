@@ -13,10 +13,10 @@
 #include <string>
 #include <vector>
 
-#include "envgen/env_proto.h"
-#include "policy/mlp.h"
-#include "rng.h"
+#include "common/envgen/env_proto.h"
 #include "run_directory/config/run_config.h"
+#include "simulation/policy/mlp.h"
+#include "simulation/rng.h"
 
 namespace poet {
 namespace {

@@ -17,16 +17,16 @@
 #include <string>
 #include <vector>
 
-#include "envgen/env_json.h"
-#include "policy/mlp.h"
-#include "policy/policy_file.h"
-#include "rng.h"
+#include "common/envgen/env_json.h"
+#include "common/policy/policy_file.h"
 #include "run_directory/config/run_config.h"
 #include "run_directory/files/annecs_log.h"
 #include "run_directory/files/checkpoint.h"
 #include "run_directory/files/crc32.h"
 #include "run_directory/files/event_json.h"
 #include "scratch_dir.h"
+#include "simulation/policy/mlp.h"
+#include "simulation/rng.h"
 
 namespace poet {
 namespace {

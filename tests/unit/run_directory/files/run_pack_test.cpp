@@ -16,13 +16,13 @@
 #include <vector>
 
 #include "../../engine/engine_test_support.h"
+#include "common/text_file.h"
+#include "coordinator/evaluator/local_evaluator.h"
 #include "engine/engine.h"
-#include "evaluator/local_evaluator.h"
 #include "run_directory/files/checkpoint_file.h"
 #include "run_directory/files/run_directory.h"
 #include "run_directory/files/wall_times.h"
 #include "scratch_dir.h"
-#include "text_file.h"
 
 namespace poet {
 namespace {

@@ -2,7 +2,7 @@
 
 #include <gtest/gtest.h>
 
-#include "envgen/env_proto.h"
+#include "common/envgen/env_proto.h"
 
 namespace poet {
 namespace {

@@ -6,7 +6,7 @@
 
 #include <gtest/gtest.h>
 
-#include "policy/policy_file.h"
+#include "common/policy/policy_file.h"
 
 namespace poet {
 namespace {

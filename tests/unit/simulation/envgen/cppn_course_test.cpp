@@ -1,12 +1,12 @@
-#include "envgen/cppn_course.h"
+#include "simulation/envgen/cppn_course.h"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <numbers>
 
-#include "walker/terrain.h"
-#include "walker/walker_constants.h"
+#include "simulation/walker/terrain.h"
+#include "simulation/walker/walker_constants.h"
 
 namespace poet {
 namespace {

@@ -1,4 +1,4 @@
-#include "envgen/cppn_mutation.h"
+#include "simulation/envgen/cppn_mutation.h"
 
 #include <gtest/gtest.h>
 
@@ -6,7 +6,7 @@
 #include <cmath>
 #include <map>
 
-#include "envgen/cppn_course.h"
+#include "simulation/envgen/cppn_course.h"
 
 namespace poet {
 namespace {

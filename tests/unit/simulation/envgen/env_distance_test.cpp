@@ -1,4 +1,4 @@
-#include "envgen/env_distance.h"
+#include "simulation/envgen/env_distance.h"
 
 #include <gtest/gtest.h>
 
@@ -7,7 +7,7 @@
 #include <stdexcept>
 #include <vector>
 
-#include "envgen/mutation.h"
+#include "simulation/envgen/mutation.h"
 
 namespace poet {
 namespace {

@@ -1,4 +1,4 @@
-#include "envgen/env_encoding.h"
+#include "simulation/envgen/env_encoding.h"
 
 #include <gtest/gtest.h>
 

@@ -1,4 +1,4 @@
-#include "envgen/mutation.h"
+#include "simulation/envgen/mutation.h"
 
 #include <gtest/gtest.h>
 
@@ -6,7 +6,7 @@
 #include <map>
 #include <vector>
 
-#include "envgen/named_courses.h"
+#include "simulation/envgen/named_courses.h"
 
 namespace poet {
 namespace {

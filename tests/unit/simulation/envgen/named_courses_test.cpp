@@ -1,8 +1,8 @@
-#include "envgen/named_courses.h"
+#include "simulation/envgen/named_courses.h"
 
 #include <gtest/gtest.h>
 
-#include "envgen/env_distance.h"
+#include "simulation/envgen/env_distance.h"
 
 namespace poet {
 namespace {

@@ -1,6 +1,6 @@
 // Tests simulation/es/centered_ranks.cpp: rank/(n − 1) − 0.5 with ascending ranks and ties broken by index.
 
-#include "es/centered_ranks.h"
+#include "simulation/es/centered_ranks.h"
 
 #include <gtest/gtest.h>
 

@@ -1,7 +1,7 @@
 // Tests simulation/es/es_gradient.cpp against the formula written out by hand: ranks over the interleaved returns
 // plus0, minus0, plus1, minus1, g = Σᵢ (rank⁺ᵢ − rank⁻ᵢ) εᵢ / n, and / σ when asked.
 
-#include "es/es_gradient.h"
+#include "simulation/es/es_gradient.h"
 
 #include <gtest/gtest.h>
 
@@ -10,9 +10,9 @@
 #include <stdexcept>
 #include <vector>
 
-#include "es/optimizer.h"
-#include "es/perturbation.h"
-#include "rng.h"
+#include "simulation/es/optimizer.h"
+#include "simulation/es/perturbation.h"
+#include "simulation/rng.h"
 
 namespace poet {
 namespace {

@@ -1,7 +1,7 @@
 // Tests simulation/es/optimizer.cpp: Adam in the reference's form against hand arithmetic and against textbook Adam
 // (bias-corrected moments) written out separately, the proposals, the decays with their floors, and reset.
 
-#include "es/optimizer.h"
+#include "simulation/es/optimizer.h"
 
 #include <gtest/gtest.h>
 

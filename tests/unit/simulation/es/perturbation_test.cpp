@@ -1,7 +1,7 @@
 // Tests simulation/es/perturbation.cpp: ε(key) is a deterministic function of the key, extends by prefix, has the
 // moments of N(0, 1), and perturb() is θ ± σε even in place.
 
-#include "es/perturbation.h"
+#include "simulation/es/perturbation.h"
 
 #include <gtest/gtest.h>
 
@@ -9,7 +9,7 @@
 #include <stdexcept>
 #include <vector>
 
-#include "rng.h"
+#include "simulation/rng.h"
 
 namespace poet {
 namespace {

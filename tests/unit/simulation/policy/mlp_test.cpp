@@ -1,7 +1,7 @@
 // Tests simulation/policy/mlp.cpp: the parameter layout by hand-computable networks, the arithmetic against a naive
 // loop, the boundary checks, and (when the reference data is present) the reference's recorded actions.
 
-#include "policy/mlp.h"
+#include "simulation/policy/mlp.h"
 
 #include <gtest/gtest.h>
 
@@ -13,8 +13,8 @@
 #include <string>
 #include <vector>
 
-#include "policy/policy_file.h"
-#include "rng.h"
+#include "common/policy/policy_file.h"
+#include "simulation/rng.h"
 
 namespace poet {
 namespace {

@@ -2,18 +2,18 @@
 // definition must take a new name), each group at its level; a suite's episodes do not depend on the thread count;
 // the statistics are the textbook ones.
 
-#include "suite/course_suite.h"
+#include "simulation/suite/course_suite.h"
 
 #include <gtest/gtest.h>
 
 #include <bit>
 #include <cmath>
 
-#include "envgen/env_distance.h"
-#include "policy/mlp.h"
-#include "policy/policy_file.h"
-#include "rng.h"
-#include "walker/walker_constants.h"
+#include "common/policy/policy_file.h"
+#include "simulation/envgen/env_distance.h"
+#include "simulation/policy/mlp.h"
+#include "simulation/rng.h"
+#include "simulation/walker/walker_constants.h"
 
 namespace poet {
 namespace {

@@ -1,11 +1,11 @@
-#include "walker/walker_env.h"
+#include "simulation/walker/walker_env.h"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
 
-#include "rng.h"
-#include "walker/walker_constants.h"
+#include "simulation/rng.h"
+#include "simulation/walker/walker_constants.h"
 
 namespace poet {
 namespace {
