@@ -18,8 +18,7 @@ import subprocess
 import sys
 
 LEVELS = ["easy", "challenging", "very challenging", "extremely challenging"]
-DEFAULT_REPORT = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "build", "coordinator", "tools",
-                              "poet-report")
+DEFAULT_REPORT = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "build", "tools", "poet-report")
 
 
 def labelled_run(text):
