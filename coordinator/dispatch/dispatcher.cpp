@@ -625,23 +625,6 @@ void Dispatcher::settle_by_coordinator(uint64_t batch_id, uint64_t job_id, const
   accept(job, results, kCoordinatorAnswer, true);  // ends the job
 }
 
-Outgoing Dispatcher::job_message(const Job& job, Worker& worker) {
-  Outgoing out(worker.view.id);
-  wire::Job& message = *out.message.mutable_job();
-  message.set_job_id(job.id);
-  message.set_batch_id(batch_id_);
-  for (size_t t = job.begin; t < job.end; ++t) {
-    const uint64_t hash = task_theta_hash_[t];
-    if (worker.thetas_sent.insert(hash).second) {
-      std::shared_ptr<const std::string>& field = theta_fields_[hash];
-      if (!field) field = std::make_shared<const std::string>(encode_theta_field(hash, *thetas_.at(hash)));
-      out.job_thetas.push_back(field);
-    }
-    *message.add_tasks() = to_wire(tasks_[t], hash);
-  }
-  return out;
-}
-
 void Dispatcher::send(Job& job, Worker& worker, Millis now, const std::function<void(Outgoing&&)>& deliver) {
   const WorkerId& id = worker.view.id;
   job.leases.push_back({id, now});
@@ -651,7 +634,7 @@ void Dispatcher::send(Job& job, Worker& worker, Millis now, const std::function<
     worker.trial_job = job.id;
   }
   if (!worker.view.proven) spare_.unproven_holding = true;
-  deliver(job_message(job, worker));
+  deliver(encoder_.job(id, job.id, job.begin, job.end, worker.thetas_sent));
   worker.last_sent = now;
 }
 
@@ -711,15 +694,7 @@ void Dispatcher::start_batch(std::span<const RolloutTask> tasks) {
   result_from_.assign(tasks.size(), WorkerId());
   reported_.assign(tasks.size(), false);
   remaining_ = tasks.size();
-  task_theta_hash_.clear();
-  std::unordered_map<const std::vector<double>*, uint64_t> hash_of;  // tasks of a batch share a few θs
-  for (const RolloutTask& task : tasks_) {
-    const std::vector<double>* theta = task.theta.get();
-    auto [it, fresh] = hash_of.emplace(theta, 0);
-    if (fresh) it->second = theta_hash(*theta);
-    task_theta_hash_.push_back(it->second);
-    thetas_[it->second] = theta;
-  }
+  encoder_.start_batch(tasks_, batch_id_);
   for (auto& [id, worker] : workers_) worker.thetas_sent.clear();
 
   new_jobs(0, tasks.size(), tasks_per_job(tasks.size()), 0, /*front=*/false);
@@ -754,9 +729,7 @@ void Dispatcher::abandon_batch() {
   jobs_.clear();
   queue_.clear();
   tasks_.clear();
-  thetas_.clear();
-  theta_fields_.clear();
-  task_theta_hash_.clear();
+  encoder_.clear();
   results_.clear();
   have_result_.clear();
   result_from_.clear();
@@ -829,7 +802,7 @@ DispatchView Dispatcher::view(Millis now) const {
 std::string Dispatcher::describe_task(size_t index) const {
   const RolloutTask& task = tasks_.at(index);
   std::string text = "task " + std::to_string(index) + " of the batch (course " + task.env.encoding.name + " seed " +
-                     std::to_string(task.env.seed) + ", θ " + hex_text(task_theta_hash_.at(index));
+                     std::to_string(task.env.seed) + ", θ " + hex_text(encoder_.theta_hash_of(index));
   if (task.perturbation)
     text += ", perturbation " + hex_text(task.perturbation->key) + " sign " + std::to_string(task.perturbation->sign);
   return text + ")";

@@ -51,6 +51,7 @@
 #include "common/wire_timing.h"
 #include "coordinator/dispatch/dispatch_view.h"
 #include "coordinator/dispatch/drop_reason.h"
+#include "coordinator/dispatch/job_encoder.h"
 #include "coordinator/dispatch/outgoing.h"
 #include "coordinator/dispatch/running_median.h"
 #include "simulation/rollout_task.h"
@@ -251,8 +252,6 @@ class Dispatcher {
   void pass_check(const WorkerId& id);      // an answer of its was found right
   void note_unchecked(const WorkerId& id);  // an answer of its is taken unchecked
   size_t proven_workers() const;
-  // The Job for a worker: the θs it lacks ride along, encoded once per batch (theta_fields_).
-  Outgoing job_message(const Job& job, Worker& worker);
   std::string describe_task(size_t index) const;
 
   DispatchSettings settings_;
@@ -263,9 +262,7 @@ class Dispatcher {
   bool batch_active_ = false;
   uint64_t batch_id_ = 0;
   std::vector<RolloutTask> tasks_;
-  std::vector<uint64_t> task_theta_hash_;
-  std::unordered_map<uint64_t, const std::vector<double>*> thetas_;                // by hash
-  std::unordered_map<uint64_t, std::shared_ptr<const std::string>> theta_fields_;  // by hash, once sent
+  JobEncoder encoder_;  // the batch's Jobs on the wire: its θs by hash, each encoded once
   std::vector<RolloutResult> results_;
   std::vector<bool> have_result_;
   std::vector<WorkerId> result_from_;  // who answered each task (empty: no result yet)
