@@ -135,7 +135,7 @@ void Dispatcher::requeue(Job& job, bool died) {
   jobs_.erase(job.id);
   if (deaths >= settings_.max_attempts) {
     for (size_t t = begin; t < end && !failure_; ++t)
-      if (!have_result_[t])
+      if (!results_.has(t))
         failure_ = describe_task(t) + " was running on " + std::to_string(deaths) +
                    " workers when they died; the run stops rather than lose more workers to it";
     return;
@@ -147,12 +147,12 @@ void Dispatcher::requeue(Job& job, bool died) {
 void Dispatcher::new_jobs(size_t begin, size_t end, size_t per_job, int deaths, bool front) {
   std::vector<uint64_t> made;
   for (size_t t = begin; t < end;) {
-    if (have_result_[t]) {
+    if (results_.has(t)) {
       ++t;
       continue;
     }
     size_t stop = t + 1;
-    while (stop < end && stop - t < per_job && !have_result_[stop]) ++stop;
+    while (stop < end && stop - t < per_job && !results_.has(stop)) ++stop;
     Job job;
     job.id = next_job_id_++;
     job.begin = t;
@@ -364,17 +364,7 @@ void Dispatcher::on_answer(Worker& worker, Job& job, std::vector<RolloutResult> 
 }
 
 void Dispatcher::accept(Job& job, const std::vector<RolloutResult>& results, const WorkerId& from, bool final_now) {
-  for (size_t k = 0; k < results.size(); ++k) {
-    const size_t t = job.begin + k;
-    results_[t] = results[k];
-    if (!have_result_[t]) remaining_ -= 1;
-    have_result_[t] = true;
-    result_from_[t] = from;
-  }
-  if (final_now) {
-    ready_ranges_.emplace_back(job.begin, job.end);
-    for (size_t t = job.begin; t < job.end; ++t) reported_[t] = true;
-  }
+  results_.put(job.begin, results, from, final_now);
   for (const Lease& other : job.leases) {  // the other holders' results, when they come, are late
     const auto it = workers_.find(other.worker);
     if (it == workers_.end()) continue;
@@ -410,19 +400,8 @@ void Dispatcher::refuse_wrong(const WorkerId id, const char* why) {  // a copy: 
   }
   // every result of the batch taken from it is computed again, by others
   // (those reported final were checked by another worker, or came from a local one: they stand)
-  const auto redo = [&](size_t t) { return result_from_[t] == id && have_result_[t] && !reported_[t]; };
-  for (size_t t = 0; t < result_from_.size(); ++t) {
-    if (!redo(t)) continue;
-    size_t end = t;
-    while (end < result_from_.size() && redo(end)) {
-      have_result_[end] = false;
-      result_from_[end].clear();
-      remaining_ += 1;
-      ++end;
-    }
-    new_jobs(t, end, static_cast<size_t>(settings_.max_chunk), 0, /*front=*/true);
-    t = end - 1;
-  }
+  for (const auto& [first, end] : results_.withdraw(id))
+    new_jobs(first, end, static_cast<size_t>(settings_.max_chunk), 0, /*front=*/true);
 }
 
 std::vector<WorkerId> Dispatcher::expire(Millis now) {
@@ -689,11 +668,7 @@ void Dispatcher::start_batch(std::span<const RolloutTask> tasks) {
   // a worker gone, with no answer held any more, can no longer be found wrong
   std::erase_if(unchecked_since_, [&](const auto& entry) { return !workers_.contains(entry.first); });
   tasks_.assign(tasks.begin(), tasks.end());
-  results_.assign(tasks.size(), RolloutResult{});
-  have_result_.assign(tasks.size(), false);
-  result_from_.assign(tasks.size(), WorkerId());
-  reported_.assign(tasks.size(), false);
-  remaining_ = tasks.size();
+  results_.start(tasks.size());
   encoder_.start_batch(tasks_, batch_id_);
   for (auto& [id, worker] : workers_) worker.thetas_sent.clear();
 
@@ -731,31 +706,17 @@ void Dispatcher::abandon_batch() {
   tasks_.clear();
   encoder_.clear();
   results_.clear();
-  have_result_.clear();
-  result_from_.clear();
-  reported_.clear();
-  ready_ranges_.clear();
-  remaining_ = 0;
   batch_active_ = false;
 }
 
 std::vector<RolloutResult> Dispatcher::take_results() {
-  std::vector<RolloutResult> out = std::move(results_);
+  std::vector<RolloutResult> out = results_.take();
   abandon_batch();
   return out;
 }
 
 std::vector<std::pair<size_t, size_t>> Dispatcher::take_ready_ranges() {
-  if (batch_done()) {  // the batch is whole: what was held back for a check is final now
-    for (size_t t = 0; t < reported_.size(); ++t) {
-      if (reported_[t]) continue;
-      size_t end = t;
-      while (end < reported_.size() && !reported_[end]) reported_[end++] = true;
-      ready_ranges_.emplace_back(t, end);
-      t = end - 1;
-    }
-  }
-  return std::exchange(ready_ranges_, {});
+  return results_.take_ready_ranges(batch_done());
 }
 
 size_t Dispatcher::ready_workers() const {

@@ -49,6 +49,7 @@
 #include <vector>
 
 #include "common/wire_timing.h"
+#include "coordinator/dispatch/batch_results.h"
 #include "coordinator/dispatch/dispatch_view.h"
 #include "coordinator/dispatch/drop_reason.h"
 #include "coordinator/dispatch/job_encoder.h"
@@ -133,14 +134,12 @@ class Dispatcher {
   // A new batch (the previous one must be done or abandoned). Tasks are copied; θ is shared, not copied.
   void start_batch(std::span<const RolloutTask> tasks);
   void abandon_batch();
-  bool batch_done() const { return batch_active_ && remaining_ == 0; }
+  bool batch_done() const { return batch_active_ && results_.remaining() == 0; }
   // The results in task order; ends the batch.
   std::vector<RolloutResult> take_results();
   // The ranges [first, end) of tasks whose results became final since the last call, and those results.
   std::vector<std::pair<size_t, size_t>> take_ready_ranges();
-  std::span<const RolloutResult> results(size_t first, size_t end) const {
-    return std::span<const RolloutResult>(results_).subspan(first, end - first);
-  }
+  std::span<const RolloutResult> results(size_t first, size_t end) const { return results_.results(first, end); }
   // Set when a task killed max_attempts proven workers, proven workers refused a task, or three workers returned
   // three different results for one: the run must stop.
   const std::optional<std::string>& failure() const { return failure_; }
@@ -262,13 +261,8 @@ class Dispatcher {
   bool batch_active_ = false;
   uint64_t batch_id_ = 0;
   std::vector<RolloutTask> tasks_;
-  JobEncoder encoder_;  // the batch's Jobs on the wire: its θs by hash, each encoded once
-  std::vector<RolloutResult> results_;
-  std::vector<bool> have_result_;
-  std::vector<WorkerId> result_from_;  // who answered each task (empty: no result yet)
-  std::vector<bool> reported_;         // in a ready range already
-  size_t remaining_ = 0;
-  std::vector<std::pair<size_t, size_t>> ready_ranges_;
+  JobEncoder encoder_;            // the batch's Jobs on the wire: its θs by hash, each encoded once
+  BatchResults results_;          // by task: which are in, from whom, which are final
   std::map<uint64_t, Job> jobs_;  // open jobs by id
   std::deque<uint64_t> queue_;
   uint64_t next_job_id_ = 1;

@@ -1,0 +1,73 @@
+#include "coordinator/dispatch/batch_results.h"
+
+namespace poet {
+
+void BatchResults::start(size_t tasks) {
+  results_.assign(tasks, RolloutResult{});
+  have_.assign(tasks, false);
+  from_.assign(tasks, WorkerId());
+  final_.assign(tasks, false);
+  remaining_ = tasks;
+  ready_.clear();
+}
+
+void BatchResults::clear() {
+  results_.clear();
+  have_.clear();
+  from_.clear();
+  final_.clear();
+  remaining_ = 0;
+  ready_.clear();
+}
+
+void BatchResults::put(size_t first, std::span<const RolloutResult> results, const WorkerId& from, bool final_now) {
+  for (size_t k = 0; k < results.size(); ++k) {
+    const size_t t = first + k;
+    results_[t] = results[k];
+    if (!have_[t]) remaining_ -= 1;
+    have_[t] = true;
+    from_[t] = from;
+  }
+  if (!final_now) return;
+  ready_.emplace_back(first, first + results.size());
+  for (size_t t = first; t < first + results.size(); ++t) final_[t] = true;
+}
+
+std::vector<BatchResults::Range> BatchResults::withdraw(const WorkerId& from) {
+  std::vector<Range> ranges;
+  const auto redo = [&](size_t t) { return from_[t] == from && have_[t] && !final_[t]; };
+  for (size_t t = 0; t < from_.size(); ++t) {
+    if (!redo(t)) continue;
+    size_t end = t;
+    while (end < from_.size() && redo(end)) {
+      have_[end] = false;
+      from_[end].clear();
+      remaining_ += 1;
+      ++end;
+    }
+    ranges.emplace_back(t, end);
+    t = end - 1;
+  }
+  return ranges;
+}
+
+std::vector<BatchResults::Range> BatchResults::take_ready_ranges(bool whole) {
+  if (whole) {  // what was held back for a check is final now
+    for (size_t t = 0; t < final_.size(); ++t) {
+      if (final_[t]) continue;
+      size_t end = t;
+      while (end < final_.size() && !final_[end]) final_[end++] = true;
+      ready_.emplace_back(t, end);
+      t = end - 1;
+    }
+  }
+  return std::exchange(ready_, {});
+}
+
+std::vector<RolloutResult> BatchResults::take() {
+  std::vector<RolloutResult> out = std::move(results_);
+  clear();
+  return out;
+}
+
+}  // namespace poet

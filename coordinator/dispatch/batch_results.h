@@ -1,0 +1,45 @@
+#pragma once
+// A batch's results by task: which are in, who answered each, and which are final — reported to the caller, never
+// to change. A result from a worker whose answers may still be found wrong is held back until the batch is whole;
+// if that worker is found wrong first, its results not yet final are withdrawn and the tasks computed again.
+
+#include <cstddef>
+#include <span>
+#include <utility>
+#include <vector>
+
+#include "coordinator/dispatch/dispatch_view.h"
+#include "simulation/rollout.h"
+
+namespace poet {
+
+class BatchResults {
+ public:
+  using Range = std::pair<size_t, size_t>;  // tasks [first, end)
+
+  void start(size_t tasks);  // a new batch of this many tasks, none in
+  void clear();
+  bool has(size_t task) const { return have_[task]; }
+  size_t remaining() const { return remaining_; }  // tasks without a result
+  // The results of tasks [first, first + results.size()), answered by `from`: final at once, or held back.
+  void put(size_t first, std::span<const RolloutResult> results, const WorkerId& from, bool final_now);
+  // The results `from` gave that are not final yet are withdrawn: the ranges of tasks to compute again, in order.
+  std::vector<Range> withdraw(const WorkerId& from);
+  // The ranges that became final since the last call; with `whole` (the batch is done), every result held back
+  // becomes final first.
+  std::vector<Range> take_ready_ranges(bool whole);
+  std::span<const RolloutResult> results(size_t first, size_t end) const {
+    return std::span<const RolloutResult>(results_).subspan(first, end - first);
+  }
+  std::vector<RolloutResult> take();  // the results in task order; the batch is cleared
+
+ private:
+  std::vector<RolloutResult> results_;
+  std::vector<bool> have_;
+  std::vector<WorkerId> from_;  // who answered each task (empty: no result yet)
+  std::vector<bool> final_;     // in a ready range already
+  size_t remaining_ = 0;
+  std::vector<Range> ready_;
+};
+
+}  // namespace poet
