@@ -31,7 +31,7 @@ const WorkerId kCoordinatorAnswer("\0the coordinator", 16);
 
 wire::CoordinatorMessage Dispatcher::on_hello(const WorkerId& id, const wire::Hello& hello, Millis now) {
   wire::CoordinatorMessage reply;
-  if (refused_.contains(id)) {
+  if (ledger_.refused(id)) {
     count_drop(DropReason::kWrongWorker);
     reply.mutable_refused()->set_reason("this worker returned wrong results");
     return reply;
@@ -188,23 +188,7 @@ void Dispatcher::pass_check(const WorkerId& id) {
 }
 
 void Dispatcher::note_unchecked(const WorkerId& id) {
-  if (settings_.verify_fraction > 0) unchecked_since_.emplace(id, batch_id_);  // the first one only
-}
-
-std::optional<uint64_t> Dispatcher::take_rollback() {
-  if (rollback_from_) rollbacks_ += 1;
-  return std::exchange(rollback_from_, std::nullopt);
-}
-
-std::vector<uint64_t> Dispatcher::unchecked_since() const {
-  std::vector<uint64_t> out;
-  for (const auto& [id, batch] : unchecked_since_) out.push_back(batch);
-  if (rollback_from_) out.push_back(*rollback_from_);  // asked for, not yet taken
-  return out;
-}
-
-void Dispatcher::forget_batches_from(uint64_t batch) {
-  std::erase_if(unchecked_since_, [&](const auto& entry) { return entry.second >= batch; });
+  if (settings_.verify_fraction > 0) ledger_.note_unchecked(id, batch_id_);
 }
 
 size_t Dispatcher::proven_workers() const {
@@ -376,22 +360,14 @@ void Dispatcher::accept(Job& job, const std::vector<RolloutResult>& results, con
 }
 
 void Dispatcher::refuse_wrong(const WorkerId id, const char* why) {  // a copy: the answers it may name are erased
-  if (!refused_.insert(id).second) return;
-  // unchecked answers of an earlier batch are final: the run must go back to before them
-  if (const auto since = unchecked_since_.find(id); since != unchecked_since_.end()) {
-    if (since->second < batch_id_ && (!rollback_from_ || since->second < *rollback_from_))
-      rollback_from_ = since->second;
-    unchecked_since_.erase(since);
-  }
+  const auto it = workers_.find(id);
+  if (!ledger_.refuse(id, it != workers_.end() ? it->second.view.name : id, batch_id_)) return;
   // its answers awaiting a check are worth nothing: those jobs wait for answers from others
   for (auto& [job_id, job] : jobs_) {
     const size_t before = job.answers.size();
     std::erase_if(job.answers, [&](const Answer& a) { return a.worker == id; });
     if (job.answers.size() != before && job.leases.empty()) enqueue_front(job);
   }
-  const auto it = workers_.find(id);
-  const std::string name = it != workers_.end() ? it->second.view.name : id;
-  wrong_workers_.push_back(name);
   if (it != workers_.end()) {
     Outgoing refusal{id, {}};
     refusal.message.mutable_refused()->set_reason(why);
@@ -666,7 +642,7 @@ void Dispatcher::start_batch(std::span<const RolloutTask> tasks) {
   batch_active_ = true;
   batch_id_ += 1;
   // a worker gone, with no answer held any more, can no longer be found wrong
-  std::erase_if(unchecked_since_, [&](const auto& entry) { return !workers_.contains(entry.first); });
+  ledger_.forget_workers([&](const WorkerId& id) { return !workers_.contains(id); });
   tasks_.assign(tasks.begin(), tasks.end());
   results_.start(tasks.size());
   encoder_.start_batch(tasks_, batch_id_);
@@ -754,9 +730,9 @@ DispatchView Dispatcher::view(Millis now) const {
   v.leases_expired = leases_expired_;
   v.workers_demoted = demoted_;
   v.verified_jobs = verified_;
-  v.wrong_workers = static_cast<int64_t>(wrong_workers_.size());
+  v.wrong_workers = static_cast<int64_t>(ledger_.names().size());
   v.coordinator_checks = coordinator_checks_;
-  v.rollbacks = rollbacks_;
+  v.rollbacks = ledger_.rollbacks();
   return v;
 }
 

@@ -54,6 +54,7 @@
 #include "coordinator/dispatch/drop_reason.h"
 #include "coordinator/dispatch/job_encoder.h"
 #include "coordinator/dispatch/outgoing.h"
+#include "coordinator/dispatch/refusal_ledger.h"
 #include "coordinator/dispatch/running_median.h"
 #include "simulation/rollout_task.h"
 #include "wire.pb.h"
@@ -117,9 +118,9 @@ class Dispatcher {
   // caller must be able to go back to; a rollback not yet taken among them). forget_batches_from: the caller went back
   // to before `batch`; answers of that batch and later ones no longer count.
   uint64_t batch_id() const { return batch_id_; }
-  std::optional<uint64_t> take_rollback();
-  std::vector<uint64_t> unchecked_since() const;
-  void forget_batches_from(uint64_t batch);
+  std::optional<uint64_t> take_rollback() { return ledger_.take_rollback(); }
+  std::vector<uint64_t> unchecked_since() const { return ledger_.unchecked_since(); }
+  void forget_batches_from(uint64_t batch) { ledger_.forget_batches_from(batch); }
 
   // Workers silent for liveness_ms are removed (their jobs re-queued, counted as a death for each job).
   std::vector<WorkerId> expire(Millis now);
@@ -162,10 +163,10 @@ class Dispatcher {
   // Jobs whose answer waits for the coordinator's own (no connected worker may check or decide).
   int64_t coordinator_checks_waiting() const { return coordinator_checks_waiting_; }
   int64_t coordinator_checks() const { return coordinator_checks_; }  // settled by the coordinator's own answer
-  int64_t rollbacks() const { return rollbacks_; }                    // times take_rollback asked to go back
+  int64_t rollbacks() const { return ledger_.rollbacks(); }           // times take_rollback asked to go back
   // Workers refused for a wrong result, with their names, in order (the log and /metrics read them).
-  const std::vector<std::string>& wrong_workers() const { return wrong_workers_; }
-  const std::set<WorkerId>& refused_workers() const { return refused_; }  // the same, by routing id
+  const std::vector<std::string>& wrong_workers() const { return ledger_.names(); }
+  const std::set<WorkerId>& refused_workers() const { return ledger_.refused_ids(); }  // the same, by routing id
   void count_drop(DropReason reason) { dropped_[name(reason)] += 1; }
   const DispatchSettings& settings() const { return settings_; }
 
@@ -281,14 +282,9 @@ class Dispatcher {
   int64_t verified_ = 0;
   int64_t coordinator_checks_waiting_ = 0;
   int64_t coordinator_checks_ = 0;
-  int64_t rollbacks_ = 0;
   std::vector<uint64_t> to_coordinator_;  // jobs to hand to the coordinator (take_coordinator_checks)
-  // by worker, connected or with answers held in this batch: the first batch an unchecked answer of its was taken in
-  std::map<WorkerId, uint64_t> unchecked_since_;
-  std::optional<uint64_t> rollback_from_;
-  std::set<WorkerId> refused_;  // found wrong: their Hellos and messages are refused
-  std::vector<std::string> wrong_workers_;
-  std::vector<Outgoing> refusals_;  // Refused messages to send
+  RefusalLedger ledger_;                  // across batches: the workers refused, their unchecked answers, rollbacks
+  std::vector<Outgoing> refusals_;        // Refused messages to send
 };
 
 }  // namespace poet
