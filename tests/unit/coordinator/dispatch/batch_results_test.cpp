@@ -11,7 +11,12 @@ namespace {
 
 std::vector<RolloutResult> scores(std::initializer_list<double> values) {
   std::vector<RolloutResult> out;
-  for (double v : values) out.push_back(RolloutResult{.total_reward = v, .steps = 10});
+  for (double v : values) {
+    RolloutResult r;
+    r.total_reward = v;
+    r.steps = 10;
+    out.push_back(r);
+  }
   return out;
 }
 

@@ -282,7 +282,7 @@ TEST_F(StatusBoardTest, UptimeAndHeartbeatAgesFollowTheClock) {
                               .results_done = 11,
                               .last_heard = 8'500});
   dispatch.workers.push_back(
-      {.id = std::string("\x00\x01\xfe", 3), .threads = 1, .fingerprint_digest = 1, .last_heard = 10'000});
+      {.id = std::string("\x00\x01\xfe", 3), .name = "", .threads = 1, .fingerprint_digest = 1, .last_heard = 10'000});
   dispatch.queue_depth = 7;
   dispatch.in_flight_jobs = 3;
   dispatch.dropped_frames = {{"malformed", 2}};
