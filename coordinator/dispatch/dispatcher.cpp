@@ -516,14 +516,15 @@ bool Dispatcher::eligible_checker(const Job& job, const Worker& worker) const {
 
 void Dispatcher::check_unanswerable(Millis now) {
   coordinator_checks_waiting_ = 0;
-  const size_t proven = proven_workers();
-  for (const uint64_t id : queue_) {
-    if (!refusals_seen_) break;  // (the common case: no queued job to look at)
-    const Job& job = jobs_.at(id);
-    // proven workers that refused it may now be all there are (the others left): the error rule says again
-    if (!job.refusing.empty() && job.refusing.size() >= std::min<size_t>(2, std::max<size_t>(1, proven)) && !failure_)
-      failure_ = "workers refused " + describe_task(job.begin) + " (" + std::to_string(job.refusing.size()) +
-                 " of the " + std::to_string(proven) + " proven workers connected)";
+  if (refusals_seen_) {  // (otherwise no queued job has been refused: none to look at)
+    const size_t proven = proven_workers();
+    for (const uint64_t id : queue_) {
+      const Job& job = jobs_.at(id);
+      // proven workers that refused it may now be all there are (the others left): the error rule says again
+      if (!job.refusing.empty() && job.refusing.size() >= std::min<size_t>(2, std::max<size_t>(1, proven)) && !failure_)
+        failure_ = "workers refused " + describe_task(job.begin) + " (" + std::to_string(job.refusing.size()) +
+                   " of the " + std::to_string(proven) + " proven workers connected)";
+    }
   }
   const Millis lease = lease_ms();
   if (settings_.verify_fraction <= 0) return;  // answers are held only to be checked
