@@ -1,31 +1,29 @@
 #include "coordinator/dispatch/dispatcher.h"
 
 #include <algorithm>
-#include <bit>
 
 #include "common/rollout_task_proto.h"
 #include "common/text_format.h"
-#include "simulation/rng.h"
 
 namespace poet {
 namespace {
 
-// Bit for bit: every worker of one build computes exactly the same numbers.
-bool same_results(const std::vector<RolloutResult>& a, const std::vector<RolloutResult>& b) {
-  if (a.size() != b.size()) return false;
-  for (size_t i = 0; i < a.size(); ++i) {
-    if (std::bit_cast<uint64_t>(a[i].total_reward) != std::bit_cast<uint64_t>(b[i].total_reward) ||
-        a[i].steps != b[i].steps || a[i].finished != b[i].finished || a[i].fell != b[i].fell)
-      return false;
-  }
-  return true;
-}
-
-// The queued jobs a worker looks through for one it may take; the rest wait their turn.
-constexpr size_t kQueueScan = 4096;
 // Who answered a task the coordinator computed itself: no routing id can equal it (a peer's own id may not start
 // with a zero byte, and libzmq's generated ones are five bytes).
 const WorkerId kCoordinatorAnswer("\0the coordinator", 16);
+
+// A Result's rollout results when it holds `count` of them and each parses.
+std::optional<std::vector<RolloutResult>> parse_results(const wire::Result& result, size_t count) {
+  if (result.results_size() != static_cast<int>(count)) return std::nullopt;
+  std::vector<RolloutResult> parsed;
+  parsed.reserve(count);
+  for (const wire::TaskResult& one : result.results()) {
+    Expected<RolloutResult> r = result_from_wire(one);
+    if (!r) return std::nullopt;
+    parsed.push_back(std::move(*r));
+  }
+  return parsed;
+}
 
 }  // namespace
 
@@ -56,39 +54,26 @@ wire::CoordinatorMessage Dispatcher::on_hello(const WorkerId& id, const wire::He
                                         " workers, its limit");
     return reply;
   }
-  Worker worker;
-  worker.view.id = id;
-  worker.view.name = hello.name().substr(0, 200);
-  worker.view.threads = static_cast<int>(std::clamp<uint32_t>(hello.threads(), 1, 4096));
-  worker.view.fingerprint_digest = hello.fingerprint_digest();
-  worker.view.last_heard = now;
-  worker.view.local = !settings_.local_token.empty() && hello.local_token() == settings_.local_token;
-  worker.view.proven = worker.view.local;
-  worker.last_sent = now;
-  arrival_.push_back(&workers_.emplace(id, std::move(worker)).first->second);
-  joined_ += 1;
+  WorkerView view;
+  view.id = id;
+  view.name = hello.name().substr(0, 200);
+  view.threads = static_cast<int>(std::clamp<uint32_t>(hello.threads(), 1, 4096));
+  view.fingerprint_digest = hello.fingerprint_digest();
+  view.local = !settings_.local_token.empty() && hello.local_token() == settings_.local_token;
+  workers_.add(std::move(view), now);
   reply.mutable_welcome()->set_heartbeat_ms(static_cast<uint32_t>(settings_.heartbeat_ms));
   reply.mutable_welcome()->set_liveness_ms(static_cast<uint32_t>(settings_.liveness_ms));
   return reply;
 }
 
-bool Dispatcher::heard_from(const WorkerId& id, Millis now) {
-  const auto it = workers_.find(id);
-  if (it == workers_.end()) return false;
-  it->second.view.last_heard = now;
-  it->second.ready = true;
-  return true;
-}
+bool Dispatcher::heard_from(const WorkerId& id, Millis now) { return workers_.heard_from(id, now); }
 
 void Dispatcher::remove_worker(const WorkerId& id, bool died) {
-  const auto it = workers_.find(id);
-  if (it == workers_.end()) return;
-  std::erase(arrival_, &it->second);
-  const Worker worker = std::move(it->second);
-  workers_.erase(it);
-  for (auto& [job_id, job] : jobs_) job.taken_back.erase(id);  // a worker of this id is a new one from now on
+  const std::optional<RegisteredWorker> worker = workers_.remove(id);
+  if (!worker) return;
+  for (auto& [job_id, job] : jobs_.open()) job.taken_back.erase(id);  // a worker of this id is a new one from now on
   // back to the front, in their order, so the batch finishes in the order it was cut
-  for (auto job = worker.jobs.rbegin(); job != worker.jobs.rend(); ++job) release(*job, worker, died);
+  for (auto job = worker->jobs.rbegin(); job != worker->jobs.rend(); ++job) release(*job, *worker, died);
 }
 
 void Dispatcher::lose_worker(const WorkerId& id) {
@@ -97,33 +82,22 @@ void Dispatcher::lose_worker(const WorkerId& id) {
   lost_ += 1;
 }
 
-void Dispatcher::release(uint64_t job_id, const Worker& worker, bool died) {
-  const auto it = jobs_.find(job_id);
-  if (it == jobs_.end()) return;
-  Job& job = it->second;
-  std::erase_if(job.leases, [&](const Lease& lease) { return lease.worker == worker.view.id; });
+void Dispatcher::release(uint64_t job_id, const RegisteredWorker& worker, bool died) {
+  OpenJob* job = jobs_.find(job_id);
+  if (job == nullptr) return;
+  std::erase_if(job->leases, [&](const Lease& lease) { return lease.worker == worker.view.id; });
   if (died && !worker.view.proven) {
     // a peer that never returned a result proves nothing by dying: a proven worker will say whether it kills
-    job.tainted = true;
+    job->tainted = true;
     died = false;
   }
   // a backed-up job still held by its other worker stays with it: that worker's result will do
-  if (job.leases.empty()) requeue(job, died);
+  if (job->leases.empty()) requeue(*job, died);
 }
 
-void Dispatcher::enqueue_front(Job& job) {
-  if (job.queued) return;
-  job.queued = true;
-  queue_.push_front(job.id);
-}
-
-void Dispatcher::remove_from_queue(uint64_t job_id) {
-  if (const auto it = std::find(queue_.begin(), queue_.end(), job_id); it != queue_.end()) queue_.erase(it);
-}
-
-void Dispatcher::requeue(Job& job, bool died) {
+void Dispatcher::requeue(OpenJob& job, bool died) {
   if (!died) {
-    enqueue_front(job);
+    jobs_.enqueue_front(job);
     return;
   }
   // A job whose worker died may hold a task that kills workers: it is retried one task per job, so the task
@@ -131,7 +105,6 @@ void Dispatcher::requeue(Job& job, bool died) {
   const int deaths = job.deaths + 1;
   const size_t begin = job.begin;
   const size_t end = job.end;
-  remove_from_queue(job.id);
   jobs_.erase(job.id);
   if (deaths >= settings_.max_attempts) {
     for (size_t t = begin; t < end && !failure_; ++t)
@@ -153,88 +126,27 @@ void Dispatcher::new_jobs(size_t begin, size_t end, size_t per_job, int deaths, 
     }
     size_t stop = t + 1;
     while (stop < end && stop - t < per_job && !results_.has(stop)) ++stop;
-    Job job;
-    job.id = next_job_id_++;
-    job.begin = t;
-    job.end = stop;
-    job.deaths = deaths;
-    job.verify = chosen_for_check(job);
-    job.queued = true;
-    jobs_.emplace(job.id, std::move(job));
-    made.push_back(next_job_id_ - 1);
+    made.push_back(jobs_.add(t, stop, deaths, verification_.chosen(batch_id_, t, stop)).id);
     t = stop;
   }
-  if (front) {
-    for (auto id = made.rbegin(); id != made.rend(); ++id) queue_.push_front(*id);
-  } else {
-    queue_.insert(queue_.end(), made.begin(), made.end());
-  }
-}
-
-bool Dispatcher::chosen_for_check(const Job& job) const {
-  if (settings_.verify_fraction <= 0) return false;
-  const uint64_t key = stream_key(settings_.verify_secret, "verify", {batch_id_, job.begin, job.end});
-  return static_cast<double>(key >> 11) * 0x1.0p-53 < settings_.verify_fraction;
-}
-
-bool Dispatcher::on_probation(const Worker& worker) const {
-  return settings_.verify_fraction > 0 && !worker.view.local && worker.view.checks_passed < settings_.probation_checks;
-}
-
-void Dispatcher::pass_check(const WorkerId& id) {
-  const auto it = workers_.find(id);
-  if (it == workers_.end()) return;
-  it->second.view.checks_passed += 1;
-}
-
-void Dispatcher::note_unchecked(const WorkerId& id) {
-  if (settings_.verify_fraction > 0) ledger_.note_unchecked(id, batch_id_);
-}
-
-size_t Dispatcher::proven_workers() const {
-  return static_cast<size_t>(
-      std::count_if(workers_.begin(), workers_.end(), [](const auto& w) { return w.second.view.proven; }));
-}
-
-void Dispatcher::prove(Worker& worker) {
-  worker.view.proven = true;
-  worker.view.demoted = false;
-}
-
-void Dispatcher::demote(Worker& worker) {
-  if (worker.view.demoted) return;
-  worker.view.demoted = true;
-  demoted_ += 1;
+  jobs_.enqueue(made, front);
 }
 
 void Dispatcher::on_result(const WorkerId& id, const wire::Result& result, Millis now) {
-  const auto worker = workers_.find(id);
-  const auto job = jobs_.find(result.job_id());
-  const auto lease = job == jobs_.end() ? std::vector<Lease>::iterator{}
-                                        : std::find_if(job->second.leases.begin(), job->second.leases.end(),
-                                                       [&](const Lease& l) { return l.worker == id; });
-  const bool holds = job != jobs_.end() && lease != job->second.leases.end();
-  const bool taken_back = worker != workers_.end() && job != jobs_.end() && job->second.taken_back.erase(id) > 0;
-  if (worker == workers_.end() || job == jobs_.end() || (!holds && !taken_back)) {
-    // a job its backup finished first; or a stranger, or a job this worker no longer holds (re-queued, or done)
-    const bool late = worker != workers_.end() && worker->second.beaten.erase(result.job_id()) > 0;
-    count_drop(late ? DropReason::kLateResult : DropReason::kUnexpectedResult);
-    // the answer to its trial, come after its batch ended
-    const bool trial =
-        worker != workers_.end() && worker->second.trial_since && worker->second.trial_job == result.job_id();
-    if (!late && !trial) return;
-    // a late answer still shows the worker alive and answering when it parses (a new worker beaten at every
-    // batch's tail by proven ones would otherwise never be proven, and one whose trial outlived its batch would
-    // be demoted)
-    worker->second.trial_since.reset();
-    bool parses = !result.has_error() && result.results_size() > 0;
-    for (int i = 0; parses && i < result.results_size(); ++i) parses = result_from_wire(result.results(i)).has_value();
-    if (parses) prove(worker->second);
+  RegisteredWorker* const worker = workers_.find(id);
+  OpenJob* const job = jobs_.find(result.job_id());
+  const auto lease = job == nullptr ? std::vector<Lease>::iterator{}
+                                    : std::find_if(job->leases.begin(), job->leases.end(),
+                                                   [&](const Lease& l) { return l.worker == id; });
+  const bool holds = job != nullptr && lease != job->leases.end();
+  const bool taken_back = worker != nullptr && job != nullptr && job->taken_back.erase(id) > 0;
+  if (worker == nullptr || job == nullptr || (!holds && !taken_back)) {
+    on_unexpected_result(worker, result);
     return;
   }
-  worker->second.trial_since.reset();  // it answered a job it held, rightly or not
-  Worker& w = worker->second;
-  Job& j = job->second;
+  worker->trial_since.reset();  // it answered a job it held, rightly or not
+  RegisteredWorker& w = *worker;
+  OpenJob& j = *job;
   const Millis took = holds ? now - lease->since : 0;
   if (holds) j.leases.erase(lease);
   w.view.last_heard = now;
@@ -249,38 +161,45 @@ void Dispatcher::on_result(const WorkerId& id, const wire::Result& result, Milli
     on_error(w, j, result.error());
     return;
   }
-  const size_t count = j.end - j.begin;
-  std::vector<RolloutResult> parsed;
-  bool valid = result.results_size() == static_cast<int>(count);
-  for (int i = 0; valid && i < result.results_size(); ++i) {
-    Expected<RolloutResult> r = result_from_wire(result.results(i));
-    if (r) parsed.push_back(std::move(*r));
-    valid = r.has_value();
-  }
-  if (!valid) {  // a worker that sends nonsense is treated as one that died with the job
+  std::optional<std::vector<RolloutResult>> parsed = parse_results(result, j.end - j.begin);
+  if (!parsed) {  // a worker that sends nonsense is treated as one that died with the job
     count_drop(DropReason::kBadResult);
-    if (!w.view.proven) demote(w);
+    if (!w.view.proven) workers_.demote(w);
     j.leases.push_back({id, now});  // released below as by a death
     release(j.id, w, /*died=*/true);
     return;
   }
-  prove(w);  // alive and answering; whether it computes right is its probation's to say
+  workers_.prove(w);  // alive and answering; whether it computes right is its probation's to say
   w.view.jobs_done += 1;
-  w.view.results_done += static_cast<int64_t>(count);
-  if (holds) {  // a result taken back from an expired lease says nothing of how long jobs take
-    job_times_.add(took);
-    backup_after_ =
-        std::max(settings_.backup_min_ms, static_cast<Millis>(settings_.backup_factor * job_times_.median()));
-  }
-  on_answer(w, j, std::move(parsed));
+  w.view.results_done += static_cast<int64_t>(parsed->size());
+  if (holds) jobs_.finished_in(took);  // a result taken back from an expired lease says nothing of job times
+  on_answer(w, j, std::move(*parsed));
 }
 
-void Dispatcher::on_error(Worker& worker, Job& job, const std::string& error) {
+void Dispatcher::on_unexpected_result(RegisteredWorker* worker, const wire::Result& result) {
+  // a job its backup finished first; or a stranger, or a job this worker no longer holds (re-queued, or done)
+  const bool late = worker != nullptr && worker->beaten.erase(result.job_id()) > 0;
+  count_drop(late ? DropReason::kLateResult : DropReason::kUnexpectedResult);
+  // the answer to its trial, come after its batch ended
+  const bool trial = worker != nullptr && worker->trial_since && worker->trial_job == result.job_id();
+  if (!late && !trial) return;
+  // a late answer still shows the worker alive and answering when it parses (a new worker beaten at every batch's
+  // tail by proven ones would otherwise never be proven, and one whose trial outlived its batch would be demoted)
+  worker->trial_since.reset();
+  if (!result.has_error() && result.results_size() > 0 && parse_results(result, result.results_size()))
+    workers_.prove(*worker);
+}
+
+bool Dispatcher::refused_by_enough(const OpenJob& job) const {
+  return !job.refusing.empty() && job.refusing.size() >= std::min<size_t>(2, std::max<size_t>(1, workers_.proven()));
+}
+
+void Dispatcher::on_error(RegisteredWorker& worker, OpenJob& job, const std::string& error) {
   job.failed.insert(worker.view.id);
   if (!worker.view.proven) {
     // a peer that never returned a result cannot stop the run: the job goes to a proven worker
     count_drop(DropReason::kErrorFromUnproven);
-    demote(worker);
+    workers_.demote(worker);
     job.tainted = true;
     if (job.leases.empty()) requeue(job, false);
     return;
@@ -288,7 +207,7 @@ void Dispatcher::on_error(Worker& worker, Job& job, const std::string& error) {
   job.refusing.insert(worker.view.id);
   refusals_seen_ = true;
   job.tainted = true;
-  if (job.refusing.size() >= std::min<size_t>(2, std::max<size_t>(1, proven_workers()))) {
+  if (refused_by_enough(job)) {
     if (!failure_)
       failure_ = "worker " + worker.view.name + " refused " + describe_task(job.begin) +
                  (job.end - job.begin > 1 ? " (or a later task of its job)" : "") + ": " + error +
@@ -300,75 +219,55 @@ void Dispatcher::on_error(Worker& worker, Job& job, const std::string& error) {
   if (job.leases.empty()) requeue(job, false);  // another proven worker says whether the error is real
 }
 
-void Dispatcher::on_answer(Worker& worker, Job& job, std::vector<RolloutResult> results) {
-  const bool check = (job.verify || on_probation(worker)) && (!worker.view.local || !job.answers.empty());
-  if (!check) {
-    const bool trusted = settings_.verify_fraction <= 0 || worker.view.local;
-    if (!trusted) note_unchecked(worker.view.id);
-    accept(job, results, worker.view.id, trusted);
+void Dispatcher::on_answer(RegisteredWorker& worker, OpenJob& job, std::vector<RolloutResult> results) {
+  if (!verification_.needs_check(job.verify, worker.view, !job.answers.empty())) {
+    const bool final_now = verification_.final_unchecked(worker.view);
+    if (!final_now) ledger_.note_unchecked(worker.view.id, batch_id_);
+    accept(job, results, worker.view.id, final_now);
     return;
   }
-  if (job.answers.empty()) {
-    job.answers.push_back({worker.view.id, std::move(results)});
-    if (job.leases.empty()) enqueue_front(job);  // for a second worker
-    return;
-  }
-  if (job.answers.size() == 1) {
-    if (same_results(job.answers[0].results, results)) {
-      verified_ += 1;
-      pass_check(job.answers[0].worker);
-      pass_check(worker.view.id);
-      accept(job, results, job.answers[0].worker, true);
+  Answer answer{worker.view.id, std::move(results)};
+  const Verdict verdict = verification_.judge(job.answers, answer, worker.view.local);
+  switch (verdict.kind) {
+    case Verdict::Kind::kHold:
+      job.answers.push_back(std::move(answer));
+      if (job.leases.empty()) jobs_.enqueue_front(job);  // for a second worker, or a third to decide
       return;
-    }
-    if (worker.view.local) {  // a worker this coordinator started decides at once
-      refuse_wrong(job.answers[0].worker);
-      accept(job, results, worker.view.id, true);
+    case Verdict::Kind::kThreeWays:
+      if (!failure_)
+        failure_ = "three workers returned three different results for " + describe_task(job.begin) +
+                   " (or a later task of its job): do they run one build? (compare --fingerprint)";
       return;
-    }
-    job.answers.push_back({worker.view.id, std::move(results)});
-    if (job.leases.empty()) enqueue_front(job);  // a third worker decides
-    return;
+    case Verdict::Kind::kTake:
+      for (const WorkerId& id : verdict.passed) workers_.pass_check(id);
+      // refused first: its results held back must not become final with this job, which may be the batch's last
+      if (verdict.wrong) refuse_wrong(*verdict.wrong);
+      accept(job, answer.results, verdict.credited, true);  // ends the job
+      return;
   }
-  // the third answer decides between two that differ
-  const bool first = same_results(job.answers[0].results, results);
-  const bool second = same_results(job.answers[1].results, results);
-  if (!first && !second) {
-    if (!failure_)
-      failure_ = "three workers returned three different results for " + describe_task(job.begin) +
-                 " (or a later task of its job): do they run one build? (compare --fingerprint)";
-    return;
-  }
-  verified_ += 1;
-  pass_check(first ? job.answers[0].worker : job.answers[1].worker);
-  pass_check(worker.view.id);
-  // refused first: its results held back must not become final with this job, which may be the batch's last
-  refuse_wrong(first ? job.answers[1].worker : job.answers[0].worker);
-  accept(job, results, worker.view.id, true);  // ends the job
 }
 
-void Dispatcher::accept(Job& job, const std::vector<RolloutResult>& results, const WorkerId& from, bool final_now) {
+void Dispatcher::accept(OpenJob& job, const std::vector<RolloutResult>& results, const WorkerId& from, bool final_now) {
   results_.put(job.begin, results, from, final_now);
   for (const Lease& other : job.leases) {  // the other holders' results, when they come, are late
-    const auto it = workers_.find(other.worker);
-    if (it == workers_.end()) continue;
-    it->second.jobs.erase(job.id);
-    it->second.beaten.insert(job.id);
+    RegisteredWorker* holder = workers_.find(other.worker);
+    if (holder == nullptr) continue;
+    holder->jobs.erase(job.id);
+    holder->beaten.insert(job.id);
   }
-  if (job.queued) remove_from_queue(job.id);
   jobs_.erase(job.id);
 }
 
 void Dispatcher::refuse_wrong(const WorkerId id, const char* why) {  // a copy: the answers it may name are erased
-  const auto it = workers_.find(id);
-  if (!ledger_.refuse(id, it != workers_.end() ? it->second.view.name : id, batch_id_)) return;
+  const RegisteredWorker* worker = workers_.find(id);
+  if (!ledger_.refuse(id, worker != nullptr ? worker->view.name : id, batch_id_)) return;
   // its answers awaiting a check are worth nothing: those jobs wait for answers from others
-  for (auto& [job_id, job] : jobs_) {
+  for (auto& [job_id, job] : jobs_.open()) {
     const size_t before = job.answers.size();
     std::erase_if(job.answers, [&](const Answer& a) { return a.worker == id; });
-    if (job.answers.size() != before && job.leases.empty()) enqueue_front(job);
+    if (job.answers.size() != before && job.leases.empty()) jobs_.enqueue_front(job);
   }
-  if (it != workers_.end()) {
+  if (worker != nullptr) {
     Outgoing refusal{id, {}};
     refusal.message.mutable_refused()->set_reason(why);
     refusals_.push_back(std::move(refusal));
@@ -381,61 +280,33 @@ void Dispatcher::refuse_wrong(const WorkerId id, const char* why) {  // a copy: 
 }
 
 std::vector<WorkerId> Dispatcher::expire(Millis now) {
-  std::vector<WorkerId> dead;
-  for (const Worker* worker : arrival_)
-    if (now - worker->view.last_heard > settings_.liveness_ms) dead.push_back(worker->view.id);
+  std::vector<WorkerId> dead = workers_.silent(now, settings_.liveness_ms);
   for (const WorkerId& id : dead) lose_worker(id);
   return dead;
 }
 
-Millis Dispatcher::lease_ms() const { return backup_after_ > 0 ? backup_after_ : settings_.liveness_ms; }
-
 void Dispatcher::expire_leases(Millis now) {
-  const Millis lease = lease_ms();
   // leases of proven workers never expire (they are backed up): with none held by others, no job need be looked at
-  if (unproven_holding()) expire_unproven_leases(now, lease);
-  // a job it held ended with its batch, unanswered, and the lease has run out since
-  for (auto& [id, worker] : workers_)
-    if (!worker.view.proven && worker.jobs.empty() && worker.trial_since && now - *worker.trial_since >= lease)
-      demote(worker);
-}
-
-bool Dispatcher::unproven_holding() const {
-  return std::any_of(arrival_.begin(), arrival_.end(),
-                     [](const Worker* w) { return !w->view.proven && !w->jobs.empty(); });
-}
-
-void Dispatcher::expire_unproven_leases(Millis now, Millis lease) {
-  for (auto& [job_id, job] : jobs_) {
-    const size_t before = job.leases.size();
-    std::erase_if(job.leases, [&](const Lease& l) {
-      if (now - l.since < lease) return false;
-      Worker& holder = workers_.at(l.worker);
-      if (holder.view.proven) return false;  // a slow machine: backed up, not taken back
+  if (workers_.unproven_holding()) {
+    const auto unproven = [&](const WorkerId& id) { return !workers_.find(id)->view.proven; };
+    for (const auto& [job_id, id] : jobs_.take_back_expired(now, unproven)) {
+      RegisteredWorker& holder = *workers_.find(id);
       holder.jobs.erase(job_id);
-      job.taken_back.insert(l.worker);
-      job.failed.insert(l.worker);
-      demote(holder);
-      return true;
-    });
-    if (job.leases.size() == before) continue;
-    leases_expired_ += static_cast<int64_t>(before - job.leases.size());
-    job.tainted = true;
-    if (job.leases.empty()) enqueue_front(job);
+      workers_.demote(holder);
+    }
   }
+  // a job it held ended with its batch, unanswered, and the lease has run out since
+  workers_.demote_stale_trials(now, jobs_.lease_ms());
 }
 
-bool Dispatcher::proven_can_take(const Job& job) const {
-  return std::any_of(workers_.begin(), workers_.end(),
-                     [&](const auto& w) { return w.second.ready && w.second.view.proven && may_take(job, w.second); });
+bool Dispatcher::proven_can_take(const OpenJob& job) const {
+  return std::any_of(workers_.in_order().begin(), workers_.in_order().end(),
+                     [&](const RegisteredWorker* w) { return w->ready && w->view.proven && may_take(job, *w); });
 }
 
-bool Dispatcher::may_take(const Job& job, const Worker& worker) const {
+bool Dispatcher::may_take(const OpenJob& job, const RegisteredWorker& worker) const {
   const WorkerId& id = worker.view.id;
-  if (job.failed.contains(id)) return false;
-  if (std::any_of(job.leases.begin(), job.leases.end(), [&](const Lease& l) { return l.worker == id; })) return false;
-  if (std::any_of(job.answers.begin(), job.answers.end(), [&](const Answer& a) { return a.worker == id; }))
-    return false;
+  if (job.failed.contains(id) || job.held_by(id) || job.answered_by(id)) return false;
   if (!job.answers.empty() && !worker.view.proven) return false;  // a check: one that never answered may sit on it
   if (worker.view.proven || !job.tainted) return true;
   // a job a worker not proven failed goes to a worker not proven only when no proven one may take it, and never
@@ -443,97 +314,48 @@ bool Dispatcher::may_take(const Job& job, const Worker& worker) const {
   return job.answers.empty() && !proven_can_take(job);
 }
 
-Dispatcher::Job* Dispatcher::next_job(const Worker& worker, Millis now) {
-  size_t scanned = 0;
-  for (auto it = queue_.begin(); it != queue_.end() && scanned < kQueueScan; ++it, ++scanned) {
-    Job& job = jobs_.at(*it);
-    if (!may_take(job, worker)) continue;
-    queue_.erase(it);
-    job.queued = false;
-    return &job;
-  }
+OpenJob* Dispatcher::next_job(const RegisteredWorker& worker, Millis now) {
+  const auto may = [&](const OpenJob& job) { return may_take(job, worker); };
+  if (OpenJob* queued = jobs_.take_queued(may)) return queued;
   // Nothing queued: a worker not proven is sent a copy of an open job, the one with the fewest holders, as its
   // trial, so that however many silent peers joined first and took the batch's jobs, the real workers among the
   // new ones get one too and prove themselves within a job's time (each peer holds one trial at a time, and is
   // demoted when it lets one run past its lease).
-  if (!worker.view.proven) {
-    Job* fewest = nullptr;
-    for (auto& [job_id, job] : jobs_) {
-      if (job.queued || job.leases.empty() || !may_take(job, worker)) continue;
-      if (fewest == nullptr || job.leases.size() < fewest->leases.size()) fewest = &job;
-    }
-    return fewest;
-  }
+  if (!worker.view.proven) return jobs_.fewest_holders(may);
   // Nothing queued: a proven worker takes at once a job held only by workers not proven, since those may never
   // answer; so peers that take jobs and sit on them delay nothing while a proven worker is free.
   if (spare_.unproven_holding) {
-    for (auto& [job_id, job] : jobs_) {
-      // (trials pile onto a job beyond max_leases: they do not count, the first proven holder does)
-      if (job.queued || job.leases.empty()) continue;
-      const bool unproven_only = std::none_of(job.leases.begin(), job.leases.end(),
-                                              [&](const Lease& l) { return workers_.at(l.worker).view.proven; });
-      if (!unproven_only || !may_take(job, worker)) continue;
-      return &job;
-    }
+    const auto unproven = [&](const WorkerId& id) { return !workers_.find(id)->view.proven; };
+    if (OpenJob* job = jobs_.held_only_by(unproven, may)) return job;
   }
-  if (!spare_.overdue) return nullptr;
   // a backup: a job whose every holder has held it past the lease (proven ones: slow, or silent)
-  const Millis lease = lease_ms();
-  Job* oldest = nullptr;
-  Millis oldest_since = 0;
-  for (auto& [job_id, job] : jobs_) {
-    if (job.queued || job.leases.empty() || job.leases.size() >= static_cast<size_t>(settings_.max_leases)) continue;
-    Millis newest = 0;
-    for (const Lease& l : job.leases) newest = std::max(newest, l.since);
-    if (now - newest < lease || !may_take(job, worker)) continue;
-    if (!worker.view.proven && job.tainted) continue;
-    if (oldest == nullptr || newest < oldest_since) {
-      oldest = &job;
-      oldest_since = newest;
-    }
-  }
-  if (oldest != nullptr) backups_ += 1;
-  return oldest;
+  return spare_.overdue ? jobs_.backup(now, may) : nullptr;
 }
 
-Dispatcher::Spare Dispatcher::spare_jobs(Millis now) const {
-  Spare spare;
-  spare.unproven_holding = unproven_holding();
-  if (settings_.backup_factor <= 0) return spare;
-  const Millis lease = lease_ms();
-  spare.overdue = std::any_of(jobs_.begin(), jobs_.end(), [&](const auto& entry) {
-    const Job& job = entry.second;
-    if (job.queued || job.leases.empty() || job.leases.size() >= static_cast<size_t>(settings_.max_leases))
-      return false;
-    return std::all_of(job.leases.begin(), job.leases.end(), [&](const Lease& l) { return now - l.since >= lease; });
-  });
-  return spare;
-}
-
-bool Dispatcher::eligible_checker(const Job& job, const Worker& worker) const {
+bool Dispatcher::eligible_checker(const OpenJob& job, const RegisteredWorker& worker) const {
   return worker.ready && !worker.view.demoted && may_take(job, worker);  // may_take: proven workers only
 }
 
 void Dispatcher::check_unanswerable(Millis now) {
   coordinator_checks_waiting_ = 0;
   if (refusals_seen_) {  // (otherwise no queued job has been refused: none to look at)
-    const size_t proven = proven_workers();
-    for (const uint64_t id : queue_) {
-      const Job& job = jobs_.at(id);
+    for (const uint64_t id : jobs_.queued()) {
+      const OpenJob& job = jobs_.at(id);
       // proven workers that refused it may now be all there are (the others left): the error rule says again
-      if (!job.refusing.empty() && job.refusing.size() >= std::min<size_t>(2, std::max<size_t>(1, proven)) && !failure_)
+      if (refused_by_enough(job) && !failure_)
         failure_ = "workers refused " + describe_task(job.begin) + " (" + std::to_string(job.refusing.size()) +
-                   " of the " + std::to_string(proven) + " proven workers connected)";
+                   " of the " + std::to_string(workers_.proven()) + " proven workers connected)";
     }
   }
-  const Millis lease = lease_ms();
-  if (settings_.verify_fraction <= 0) return;  // answers are held only to be checked
-  for (auto& [id, job] : jobs_) {
+  if (!verification_.enabled()) return;  // answers are held only to be checked
+  const Millis lease = jobs_.lease_ms();
+  const auto& connected = workers_.in_order();
+  for (auto& [id, job] : jobs_.open()) {
     if (job.answers.empty()) continue;
     // queued with no connected worker able to check it, or held for a check past the lease (a proven worker that
     // answered once may still sit on it, and proven holders' leases do not expire): the coordinator checks it
-    const bool stuck = job.queued ? std::none_of(workers_.begin(), workers_.end(),
-                                                 [&](const auto& w) { return eligible_checker(job, w.second); })
+    const bool stuck = job.queued ? std::none_of(connected.begin(), connected.end(),
+                                                 [&](const RegisteredWorker* w) { return eligible_checker(job, *w); })
                                   : std::all_of(job.leases.begin(), job.leases.end(),
                                                 [&](const Lease& l) { return now - l.since >= lease; });
     if (!stuck) continue;
@@ -545,12 +367,11 @@ void Dispatcher::check_unanswerable(Millis now) {
 std::vector<Dispatcher::CoordinatorCheck> Dispatcher::take_coordinator_checks() {
   std::vector<CoordinatorCheck> out;
   for (const uint64_t id : std::exchange(to_coordinator_, {})) {
-    const auto it = jobs_.find(id);
-    if (!batch_active_ || it == jobs_.end()) continue;
-    const Job& job = it->second;
-    out.push_back({batch_id_, id, job.answers.size() > 1,
-                   std::vector<RolloutTask>(tasks_.begin() + static_cast<std::ptrdiff_t>(job.begin),
-                                            tasks_.begin() + static_cast<std::ptrdiff_t>(job.end))});
+    const OpenJob* job = jobs_.find(id);
+    if (!batch_active_ || job == nullptr) continue;
+    out.push_back({batch_id_, id, job->answers.size() > 1,
+                   std::vector<RolloutTask>(tasks_.begin() + static_cast<std::ptrdiff_t>(job->begin),
+                                            tasks_.begin() + static_cast<std::ptrdiff_t>(job->end))});
   }
   return out;
 }
@@ -561,37 +382,24 @@ bool Dispatcher::awaits_coordinator(uint64_t batch_id, uint64_t job_id) const {
 
 void Dispatcher::settle_by_coordinator(uint64_t batch_id, uint64_t job_id, const std::vector<RolloutResult>& results) {
   if (!batch_active_ || batch_id != batch_id_) return;
-  const auto it = jobs_.find(job_id);
-  if (it == jobs_.end()) return;  // a worker's answer settled it first
-  Job& job = it->second;
-  if (results.size() != job.end - job.begin) return;
-  coordinator_checks_ += 1;
-  std::vector<WorkerId> wrong;
-  for (const Answer& answer : job.answers) {
-    if (same_results(answer.results, results)) {
-      verified_ += 1;
-      pass_check(answer.worker);
-    } else {
-      wrong.push_back(answer.worker);
-    }
-  }
+  OpenJob* job = jobs_.find(job_id);
+  if (job == nullptr) return;  // a worker's answer settled it first
+  if (results.size() != job->end - job->begin) return;
+  const CoordinatorVerdict verdict = verification_.settle(job->answers, results);
+  for (const WorkerId& id : verdict.passed) workers_.pass_check(id);
   // refused first: their results held back must not become final with this job, which may be the batch's last
-  for (const WorkerId& id : wrong)
+  for (const WorkerId& id : verdict.wrong)
     refuse_wrong(id, "this worker returned results that the coordinator, computing them itself, did not");
-  accept(job, results, kCoordinatorAnswer, true);  // ends the job
+  accept(*job, results, kCoordinatorAnswer, true);  // ends the job
 }
 
-void Dispatcher::send(Job& job, Worker& worker, Millis now, const std::function<void(Outgoing&&)>& deliver) {
+void Dispatcher::send(OpenJob& job, RegisteredWorker& worker, Millis now,
+                      const std::function<void(Outgoing&&)>& deliver) {
   const WorkerId& id = worker.view.id;
-  job.leases.push_back({id, now});
-  worker.jobs.insert(job.id);
-  if (!worker.view.proven && !worker.trial_since) {
-    worker.trial_since = now;
-    worker.trial_job = job.id;
-  }
+  jobs_.lease(job, id, now);
+  workers_.sent_job(worker, job.id, now);
   if (!worker.view.proven) spare_.unproven_holding = true;
   deliver(encoder_.job(id, job.id, job.begin, job.end, worker.thetas_sent));
-  worker.last_sent = now;
 }
 
 std::vector<Outgoing> Dispatcher::outgoing(Millis now) {
@@ -605,36 +413,35 @@ void Dispatcher::outgoing(Millis now, const std::function<void(Outgoing&&)>& del
   if (batch_active_) {
     expire_leases(now);
     check_unanswerable(now);
+    spare_ = {workers_.unproven_holding(), jobs_.any_overdue(now)};
   }
-  if (batch_active_) spare_ = spare_jobs(now);
   // One job per worker per pass, so a batch spreads over every worker before any gets a second. But with queued
   // jobs enough to fill every worker, a worker's free places are filled at once, with consecutive jobs: these
   // mostly share a θ, and θ is most of a job's bytes.
   const bool fill_at_once =
-      batch_active_ && queue_.size() >= static_cast<size_t>(settings_.jobs_ahead) * ready_workers();
+      batch_active_ && jobs_.queued().size() >= static_cast<size_t>(settings_.jobs_ahead) * workers_.ready();
   for (bool assigned = true; assigned && !failure_ && batch_active_;) {
     assigned = false;
-    for (Worker* held : arrival_) {
-      Worker& worker = *held;
+    for (RegisteredWorker* held : workers_.in_order()) {
+      RegisteredWorker& worker = *held;
       // a worker not yet proven holds one job at a time; a demoted one none
       const size_t room = worker.view.proven ? static_cast<size_t>(settings_.jobs_ahead) : 1;
       if (!worker.ready || worker.view.demoted || worker.jobs.size() >= room) continue;
       if (!worker.view.proven && worker.trial_since) continue;  // a job of an earlier batch still unanswered
       for (size_t places = fill_at_once ? room - worker.jobs.size() : 1; places > 0; --places) {
-        Job* job = next_job(worker, now);
+        OpenJob* job = next_job(worker, now);
         if (job == nullptr) break;
         send(*job, worker, now, deliver);
         assigned = true;
       }
     }
   }
-  for (Worker* held : arrival_) {
-    Worker& worker = *held;
-    if (now - worker.last_sent < settings_.heartbeat_ms) continue;
-    Outgoing beat{worker.view.id, {}};
+  for (RegisteredWorker* held : workers_.in_order()) {
+    if (now - held->last_sent < settings_.heartbeat_ms) continue;
+    Outgoing beat{held->view.id, {}};
     beat.message.mutable_heartbeat();
     deliver(std::move(beat));
-    worker.last_sent = now;
+    held->last_sent = now;
   }
 }
 
@@ -647,16 +454,16 @@ void Dispatcher::start_batch(std::span<const RolloutTask> tasks) {
   tasks_.assign(tasks.begin(), tasks.end());
   results_.start(tasks.size());
   encoder_.start_batch(tasks_, batch_id_);
-  for (auto& [id, worker] : workers_) worker.thetas_sent.clear();
+  for (RegisteredWorker* worker : workers_.in_order()) worker->thetas_sent.clear();
 
   new_jobs(0, tasks.size(), tasks_per_job(tasks.size()), 0, /*front=*/false);
 }
 
 size_t Dispatcher::tasks_per_job(size_t tasks) const {
   size_t threads = 0, workers = 0;
-  for (const auto& [id, worker] : workers_) {
-    if (!worker.ready || worker.view.demoted) continue;
-    threads += static_cast<size_t>(worker.view.threads);
+  for (const RegisteredWorker* worker : workers_.in_order()) {
+    if (!worker->ready || worker->view.demoted) continue;
+    threads += static_cast<size_t>(worker->view.threads);
     workers += 1;
   }
   const auto ceil_div = [](size_t a, size_t b) { return (a + b - 1) / b; };
@@ -670,16 +477,13 @@ size_t Dispatcher::tasks_per_job(size_t tasks) const {
 }
 
 void Dispatcher::abandon_batch() {
-  for (auto& [id, worker] : workers_) {  // their late results will be dropped
-    worker.jobs.clear();
-    worker.beaten.clear();
+  for (RegisteredWorker* worker : workers_.in_order()) {  // their late results will be dropped
+    worker->jobs.clear();
+    worker->beaten.clear();
   }
-  job_times_.clear();
-  backup_after_ = 0;
   refusals_seen_ = false;
   to_coordinator_.clear();
   jobs_.clear();
-  queue_.clear();
   tasks_.clear();
   encoder_.clear();
   results_.clear();
@@ -696,27 +500,6 @@ std::vector<std::pair<size_t, size_t>> Dispatcher::take_ready_ranges() {
   return results_.take_ready_ranges(batch_done());
 }
 
-size_t Dispatcher::ready_workers() const {
-  return static_cast<size_t>(std::count_if(workers_.begin(), workers_.end(),
-                                           [](const auto& w) { return w.second.ready && !w.second.view.demoted; }));
-}
-
-int64_t Dispatcher::in_flight() const {
-  int64_t n = 0;
-  for (const auto& [id, worker] : workers_) n += static_cast<int64_t>(worker.jobs.size());
-  return n;
-}
-
-std::vector<WorkerView> Dispatcher::workers() const {
-  std::vector<WorkerView> out;
-  for (const Worker* worker : arrival_) {
-    WorkerView view = worker->view;
-    view.jobs_held = worker->jobs.size();
-    out.push_back(std::move(view));
-  }
-  return out;
-}
-
 DispatchView Dispatcher::view(Millis now) const {
   DispatchView v;
   v.workers = workers();
@@ -725,14 +508,14 @@ DispatchView Dispatcher::view(Millis now) const {
   v.queue_depth = queue_depth();
   v.in_flight_jobs = in_flight();
   v.dropped_frames = dropped_;
-  v.workers_joined = joined_;
+  v.workers_joined = workers_joined();
   v.workers_lost = lost_;
-  v.backup_jobs = backups_;
-  v.leases_expired = leases_expired_;
-  v.workers_demoted = demoted_;
-  v.verified_jobs = verified_;
+  v.backup_jobs = backup_jobs();
+  v.leases_expired = leases_expired();
+  v.workers_demoted = workers_demoted();
+  v.verified_jobs = verified_jobs();
   v.wrong_workers = static_cast<int64_t>(ledger_.names().size());
-  v.coordinator_checks = coordinator_checks_;
+  v.coordinator_checks = coordinator_checks();
   v.rollbacks = ledger_.rollbacks();
   return v;
 }

@@ -3,7 +3,10 @@
 // leases held by workers, liveness by heartbeat (the zguide's Paranoid Pirate), re-queueing of the jobs of a dead
 // or departed worker, results matched by job id with duplicates and strangers dropped, the poison-job rule, and
 // backup jobs. Time is a parameter (milliseconds on any monotonic clock), so tests drive it with a fake clock. Not
-// thread-safe: the remote evaluator's socket thread owns it under its lock.
+// thread-safe: the remote evaluator's socket thread owns it under its lock. It composes the pieces with one job
+// each — WorkerRegistry (who is trusted), JobQueue (the queue, its leases and backups), Verification (what is
+// verified), BatchResults (what is final), RefusalLedger (who was refused) and JobEncoder (the wire) — and keeps
+// the rules that join them: how a batch is cut, who may take which job, the poison-job and error rules.
 //
 // Trust. A worker is proven — alive and answering — once it has returned a valid result (or, started by this
 // coordinator, from its Hello: it showed local_token); whether its answers are right is verification's to say.
@@ -36,15 +39,12 @@
 // made final.
 
 #include <cstdint>
-#include <deque>
 #include <functional>
 #include <map>
-#include <memory>
 #include <optional>
 #include <set>
 #include <span>
 #include <string>
-#include <unordered_map>
 #include <utility>
 #include <vector>
 
@@ -53,9 +53,11 @@
 #include "coordinator/dispatch/dispatch_view.h"
 #include "coordinator/dispatch/drop_reason.h"
 #include "coordinator/dispatch/job_encoder.h"
+#include "coordinator/dispatch/job_queue.h"
 #include "coordinator/dispatch/outgoing.h"
 #include "coordinator/dispatch/refusal_ledger.h"
-#include "coordinator/dispatch/running_median.h"
+#include "coordinator/dispatch/verification.h"
+#include "coordinator/dispatch/worker_registry.h"
 #include "simulation/rollout_task.h"
 #include "wire.pb.h"
 
@@ -83,7 +85,10 @@ struct DispatchSettings {
 
 class Dispatcher {
  public:
-  explicit Dispatcher(DispatchSettings settings) : settings_(settings) {}
+  explicit Dispatcher(DispatchSettings settings)
+      : settings_(settings),
+        jobs_({settings.liveness_ms, settings.backup_factor, settings.backup_min_ms, settings.max_leases}),
+        verification_(settings.verify_fraction, settings.verify_secret, settings.probation_checks) {}
 
   // A Hello: the Welcome to send, or a Refused (wrong protocol version or build fingerprint, or max_workers
   // reached; counted). A welcomed worker gets jobs once it has sent another message (proof that it listens).
@@ -147,23 +152,26 @@ class Dispatcher {
 
   size_t worker_count() const { return workers_.size(); }
   bool has_worker(const WorkerId& id) const { return workers_.contains(id); }
-  size_t ready_workers() const;  // those that may be sent jobs
-  int64_t queue_depth() const { return static_cast<int64_t>(queue_.size()); }
-  int64_t in_flight() const;
-  std::vector<WorkerView> workers() const;
+  size_t ready_workers() const { return workers_.ready(); }  // those that may be sent jobs
+  int64_t queue_depth() const { return static_cast<int64_t>(jobs_.queued().size()); }
+  int64_t in_flight() const { return workers_.jobs_held(); }
+  std::vector<WorkerView> workers() const { return workers_.views(); }
   DispatchView view(Millis now) const;  // the workers and every counter below, for the status socket
   // Frames and Hellos refused or dropped, by reason's name (drop_reason.h).
   const std::map<std::string, int64_t>& dropped() const { return dropped_; }
-  int64_t workers_joined() const { return joined_; }          // Welcomes given
-  int64_t workers_lost() const { return lost_; }              // workers removed for silence or a failed send
-  int64_t backup_jobs() const { return backups_; }            // jobs sent to a second worker
-  int64_t leases_expired() const { return leases_expired_; }  // jobs taken back from workers not yet proven
-  int64_t workers_demoted() const { return demoted_; }
-  int64_t verified_jobs() const { return verified_; }  // answers found right by a second worker or the coordinator
+  int64_t workers_joined() const { return workers_.joined(); }       // Welcomes given
+  int64_t workers_lost() const { return lost_; }                     // workers removed for silence or a failed send
+  int64_t backup_jobs() const { return jobs_.backups(); }            // jobs sent to a second worker
+  int64_t leases_expired() const { return jobs_.leases_expired(); }  // jobs taken back from workers not yet proven
+  int64_t workers_demoted() const { return workers_.demoted(); }
+  // answers found right by a second worker or the coordinator
+  int64_t verified_jobs() const { return verification_.verified(); }
   // Jobs whose answer waits for the coordinator's own (no connected worker may check or decide).
   int64_t coordinator_checks_waiting() const { return coordinator_checks_waiting_; }
-  int64_t coordinator_checks() const { return coordinator_checks_; }  // settled by the coordinator's own answer
-  int64_t rollbacks() const { return ledger_.rollbacks(); }           // times take_rollback asked to go back
+  int64_t coordinator_checks() const {
+    return verification_.coordinator_checks();
+  }                                                          // settled by the coordinator's own answer
+  int64_t rollbacks() const { return ledger_.rollbacks(); }  // times take_rollback asked to go back
   // Workers refused for a wrong result, with their names, in order (the log and /metrics read them).
   const std::vector<std::string>& wrong_workers() const { return ledger_.names(); }
   const std::set<WorkerId>& refused_workers() const { return ledger_.refused_ids(); }  // the same, by routing id
@@ -171,119 +179,62 @@ class Dispatcher {
   const DispatchSettings& settings() const { return settings_; }
 
  private:
-  struct Lease {
-    WorkerId worker;
-    Millis since = 0;
-  };
-  struct Answer {
-    WorkerId worker;
-    std::vector<RolloutResult> results;
-  };
-  struct Job {
-    uint64_t id = 0;
-    size_t begin = 0;  // tasks [begin, end) of the batch
-    size_t end = 0;
-    int deaths = 0;             // proven workers that died holding it
-    std::vector<Lease> leases;  // its holders: none while queued, more once backed up
-    bool queued = false;
-    bool tainted = false;         // a worker not proven failed it: proven workers take it while any is connected
-    bool verify = false;          // chosen for a check: an answer from a worker that is not local needs a second
-    std::set<WorkerId> failed;    // workers that returned an error or let their lease expire: not sent to them again
-    std::set<WorkerId> refusing;  // proven workers that returned an error for it
-    std::set<WorkerId> missing_theta;  // workers that said they lacked its θ (once each is believed)
-    std::set<WorkerId> taken_back;     // not proven, their lease expired: a result that still comes in time is taken
-    std::vector<Answer> answers;       // answers awaiting a check: one, or two that differ
-    bool to_coordinator = false;       // handed to the coordinator to check (take_coordinator_checks)
-  };
-  struct Worker {
-    WorkerView view;
-    std::set<uint64_t> jobs;         // held
-    std::set<uint64_t> beaten;       // held, then finished by another holder first: its result is late
-    std::set<uint64_t> thetas_sent;  // this batch
-    Millis last_sent = 0;
-    // not proven: when it was sent a job it has not answered since (in this batch or an earlier one); it is sent
-    // nothing more until it answers, and demoted once that is a lease ago
-    std::optional<Millis> trial_since;
-    uint64_t trial_job = 0;  // the job then sent
-    bool ready = false;      // has sent something since its Hello
-  };
-
   // The worker no longer holds the job; a job no one holds any more goes back to the queue. A death counts
   // towards the poison rule only when the worker was proven; otherwise the job is tainted.
-  void release(uint64_t job_id, const Worker& worker, bool died);
-  void requeue(Job& job, bool died);
-  void enqueue_front(Job& job);
-  void remove_from_queue(uint64_t job_id);
-  void send(Job& job, Worker& worker, Millis now, const std::function<void(Outgoing&&)>& deliver);
-  Millis lease_ms() const;
+  void release(uint64_t job_id, const RegisteredWorker& worker, bool died);
+  void requeue(OpenJob& job, bool died);
+  void send(OpenJob& job, RegisteredWorker& worker, Millis now, const std::function<void(Outgoing&&)>& deliver);
   // Takes jobs back from workers not proven whose lease ran out, and demotes them.
   void expire_leases(Millis now);
-  void expire_unproven_leases(Millis now, Millis lease);
-  bool unproven_holding() const;  // some worker not proven holds a job
   // What an idle worker may be given beyond the queue, found once per outgoing() rather than once per worker:
   // jobs held by workers not proven (taken at once by proven ones), and jobs held past the lease (backed up).
   struct Spare {
     bool unproven_holding = false;  // some worker not proven holds a job
     bool overdue = false;           // some open job may be backed up: every holder has held it past the lease
   };
-  Spare spare_jobs(Millis now) const;
-  // The queued job worker id may take, or a job to back up on it; nullptr when none. Reads spare_.
-  Job* next_job(const Worker& worker, Millis now);
-  bool may_take(const Job& job, const Worker& worker) const;
-  bool proven_can_take(const Job& job) const;  // a ready proven worker may take it
+  // The queued job the worker may take, or a job to back up on it; nullptr when none. Reads spare_.
+  OpenJob* next_job(const RegisteredWorker& worker, Millis now);
+  bool may_take(const OpenJob& job, const RegisteredWorker& worker) const;
+  bool proven_can_take(const OpenJob& job) const;  // a ready proven worker may take it
+  // A Result for a job the worker does not hold: dropped, though a late one that parses still proves the worker.
+  void on_unexpected_result(RegisteredWorker* worker, const wire::Result& result);
   // An error Result: the job goes back, and the run stops only when proven workers agree.
-  void on_error(Worker& worker, Job& job, const std::string& error);
+  void on_error(RegisteredWorker& worker, OpenJob& job, const std::string& error);
   // A valid answer: taken, held for a check, compared, or deciding between two.
-  void on_answer(Worker& worker, Job& job, std::vector<RolloutResult> results);
-  void accept(Job& job, const std::vector<RolloutResult>& results, const WorkerId& from, bool final_now);
+  void on_answer(RegisteredWorker& worker, OpenJob& job, std::vector<RolloutResult> results);
+  void accept(OpenJob& job, const std::vector<RolloutResult>& results, const WorkerId& from, bool final_now);
   // Refuses a worker found wrong: removed, its Hellos refused (told why), and the batch's results taken from it
   // redone.
   void refuse_wrong(WorkerId id, const char* why = "this worker returned results that two other workers did not");
   // Jobs awaiting an answer to check against that no connected worker can give go to the coordinator
   // (take_coordinator_checks); jobs refused by every proven worker connected stop the run.
   void check_unanswerable(Millis now);
-  bool eligible_checker(const Job& job, const Worker& worker) const;
-  void demote(Worker& worker);
-  void prove(Worker& worker);  // alive and answering: proven, and no longer demoted
+  bool refused_by_enough(const OpenJob& job) const;  // the error rule: proven workers agree the job fails
+  bool eligible_checker(const OpenJob& job, const RegisteredWorker& worker) const;
   void new_jobs(size_t begin, size_t end, size_t per_job, int deaths, bool front);
   size_t tasks_per_job(size_t tasks) const;  // how a new batch is cut
-  bool chosen_for_check(const Job& job) const;
-  bool on_probation(const Worker& worker) const;
-  void pass_check(const WorkerId& id);      // an answer of its was found right
-  void note_unchecked(const WorkerId& id);  // an answer of its is taken unchecked
-  size_t proven_workers() const;
   std::string describe_task(size_t index) const;
 
   DispatchSettings settings_;
-  std::unordered_map<WorkerId, Worker> workers_;
-  std::vector<Worker*> arrival_;  // workers_'s entries in the order they said Hello: jobs go out in this order
+  WorkerRegistry workers_;     // who is connected, and how far each is trusted
+  JobQueue jobs_;              // the batch's open jobs, their queue and leases
+  Verification verification_;  // which answers are checked, and what their checks say
+  RefusalLedger ledger_;       // across batches: the workers refused, their unchecked answers, rollbacks
 
   // the batch
   bool batch_active_ = false;
   uint64_t batch_id_ = 0;
   std::vector<RolloutTask> tasks_;
-  JobEncoder encoder_;            // the batch's Jobs on the wire: its θs by hash, each encoded once
-  BatchResults results_;          // by task: which are in, from whom, which are final
-  std::map<uint64_t, Job> jobs_;  // open jobs by id
-  std::deque<uint64_t> queue_;
-  uint64_t next_job_id_ = 1;
+  JobEncoder encoder_;          // the batch's Jobs on the wire: its θs by hash, each encoded once
+  BatchResults results_;        // by task: which are in, from whom, which are final
   Spare spare_;                 // of the outgoing() under way
   bool refusals_seen_ = false;  // a proven worker refused a job of this batch
-  RunningMedian job_times_;     // how long this batch's finished jobs took, from send to result
-  Millis backup_after_ = 0;     // the backup time from job_times_ (0: none finished yet)
 
   std::optional<std::string> failure_;
   std::map<std::string, int64_t> dropped_;
-  int64_t joined_ = 0;
   int64_t lost_ = 0;
-  int64_t backups_ = 0;
-  int64_t leases_expired_ = 0;
-  int64_t demoted_ = 0;
-  int64_t verified_ = 0;
   int64_t coordinator_checks_waiting_ = 0;
-  int64_t coordinator_checks_ = 0;
   std::vector<uint64_t> to_coordinator_;  // jobs to hand to the coordinator (take_coordinator_checks)
-  RefusalLedger ledger_;                  // across batches: the workers refused, their unchecked answers, rollbacks
   std::vector<Outgoing> refusals_;        // Refused messages to send
 };
 

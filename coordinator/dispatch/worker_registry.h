@@ -1,0 +1,69 @@
+#pragma once
+// Who is connected and how far each is trusted: the workers in the order they said Hello, when each was last heard
+// from, whether it is proven (alive and answering: it returned a valid result, or is local), demoted (not proven,
+// and let a lease expire or returned an error: given nothing more) or on trial (not proven, sent a job it has not
+// answered yet), and the checks its answers passed. Time is a parameter; no queue, no sockets.
+
+#include <cstddef>
+#include <cstdint>
+#include <optional>
+#include <set>
+#include <unordered_map>
+#include <vector>
+
+#include "coordinator/dispatch/dispatch_view.h"
+
+namespace poet {
+
+struct RegisteredWorker {
+  WorkerView view;
+  std::set<uint64_t> jobs;         // held
+  std::set<uint64_t> beaten;       // held, then finished by another holder first: its result is late
+  std::set<uint64_t> thetas_sent;  // this batch
+  Millis last_sent = 0;
+  // not proven: when it was sent a job it has not answered since (in this batch or an earlier one); it is sent
+  // nothing more until it answers, and demoted once that is a lease ago
+  std::optional<Millis> trial_since;
+  uint64_t trial_job = 0;  // the job then sent
+  bool ready = false;      // has sent something since its Hello
+};
+
+class WorkerRegistry {
+ public:
+  // A worker welcomed (its view filled from its Hello); it must not be registered already.
+  RegisteredWorker& add(WorkerView view, Millis now);
+  // Removed, and handed back to the caller (its jobs to release); nullopt for an unknown id.
+  std::optional<RegisteredWorker> remove(const WorkerId& id);
+  RegisteredWorker* find(const WorkerId& id);
+  const RegisteredWorker* find(const WorkerId& id) const;
+  bool contains(const WorkerId& id) const { return by_id_.contains(id); }
+  size_t size() const { return by_id_.size(); }
+  // In the order they said Hello: jobs go out in this order.
+  const std::vector<RegisteredWorker*>& in_order() const { return arrival_; }
+
+  bool heard_from(const WorkerId& id, Millis now);  // any message: alive and listening; false for a stranger
+  std::vector<WorkerId> silent(Millis now, Millis liveness) const;  // heard from longer ago than liveness
+  void prove(RegisteredWorker& worker);  // alive and answering: proven, and no longer demoted
+  void demote(RegisteredWorker& worker);
+  void pass_check(const WorkerId& id);  // an answer of its was found right
+  // A job sent to it; a worker not proven is on trial from its first one until it answers.
+  void sent_job(RegisteredWorker& worker, uint64_t job_id, Millis now);
+  // Workers not proven whose trial ran a lease without an answer, holding nothing now (its batch ended): demoted.
+  void demote_stale_trials(Millis now, Millis lease);
+
+  size_t proven() const;
+  size_t ready() const;                   // those that may be sent jobs
+  bool unproven_holding() const;          // some worker not proven holds a job
+  int64_t jobs_held() const;              // by all of them
+  std::vector<WorkerView> views() const;  // in order, each with its jobs held
+  int64_t joined() const { return joined_; }
+  int64_t demoted() const { return demoted_; }
+
+ private:
+  std::unordered_map<WorkerId, RegisteredWorker> by_id_;
+  std::vector<RegisteredWorker*> arrival_;  // by_id_'s entries in the order they said Hello
+  int64_t joined_ = 0;
+  int64_t demoted_ = 0;
+};
+
+}  // namespace poet

@@ -1,0 +1,107 @@
+// Tests coordinator/dispatch/verification.cpp: which jobs are chosen for a check, whose answers need one, and what
+// two or three answers to a job say.
+#include "coordinator/dispatch/verification.h"
+
+#include <gtest/gtest.h>
+
+namespace poet {
+namespace {
+
+std::vector<RolloutResult> returns(double total) {
+  RolloutResult r;
+  r.total_reward = total;
+  r.steps = 100;
+  return {r, r};
+}
+
+WorkerView worker(bool local, int64_t checks_passed) {
+  WorkerView view;
+  view.local = local;
+  view.checks_passed = checks_passed;
+  return view;
+}
+
+TEST(Verification, TheSecretChoosesAboutTheFractionOfJobsAndOnlyItKnowsWhich) {
+  Verification a(0.25, 1234, 5), b(0.25, 99, 5), off(0, 1234, 5);
+  int chosen = 0, differ = 0;
+  for (size_t job = 0; job < 4000; ++job) {
+    chosen += a.chosen(1, job, job + 1);
+    differ += a.chosen(1, job, job + 1) != b.chosen(1, job, job + 1);
+    EXPECT_FALSE(off.chosen(1, job, job + 1));
+  }
+  EXPECT_NEAR(chosen / 4000.0, 0.25, 0.03);
+  EXPECT_GT(differ, 1000);                                                        // another secret, other jobs
+  EXPECT_EQ(a.chosen(7, 10, 20), Verification(0.25, 1234, 5).chosen(7, 10, 20));  // a function of its inputs
+}
+
+TEST(Verification, ANewWorkersAnswersAreCheckedUntilItsProbationEndsALocalOnesOnlyAgainstOneHeld) {
+  Verification v(0.1, 1, 2);
+  EXPECT_TRUE(v.needs_check(false, worker(false, 0), false));  // on probation
+  EXPECT_TRUE(v.needs_check(false, worker(false, 1), false));
+  EXPECT_FALSE(v.needs_check(false, worker(false, 2), false));  // probation over, job not chosen
+  EXPECT_TRUE(v.needs_check(true, worker(false, 2), false));    // chosen
+  EXPECT_FALSE(v.needs_check(true, worker(true, 0), false));    // a local worker's answer stands alone
+  EXPECT_TRUE(v.needs_check(true, worker(true, 0), true));      // but settles one held
+  EXPECT_FALSE(v.final_unchecked(worker(false, 9)));
+  EXPECT_TRUE(v.final_unchecked(worker(true, 0)));
+  EXPECT_TRUE(Verification(0, 1, 2).final_unchecked(worker(false, 0)));
+  EXPECT_FALSE(Verification(0, 1, 2).needs_check(false, worker(false, 0), false));
+}
+
+TEST(Verification, TwoAnswersAlikeAreTakenTwoThatDifferWaitForAThirdWhichDecides) {
+  Verification v(0.1, 1, 2);
+  std::vector<Answer> held;
+  EXPECT_EQ(v.judge(held, {"a", returns(1.0)}, false).kind, Verdict::Kind::kHold);
+  held.push_back({"a", returns(1.0)});
+  const Verdict alike = v.judge(held, {"b", returns(1.0)}, false);
+  EXPECT_EQ(alike.kind, Verdict::Kind::kTake);
+  EXPECT_EQ(alike.credited, "a");
+  EXPECT_EQ(alike.passed, (std::vector<WorkerId>{"a", "b"}));
+  EXPECT_FALSE(alike.wrong);
+  EXPECT_EQ(v.verified(), 1);
+
+  EXPECT_EQ(v.judge(held, {"b", returns(2.0)}, false).kind, Verdict::Kind::kHold);  // a third decides
+  held.push_back({"b", returns(2.0)});
+  const Verdict third = v.judge(held, {"c", returns(2.0)}, false);
+  EXPECT_EQ(third.kind, Verdict::Kind::kTake);
+  EXPECT_EQ(third.credited, "c");
+  EXPECT_EQ(third.passed, (std::vector<WorkerId>{"b", "c"}));
+  EXPECT_EQ(third.wrong, WorkerId("a"));
+  EXPECT_EQ(v.judge(held, {"c", returns(3.0)}, false).kind, Verdict::Kind::kThreeWays);
+  EXPECT_EQ(v.verified(), 2);
+}
+
+TEST(Verification, ALocalWorkerThatDiffersDecidesAtOnce) {
+  Verification v(0.1, 1, 2);
+  const Verdict verdict = v.judge({{"a", returns(1.0)}}, {"local", returns(1.5)}, true);
+  EXPECT_EQ(verdict.kind, Verdict::Kind::kTake);
+  EXPECT_EQ(verdict.credited, "local");
+  EXPECT_EQ(verdict.wrong, WorkerId("a"));
+  EXPECT_TRUE(verdict.passed.empty());
+  EXPECT_EQ(v.verified(), 0);
+}
+
+TEST(Verification, ResultsDifferingInOneBitOrOneStepDiffer) {
+  std::vector<RolloutResult> a = returns(1.0), b = returns(1.0);
+  EXPECT_TRUE(same_results(a, b));
+  b[1].total_reward = std::nextafter(1.0, 2.0);
+  EXPECT_FALSE(same_results(a, b));
+  b = returns(1.0);
+  b[0].steps += 1;
+  EXPECT_FALSE(same_results(a, b));
+  b = returns(1.0);
+  b.pop_back();
+  EXPECT_FALSE(same_results(a, b));
+}
+
+TEST(Verification, TheCoordinatorsOwnResultsSayWhoWasRightAndWhoWrong) {
+  Verification v(0.1, 1, 2);
+  const CoordinatorVerdict verdict = v.settle({{"a", returns(1.0)}, {"b", returns(2.0)}}, returns(2.0));
+  EXPECT_EQ(verdict.passed, (std::vector<WorkerId>{"b"}));
+  EXPECT_EQ(verdict.wrong, (std::vector<WorkerId>{"a"}));
+  EXPECT_EQ(v.coordinator_checks(), 1);
+  EXPECT_EQ(v.verified(), 1);
+}
+
+}  // namespace
+}  // namespace poet

@@ -1,0 +1,79 @@
+// Tests coordinator/dispatch/worker_registry.cpp: workers in the order they said Hello, silence, and trust —
+// proven, demoted, on trial.
+#include "coordinator/dispatch/worker_registry.h"
+
+#include <gtest/gtest.h>
+
+namespace poet {
+namespace {
+
+WorkerView hello(const WorkerId& id, bool local = false) {
+  WorkerView view;
+  view.id = id;
+  view.name = "worker-" + id;
+  view.local = local;
+  return view;
+}
+
+TEST(WorkerRegistry, WorkersKeepTheOrderTheySaidHelloInAndALocalOneIsProvenFromTheStart) {
+  WorkerRegistry registry;
+  registry.add(hello("b"), 0);
+  registry.add(hello("a", /*local=*/true), 0);
+  registry.add(hello("c"), 0);
+  ASSERT_EQ(registry.in_order().size(), 3u);
+  EXPECT_EQ(registry.in_order()[0]->view.id, "b");
+  EXPECT_EQ(registry.in_order()[1]->view.id, "a");
+  EXPECT_TRUE(registry.find("a")->view.proven);
+  EXPECT_FALSE(registry.find("b")->view.proven);
+  EXPECT_EQ(registry.proven(), 1u);
+  EXPECT_EQ(registry.joined(), 3);
+
+  const std::optional<RegisteredWorker> removed = registry.remove("a");
+  ASSERT_TRUE(removed);
+  EXPECT_EQ(removed->view.name, "worker-a");
+  EXPECT_FALSE(registry.remove("a"));
+  EXPECT_EQ(registry.in_order()[1]->view.id, "c");
+  EXPECT_EQ(registry.find("a"), nullptr);
+}
+
+TEST(WorkerRegistry, AWorkerIsReadyOnceHeardFromAndSilentOnceNotForLonger) {
+  WorkerRegistry registry;
+  registry.add(hello("a"), 0);
+  registry.add(hello("b"), 0);
+  EXPECT_EQ(registry.ready(), 0u);  // a Hello proves nothing about listening
+  EXPECT_TRUE(registry.heard_from("a", 500));
+  EXPECT_FALSE(registry.heard_from("stranger", 500));
+  EXPECT_EQ(registry.ready(), 1u);
+  EXPECT_EQ(registry.silent(1000, 800), (std::vector<WorkerId>{"b"}));
+  EXPECT_EQ(registry.silent(1400, 800), (std::vector<WorkerId>{"a", "b"}));
+}
+
+TEST(WorkerRegistry, AWorkerNotProvenIsOnTrialFromItsFirstJobAndDemotedOnceItRunsALeaseWithNoAnswer) {
+  WorkerRegistry registry;
+  RegisteredWorker& a = registry.add(hello("a"), 0);
+  registry.sent_job(a, 7, 100);
+  registry.sent_job(a, 8, 150);
+  EXPECT_EQ(a.trial_since, 100);
+  EXPECT_EQ(a.trial_job, 7u);
+  EXPECT_TRUE(registry.unproven_holding());
+  EXPECT_EQ(registry.jobs_held(), 2);
+  EXPECT_EQ(registry.views()[0].jobs_held, 2u);
+  registry.demote_stale_trials(1000, 500);
+  EXPECT_FALSE(a.view.demoted);  // it still holds its jobs: their leases say
+  a.jobs.clear();                // its batch ended
+  registry.demote_stale_trials(599, 500);
+  EXPECT_FALSE(a.view.demoted);
+  registry.demote_stale_trials(600, 500);
+  EXPECT_TRUE(a.view.demoted);
+  registry.demote(a);
+  EXPECT_EQ(registry.demoted(), 1);  // once
+  registry.prove(a);
+  EXPECT_TRUE(a.view.proven);
+  EXPECT_FALSE(a.view.demoted);
+  registry.pass_check("a");
+  registry.pass_check("gone");
+  EXPECT_EQ(a.view.checks_passed, 1);
+}
+
+}  // namespace
+}  // namespace poet
