@@ -19,7 +19,8 @@ IterationContext iteration_context(RunState& state, Evaluator& evaluator, Iterat
   return {state, evaluator, report, state.settings, state.next_iteration};
 }
 
-void record_evaluation(IterationContext& ctx, Pair& pair, const std::vector<double>& theta, const Evaluation& eval) {
+void record_evaluation(IterationContext& ctx, Pair& pair, const std::vector<double>& theta, const Evaluation& eval,
+                       SolvedBy by) {
   pair.latest_score = eval.score;
   pair.latest_finished = eval.finished;
   if (ctx.settings.poet.transfer_test == TransferTest::kThreshold) {
@@ -33,7 +34,7 @@ void record_evaluation(IterationContext& ctx, Pair& pair, const std::vector<doub
   }
   if (!pair.solved() && eval.finished && eval.score >= ctx.settings.poet.solved_score) {
     pair.first_solved_iteration = ctx.t;
-    ctx.event(SolvedEvent{pair.id, pair.env.encoding.name, eval.score, ctx.t - pair.created_iteration});
+    ctx.event(SolvedEvent{pair.id, pair.env.encoding.name, eval.score, ctx.t - pair.created_iteration, by});
   }
 }
 

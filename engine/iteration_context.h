@@ -35,8 +35,9 @@ struct IterationContext {
 IterationContext iteration_context(RunState& state, Evaluator& evaluator, IterationReport& report);
 
 // Records an evaluation of θ on the pair's own environment: latest score, best score and θ, and the first solve
-// (finished and score ≥ solved_score), with a "solved" event.
-void record_evaluation(IterationContext& ctx, Pair& pair, const std::vector<double>& theta, const Evaluation& eval);
+// (finished and score ≥ solved_score), with a "solved" event saying what the evaluation followed.
+void record_evaluation(IterationContext& ctx, Pair& pair, const std::vector<double>& theta, const Evaluation& eval,
+                       SolvedBy by);
 
 // Throws RunDiverged unless every value is finite: `what` ("θ after the ES step") of pair, at iteration ctx.t.
 void require_finite(const IterationContext& ctx, const Pair& pair, std::span<const double> values,

@@ -67,7 +67,7 @@ void optimise(IterationContext& ctx) {
     Pair& p = ctx.state.pairs[active[a]];
     const Evaluation e = evals.evaluation(eval_handles[a]);
     p.es_env_steps += steps.env_steps(handles[a]) + evals.env_steps(eval_handles[a]);
-    record_evaluation(ctx, p, p.theta, e);
+    record_evaluation(ctx, p, p.theta, e, SolvedBy::kOwnEs);
     PairStatsRow& row = rows[a];
     row.score = e.score;
     row.finished = e.finished;

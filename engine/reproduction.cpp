@@ -172,7 +172,7 @@ void admit(IterationContext& ctx, const Child& child, Start start) {
   ctx.event(PairCreatedEvent{pair.id, pair.env.encoding.name, pair.env.seed, pair.parent_id, pair.initial_source_pair,
                              pair.initial_by_proposal, pair.admission_score, child.novelty});
   const std::vector<double> theta = pair.theta;
-  record_evaluation(ctx, pair, theta, start.eval);
+  record_evaluation(ctx, pair, theta, start.eval, SolvedBy::kAdmission);
   state.pairs.push_back(std::move(pair));
 }
 

@@ -13,12 +13,17 @@
 
 namespace poet {
 
+// What an evaluation that solved a pair followed: its admission (the θ it was admitted with), one of its own ES
+// steps, or an accepted transfer.
+enum class SolvedBy { kAdmission, kOwnEs, kTransfer };
+
 // A pair's first solve of its own environment.
 struct SolvedEvent {
   int pair = 0;
   std::string env;
   double score = 0;
   int iterations_to_solve = 0;
+  SolvedBy by = SolvedBy::kOwnEs;
 };
 
 // One mutation attempt of a reproduction: the child made from a parent, with the 5-vector the metrics read

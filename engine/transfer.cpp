@@ -227,7 +227,7 @@ void transfer(IterationContext& ctx) {
     target.transfers.push_back({ctx.t, best.source, best.proposal, chosen_eval[a].score});
     ctx.state.counters.transfer_successes += 1;
     ctx.event(TransferEvent{target.id, best.source, best.proposal, chosen_eval[a].score, previous});
-    record_evaluation(ctx, target, target.theta, chosen_eval[a]);
+    record_evaluation(ctx, target, target.theta, chosen_eval[a], SolvedBy::kTransfer);
   }
   // what the round cost: with the threshold test, the proposals it paid for out of the N(N−1) of the full test
   ctx.event(TransferRoundEvent{full, active.size(), active.size() * (active.size() - 1), round.proposals,

@@ -1,6 +1,16 @@
 #include "run_directory/files/event_json.h"
 
+#include <array>
+
+#include "simulation/enum_names.h"
+
 namespace poet {
+
+std::string_view solved_by_name(SolvedBy by) {
+  static constexpr std::array<std::string_view, 3> kNames = {"admission", "es", "transfer"};
+  return enum_name(by, kNames, "?");
+}
+
 namespace {
 
 using Json = nlohmann::ordered_json;
@@ -10,7 +20,8 @@ Json fields(const SolvedEvent& e) {
           {"pair", e.pair},
           {"env", e.env},
           {"score", e.score},
-          {"iterations_to_solve", e.iterations_to_solve}};
+          {"iterations_to_solve", e.iterations_to_solve},
+          {"by", solved_by_name(e.by)}};
 }
 
 Json fields(const ChildEvent& e) {

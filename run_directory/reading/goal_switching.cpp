@@ -3,14 +3,17 @@
 #include <algorithm>
 #include <array>
 
+#include "run_directory/files/event_json.h"
 #include "run_directory/reading/event_fields.h"
 #include "simulation/enum_names.h"
 
 namespace poet {
 namespace {
 
-// What solved a pair: the event just before its "solved" event says (the engine records an evaluation and its
-// solve together: after "pair_created" at admission, after "transfer" for a transfer, alone after an ES step).
+// What solved a pair: its "solved" event's "by", recorded by the engine with the evaluation. A log written before
+// the engine recorded it (or with a "by" not known here) says it by order instead: the engine writes an evaluation's
+// solve right after the event it followed ("pair_created" at admission, "transfer" for a transfer; alone after an ES
+// step).
 SolveCause cause_of(const RunSnapshot& run, const Pair& pair) {
   if (!pair.solved()) return SolveCause::kNotSolved;
   const nlohmann::json* previous = nullptr;
@@ -18,6 +21,10 @@ SolveCause cause_of(const RunSnapshot& run, const Pair& pair) {
     // read_run_snapshot guarantees every event an integer "iteration" and a string "event"
     if (event["iteration"].get<int>() == pair.first_solved_iteration && event["event"] == "solved" &&
         field_or(event, "pair", kNone) == pair.id) {
+      const std::string by = field_or(event, "by", std::string());
+      if (by == solved_by_name(SolvedBy::kAdmission)) return SolveCause::kAdmission;
+      if (by == solved_by_name(SolvedBy::kTransfer)) return SolveCause::kTransfer;
+      if (by == solved_by_name(SolvedBy::kOwnEs)) return SolveCause::kOwnEs;
       if (previous && (*previous)["iteration"] == event["iteration"]) {
         if ((*previous)["event"] == "transfer" && field_or(*previous, "target", kNone) == pair.id)
           return SolveCause::kTransfer;

@@ -11,8 +11,9 @@ namespace {
 std::string line(int iteration, const RunEvent& event) { return event_json(iteration, event).dump(); }
 
 TEST(EventJson, EveryKindWritesItsFieldsInTheLogsOrder) {
-  EXPECT_EQ(line(3, SolvedEvent{2, "r1.5", 231.25, 40}),
-            R"({"iteration":3,"event":"solved","pair":2,"env":"r1.5","score":231.25,"iterations_to_solve":40})");
+  EXPECT_EQ(line(3, SolvedEvent{2, "r1.5", 231.25, 40, SolvedBy::kTransfer}),
+            R"({"iteration":3,"event":"solved","pair":2,"env":"r1.5","score":231.25,"iterations_to_solve":40,)"
+            R"("by":"transfer"})");
 
   ChildEvent duplicate{4, 1, "dup", {1, 0.5, 0, 2, 0}, true, std::nullopt, false};
   EXPECT_EQ(line(6, duplicate),

@@ -85,6 +85,24 @@ TEST(GoalSwitching, ATransferAfterTheSolveInTheSameIterationDidNotSolveIt) {
   EXPECT_FALSE(chain[1].solved_through_transfer);
 }
 
+// A log that records what each solve followed ("by", written by the engine) is read for it, not for its order; a
+// "by" the reader does not know leaves the order to say.
+TEST(GoalSwitching, WhatTheEngineRecordedAsTheSolvesCauseIsReadWhereTheLogHasIt) {
+  RunSnapshot run = sample_run();
+  run.events[2]["by"] = "admission";
+  run.events.back()["by"] = "es";  // right after a transfer into it, but the engine says its ES step solved it
+  const RunMetrics metrics = compute_run_metrics(run);
+  std::vector<LineageLink> chain = lineage_chain(run, metrics, 2);
+  ASSERT_EQ(chain.size(), 3u);
+  EXPECT_EQ(chain[1].cause, SolveCause::kAdmission);
+  EXPECT_EQ(chain[2].cause, SolveCause::kOwnEs);
+  EXPECT_EQ(chain[2].solved_by, kNone);
+
+  run.events.back()["by"] = "a guess";
+  chain = lineage_chain(run, metrics, 2);
+  EXPECT_EQ(chain[2].cause, SolveCause::kTransfer);
+}
+
 TEST(GoalSwitching, UnknownPairsAndParentCyclesEndTheChain) {
   RunSnapshot run = sample_run();
   const RunMetrics metrics = compute_run_metrics(run);
