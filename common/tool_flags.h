@@ -14,6 +14,8 @@ namespace poet {
 
 // Exit code of a process given a bad command line (never CLI11's own codes 101..).
 inline constexpr int kExitUsage = 2;
+// Exit code of a runtime error (a diverged run, a failed write, a failure reported by workers).
+inline constexpr int kExitError = 1;
 
 // The environment options of the tools that run episodes (poet-rollout, poet-eval).
 struct WalkerFlags {

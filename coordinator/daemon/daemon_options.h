@@ -1,0 +1,37 @@
+#pragma once
+// What poet-coordinator was asked on its command line (coordinator/main.cpp parses it): the run, where its rollouts
+// run, and the sockets it serves.
+
+#include <algorithm>
+#include <optional>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "common/wire_timing.h"
+#include "coordinator/status_client/status_defaults.h"
+
+namespace poet {
+
+struct DaemonOptions {
+  std::string config_path;
+  std::string run_dir;
+  int threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  std::optional<int> iterations;
+  bool resume = false;
+  std::string from_pack;  // a run pack restored into the (new or empty) run directory before the resume
+  bool quiet = false;
+  std::string log_level = "info";
+  std::string listen;     // workers connect here; empty: rollouts on threads of this process
+  int local_workers = 0;  // worker processes to start and supervise on this machine
+  int liveness_ms = wire_timing::kLivenessMs;
+  std::string worker_binary;
+  std::vector<std::string> worker_args;                    // passed to every local worker (tests' fault switches)
+  std::string status_address = kCoordinatorStatusAddress;  // the HTTP status socket; empty: none
+  std::string health_address;                              // the probes' listener (/healthz alone); empty: none
+  std::string curve_keys;                                  // CURVE key directory; empty: no authentication
+  std::string start_from;                 // a policy file for the first pair's θ; empty: the init stream
+  std::optional<double> verify_fraction;  // default: kListenVerifyFraction with --listen and no CURVE
+};
+
+}  // namespace poet
