@@ -176,42 +176,48 @@ void admit(IterationContext& ctx, const Child& child, Start start) {
   state.pairs.push_back(std::move(pair));
 }
 
-}  // namespace
-
-void reproduce(IterationContext& ctx) {
-  const PoetSettings& poet = ctx.settings.poet;
-  if (ctx.t == 0 || ctx.t % poet.mutation_interval != 0) return;
-  ctx.phase(IterationPhase::kReproduction);
-  RunState& state = ctx.state;
-  const auto u = [](auto v) { return static_cast<uint64_t>(v); };
-
-  // a. eligible parents
+// Step 1.a: the active pairs whose agent scores at least the reproduction threshold.
+std::vector<size_t> eligible_parents(const IterationContext& ctx) {
   std::vector<size_t> eligible;
-  for (size_t i : state.active_indices())
-    if (agent_score(ctx, state.pairs[i]) >= poet.repro_threshold) eligible.push_back(i);
-  if (eligible.empty()) {
-    ctx.event(ReproductionEvent{});
-    return;
-  }
+  for (size_t i : ctx.state.active_indices())
+    if (agent_score(ctx, ctx.state.pairs[i]) >= ctx.settings.poet.repro_threshold) eligible.push_back(i);
+  return eligible;
+}
 
-  // b. mutation attempts; duplicates of the archive are dropped, the rest evaluated with their parent's θ
-  const MutationOptions& mutation = poet.mutation;
-  RandomStream stream(ctx.key("reproduce", {u(ctx.t)}));
+// Step 1.b's mutation attempts: the children that are new to the archive, and an event per attempt.
+struct Attempts {
   std::vector<Child> children;
-  std::vector<ChildEvent> attempts;  // one per attempt, in attempt order
+  std::vector<ChildEvent> events;  // one per attempt, in attempt order
   int duplicates = 0;
+};
+
+Attempts mutate_children(IterationContext& ctx, const std::vector<size_t>& eligible) {
+  const PoetSettings& poet = ctx.settings.poet;
+  RunState& state = ctx.state;
+  RandomStream stream(ctx.key("reproduce", {static_cast<uint64_t>(ctx.t)}));
+  Attempts out;
   for (int a = 0; a < poet.max_children; ++a) {
     const Pair& parent = state.pairs[eligible[static_cast<size_t>(stream.uniform_int(0, eligible.size()))]];
-    Child child{mutate_def(parent.env, mutation, stream), parent.id, a, {}, 0};
+    Child child{mutate_def(parent.env, poet.mutation, stream), parent.id, a, {}, 0};
     state.counters.children_tried += 1;
-    attempts.push_back(child_event(child));
+    out.events.push_back(child_event(child));
     if (archived(state, child.env.encoding)) {
-      duplicates += 1;
-      attempts.back().duplicate = true;
+      out.duplicates += 1;
+      out.events.back().duplicate = true;
       continue;
     }
-    children.push_back(std::move(child));
+    out.children.push_back(std::move(child));
   }
+  return out;
+}
+
+// Step 1.b's minimal criterion: each child evaluated with its parent's agent; returns those that pass, after
+// the attempts' events (now with their scores and verdicts).
+std::vector<Child> pass_minimal_criterion(IterationContext& ctx, Attempts& attempts) {
+  const auto u = [](auto v) { return static_cast<uint64_t>(v); };
+  const PoetSettings& poet = ctx.settings.poet;
+  RunState& state = ctx.state;
+  std::vector<Child>& children = attempts.children;
   RolloutBatch mc_batch = ctx.batch();
   std::vector<size_t> mc_handles;
   for (const Child& c : children) {
@@ -224,21 +230,26 @@ void reproduce(IterationContext& ctx) {
   for (size_t c = 0; c < children.size(); ++c) {
     children[c].mc = mc_batch.evaluation(mc_handles[c]);
     const bool passed = poet.passes_mc(children[c].mc.score);
-    ChildEvent& event = attempts[static_cast<size_t>(children[c].attempt)];
+    ChildEvent& event = attempts.events[static_cast<size_t>(children[c].attempt)];
     event.mc_score = children[c].mc.score;
     event.passed_mc = passed;
     if (passed) survivors.push_back(std::move(children[c]));
   }
-  for (ChildEvent& event : attempts) ctx.event(std::move(event));
+  for (ChildEvent& event : attempts.events) ctx.event(std::move(event));
   state.counters.children_passed_mc += static_cast<int64_t>(survivors.size());
+  return survivors;
+}
 
-  // c. ranking: most novel first against the archive (or lowest MC score first); ties keep generation order
+// Step 1.c: most novel first against the archive (or lowest MC score first); ties keep generation order. Returns
+// the number of PATA-EC evaluations when that is the novelty measure.
+std::optional<size_t> rank_survivors(IterationContext& ctx, std::vector<Child>& survivors) {
+  const PoetSettings& poet = ctx.settings.poet;
   std::optional<size_t> pata_ec_evaluations;
   if (poet.novelty == NoveltyMeasure::kPataEc) {
     pata_ec_evaluations = set_pata_ec_novelty(ctx, survivors);
   } else {
     std::vector<EnvEncoding> archive;
-    for (const Pair& p : state.pairs) archive.push_back(p.env.encoding);
+    for (const Pair& p : ctx.state.pairs) archive.push_back(p.env.encoding);
     for (Child& c : survivors) c.novelty = novelty(c.env.encoding, archive, poet.novelty_k, poet.novelty_normalized);
   }
   if (poet.child_ranking == ChildRanking::kLowestScoreFirst) {
@@ -248,35 +259,62 @@ void reproduce(IterationContext& ctx) {
     std::stable_sort(survivors.begin(), survivors.end(),
                      [](const Child& a, const Child& b) { return a.novelty > b.novelty; });
   }
+  return pata_ec_evaluations;
+}
 
-  // d. admission through the best starting agent
+// Step 1.d: admission in rank order through the best starting agent (or the parent's, without selection), up to
+// max_admitted; returns the number admitted.
+int admit_survivors(IterationContext& ctx, const std::vector<Child>& survivors) {
+  const PoetSettings& poet = ctx.settings.poet;
   const bool select = ctx.settings.mode == RunMode::kPoet || poet.keep_admission_selection;
   int admitted = 0;
   for (const Child& c : survivors) {
     if (admitted >= poet.max_admitted) break;
-    if (archived(state, c.env.encoding)) continue;  // an earlier admission of this walk had the same genes
+    if (archived(ctx.state, c.env.encoding)) continue;  // an earlier admission of this walk had the same genes
     Start start;
     if (select) {
       std::optional<Start> found = best_start(ctx, c);
       if (!found || !poet.passes_mc(found->eval.score)) continue;
       start = std::move(*found);
     } else {
-      const Pair* parent = state.find(c.parent);
+      const Pair* parent = ctx.state.find(c.parent);
       start = {parent->id, false, agent_theta(ctx, *parent), c.mc};
     }
     admit(ctx, c, std::move(start));
     admitted += 1;
   }
-  ctx.event(ReproductionEvent{eligible.size(), poet.max_children, duplicates, survivors.size(), admitted,
-                              pata_ec_evaluations});
+  return admitted;
+}
 
-  // e. the cap: retire the oldest active pairs
-  std::vector<size_t> active = state.active_indices();
-  for (size_t r = 0; active.size() > static_cast<size_t>(poet.active_cap) + r; ++r) {
-    Pair& old = state.pairs[active[r]];
+// Step 1.e, the cap: retire the oldest active pairs.
+void retire_beyond_cap(IterationContext& ctx) {
+  const std::vector<size_t> active = ctx.state.active_indices();
+  for (size_t r = 0; active.size() > static_cast<size_t>(ctx.settings.poet.active_cap) + r; ++r) {
+    Pair& old = ctx.state.pairs[active[r]];
     old.retired_iteration = ctx.t;
     ctx.event(PairRetiredEvent{old.id, old.env.encoding.name, old.solved()});
   }
+}
+
+}  // namespace
+
+void reproduce(IterationContext& ctx) {
+  const PoetSettings& poet = ctx.settings.poet;
+  if (ctx.t == 0 || ctx.t % poet.mutation_interval != 0) return;
+  ctx.phase(IterationPhase::kReproduction);
+
+  const std::vector<size_t> eligible = eligible_parents(ctx);
+  if (eligible.empty()) {
+    ctx.event(ReproductionEvent{});
+    return;
+  }
+  Attempts attempts = mutate_children(ctx, eligible);
+  std::vector<Child> survivors = pass_minimal_criterion(ctx, attempts);
+  const std::optional<size_t> pata_ec_evaluations = rank_survivors(ctx, survivors);
+  const int admitted = admit_survivors(ctx, survivors);
+  ctx.event(ReproductionEvent{eligible.size(), poet.max_children, attempts.duplicates, survivors.size(), admitted,
+                              pata_ec_evaluations});
+  retire_beyond_cap(ctx);
 }
 
 }  // namespace poet

@@ -163,9 +163,21 @@ Expected<std::string> render_annecs_plot(PictureFormat format, const RunMetrics&
   return render_picture(format, 1000, 420, [&](cairo_t* cr) { draw_chart(cr, 0, 0, 1000, 420, chart); });
 }
 
-Expected<std::string> render_tree_plot(PictureFormat format, const RunSnapshot& run, const RunMetrics& metrics) {
-  const RunState& state = run.state;
-  // rows in depth-first order from the roots, children in creation order, so each subtree is a block of rows
+namespace {
+
+// The tree plot's geometry: a row per pair, iterations across.
+struct TreeLayout {
+  double row_height = 20, top = 46, left = 150, right_margin = 24, width = 1100;
+  double height = 0;
+  double last = 1;         // the axis's last iteration
+  std::map<int, int> row;  // pair id → row
+
+  double px(double iteration) const { return left + iteration / last * (width - left - right_margin); }
+  double py(int id) const { return top + row_height * (row.at(id) + 0.5); }
+};
+
+// Rows in depth-first order from the roots, children in creation order, so each subtree is a block of rows.
+std::map<int, int> tree_rows(const RunState& state) {
   std::map<int, std::vector<int>> children;
   std::vector<int> roots;
   for (const Pair& p : state.pairs) {
@@ -180,92 +192,111 @@ Expected<std::string> render_tree_plot(PictureFormat format, const RunSnapshot& 
     for (int child : children[id]) place(child);
   };
   for (int id : roots) place(id);
+  return row;
+}
 
-  const double row_height = 20, top = 46, left = 150, right_margin = 24;
-  const double width = 1100, height = top + row_height * std::max<size_t>(1, state.pairs.size()) + 56;
-  const double last = std::max(1, metrics.iterations_done);
-  const auto px = [&](double iteration) { return left + iteration / last * (width - left - right_margin); };
-  const auto py = [&](int id) { return top + row_height * (row.at(id) + 0.5); };
+TreeLayout tree_layout(const RunState& state, const RunMetrics& metrics) {
+  TreeLayout layout;
+  layout.row = tree_rows(state);
+  layout.height = layout.top + layout.row_height * std::max<size_t>(1, state.pairs.size()) + 56;
+  layout.last = std::max(1, metrics.iterations_done);
+  return layout;
+}
 
-  return render_picture(format, width, height, [&](cairo_t* cr) {
+void draw_iteration_axis(cairo_t* cr, const TreeLayout& layout) {
+  for (double t : nice_ticks(0, layout.last, 8, true)) {
+    cairo_set_source_rgb(cr, 0.92, 0.92, 0.92);
+    cairo_set_line_width(cr, 1);
+    cairo_move_to(cr, std::round(layout.px(t)) + 0.5, layout.top);
+    cairo_line_to(cr, std::round(layout.px(t)) + 0.5, layout.height - 40);
+    cairo_stroke(cr);
+    cairo_set_source_rgb(cr, 0.3, 0.3, 0.3);
+    draw_text(cr, std::to_string(static_cast<long long>(t)), layout.px(t), layout.height - 26, 11, 0.5);
+  }
+  draw_text(cr, "iteration", (layout.left + layout.width) / 2, layout.height - 8, 12, 0.5);
+}
+
+// A pair's row: the link from its parent, its lifeline and its node with the name.
+void draw_pair_row(cairo_t* cr, const TreeLayout& layout, const Pair& p, int iterations_done) {
+  const double y = layout.py(p.id);
+  const double start = layout.px(p.created_iteration);
+  const double end = layout.px(p.active() ? iterations_done : p.retired_iteration);
+  const int level = static_cast<int>(difficulty(p.env.encoding));
+  // parent link: an elbow from the parent's row down to the child's start
+  if (p.parent_id != kNone && layout.row.count(p.parent_id)) {
+    cairo_set_source_rgb(cr, 0.6, 0.6, 0.6);
+    cairo_set_line_width(cr, 1.2);
+    cairo_move_to(cr, start, layout.py(p.parent_id));
+    cairo_line_to(cr, start, y);
+    cairo_stroke(cr);
+  }
+  // lifeline: grey while unsolved, green from the first solve
+  cairo_set_line_width(cr, 6);
+  cairo_set_line_cap(cr, CAIRO_LINE_CAP_BUTT);
+  cairo_set_source_rgb(cr, 0.78, 0.78, 0.78);
+  cairo_move_to(cr, start, y);
+  cairo_line_to(cr, std::max(end, start + 2), y);
+  cairo_stroke(cr);
+  if (p.solved()) {
+    cairo_set_source_rgb(cr, 0.2, 0.65, 0.25);
+    cairo_move_to(cr, layout.px(p.first_solved_iteration), y);
+    cairo_line_to(cr, std::max(end, layout.px(p.first_solved_iteration) + 2), y);
+    cairo_stroke(cr);
+  }
+  // node: coloured by difficulty level
+  set_colour(cr, kLevelColours[static_cast<size_t>(level)]);
+  cairo_arc(cr, start, y, 4.5, 0, 2 * M_PI);
+  cairo_fill(cr);
+  cairo_set_source_rgb(cr, 0.15, 0.15, 0.15);
+  draw_text(cr, "#" + std::to_string(p.id) + " " + short_name(p.env.encoding.name, 18), layout.left - 8, y + 4, 10, 1);
+}
+
+// An accepted transfer: a curve from the source's row to the target's, with an arrow head at the target.
+void draw_transfer(cairo_t* cr, const TreeLayout& layout, const AcceptedTransfer& t) {
+  const double x = layout.px(t.iteration), y0 = layout.py(t.source), y1 = layout.py(t.target);
+  const double bend = std::min(40.0, std::abs(y1 - y0) / 3 + 8);
+  cairo_set_source_rgba(cr, 0.95, 0.5, 0.05, 0.85);
+  cairo_set_line_width(cr, 1.4);
+  cairo_move_to(cr, x, y0);
+  cairo_curve_to(cr, x + bend, y0, x + bend, y1, x + 3, y1);
+  cairo_stroke(cr);
+  const double dir = y1 > y0 ? -1 : 1;
+  cairo_move_to(cr, x + 3, y1);
+  cairo_line_to(cr, x + 10, y1 + 3 * dir - 2);
+  cairo_line_to(cr, x + 10, y1 - 3 * dir + 2);
+  cairo_close_path(cr);
+  cairo_fill(cr);
+}
+
+void draw_level_legend(cairo_t* cr, double height) {
+  double lx = 12;
+  for (size_t level = 0; level < kLevels; ++level) {
+    set_colour(cr, kLevelColours[level]);
+    cairo_arc(cr, lx + 4, height - 12, 4, 0, 2 * M_PI);
+    cairo_fill(cr);
+    cairo_set_source_rgb(cr, 0.2, 0.2, 0.2);
+    const std::string name(to_string(static_cast<Difficulty>(level)));
+    draw_text(cr, name, lx + 12, height - 8, 10);
+    lx += 24 + 5.5 * static_cast<double>(name.size());
+  }
+}
+
+}  // namespace
+
+Expected<std::string> render_tree_plot(PictureFormat format, const RunSnapshot& run, const RunMetrics& metrics) {
+  const TreeLayout layout = tree_layout(run.state, metrics);
+  return render_picture(format, layout.width, layout.height, [&](cairo_t* cr) {
     cairo_set_source_rgb(cr, 0.1, 0.1, 0.1);
-    draw_text(cr, "Environment tree: rows are pairs from creation to retirement (green once solved)", width / 2, 20, 14,
-              0.5, true);
+    draw_text(cr, "Environment tree: rows are pairs from creation to retirement (green once solved)", layout.width / 2,
+              20, 14, 0.5, true);
     draw_text(cr, "grey links: parent → child environment; orange arrows: accepted transfers (source → target)",
-              width / 2, 36, 11, 0.5);
-    // iteration axis
-    for (double t : nice_ticks(0, last, 8, true)) {
-      cairo_set_source_rgb(cr, 0.92, 0.92, 0.92);
-      cairo_set_line_width(cr, 1);
-      cairo_move_to(cr, std::round(px(t)) + 0.5, top);
-      cairo_line_to(cr, std::round(px(t)) + 0.5, height - 40);
-      cairo_stroke(cr);
-      cairo_set_source_rgb(cr, 0.3, 0.3, 0.3);
-      draw_text(cr, std::to_string(static_cast<long long>(t)), px(t), height - 26, 11, 0.5);
-    }
-    draw_text(cr, "iteration", (left + width) / 2, height - 8, 12, 0.5);
-
-    for (const Pair& p : state.pairs) {
-      const double y = py(p.id);
-      const double start = px(p.created_iteration);
-      const double end = px(p.active() ? metrics.iterations_done : p.retired_iteration);
-      const int level = static_cast<int>(difficulty(p.env.encoding));
-      // parent link: an elbow from the parent's row down to the child's start
-      if (p.parent_id != kNone && row.count(p.parent_id)) {
-        cairo_set_source_rgb(cr, 0.6, 0.6, 0.6);
-        cairo_set_line_width(cr, 1.2);
-        cairo_move_to(cr, start, py(p.parent_id));
-        cairo_line_to(cr, start, y);
-        cairo_stroke(cr);
-      }
-      // lifeline: grey while unsolved, green from the first solve
-      cairo_set_line_width(cr, 6);
-      cairo_set_line_cap(cr, CAIRO_LINE_CAP_BUTT);
-      cairo_set_source_rgb(cr, 0.78, 0.78, 0.78);
-      cairo_move_to(cr, start, y);
-      cairo_line_to(cr, std::max(end, start + 2), y);
-      cairo_stroke(cr);
-      if (p.solved()) {
-        cairo_set_source_rgb(cr, 0.2, 0.65, 0.25);
-        cairo_move_to(cr, px(p.first_solved_iteration), y);
-        cairo_line_to(cr, std::max(end, px(p.first_solved_iteration) + 2), y);
-        cairo_stroke(cr);
-      }
-      // node: coloured by difficulty level
-      set_colour(cr, kLevelColours[static_cast<size_t>(level)]);
-      cairo_arc(cr, start, y, 4.5, 0, 2 * M_PI);
-      cairo_fill(cr);
-      cairo_set_source_rgb(cr, 0.15, 0.15, 0.15);
-      draw_text(cr, "#" + std::to_string(p.id) + " " + short_name(p.env.encoding.name, 18), left - 8, y + 4, 10, 1);
-    }
+              layout.width / 2, 36, 11, 0.5);
+    draw_iteration_axis(cr, layout);
+    for (const Pair& p : run.state.pairs) draw_pair_row(cr, layout, p, metrics.iterations_done);
     // transfers, drawn last so they stay visible
-    for (const AcceptedTransfer& t : metrics.accepted_transfers) {
-      if (!row.count(t.source) || !row.count(t.target)) continue;
-      const double x = px(t.iteration), y0 = py(t.source), y1 = py(t.target);
-      const double bend = std::min(40.0, std::abs(y1 - y0) / 3 + 8);
-      cairo_set_source_rgba(cr, 0.95, 0.5, 0.05, 0.85);
-      cairo_set_line_width(cr, 1.4);
-      cairo_move_to(cr, x, y0);
-      cairo_curve_to(cr, x + bend, y0, x + bend, y1, x + 3, y1);
-      cairo_stroke(cr);
-      const double dir = y1 > y0 ? -1 : 1;  // arrow head at the target
-      cairo_move_to(cr, x + 3, y1);
-      cairo_line_to(cr, x + 10, y1 + 3 * dir - 2);
-      cairo_line_to(cr, x + 10, y1 - 3 * dir + 2);
-      cairo_close_path(cr);
-      cairo_fill(cr);
-    }
-    // legend of levels
-    double lx = 12;
-    for (size_t level = 0; level < kLevels; ++level) {
-      set_colour(cr, kLevelColours[level]);
-      cairo_arc(cr, lx + 4, height - 12, 4, 0, 2 * M_PI);
-      cairo_fill(cr);
-      cairo_set_source_rgb(cr, 0.2, 0.2, 0.2);
-      const std::string name(to_string(static_cast<Difficulty>(level)));
-      draw_text(cr, name, lx + 12, height - 8, 10);
-      lx += 24 + 5.5 * static_cast<double>(name.size());
-    }
+    for (const AcceptedTransfer& t : metrics.accepted_transfers)
+      if (layout.row.count(t.source) && layout.row.count(t.target)) draw_transfer(cr, layout, t);
+    draw_level_legend(cr, layout.height);
   });
 }
 

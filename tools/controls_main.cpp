@@ -99,102 +99,110 @@ nlohmann::ordered_json json_of(const ControlRow& r) {
   return out;
 }
 
-}  // namespace
-}  // namespace poet
-
-int main(int argc, char** argv) {
-  using namespace poet;
-  CLI::App app{"Figure 3 at small scale: control runs for an environment POET solved, beside POET's lineage"};
+// poet-controls' command line.
+struct Options {
   std::string run_dir, rose_path, json_path;
   int pair_id = 0;
   std::vector<std::string> controls;
-  app.add_option("--run-dir", run_dir, "The POET run")->required();
-  app.add_option("--pair", pair_id, "The pair whose environment the controls target")->required();
-  app.add_option("controls", controls, "The control runs' directories (made from poet-lineage's configs)")->required();
-  app.add_option("--rose", rose_path, "Draw the rose picture here (.png or .svg)");
-  app.add_option("--json", json_path, "Write the table as JSON here ('-' for stdout, instead of the table)");
-  add_fingerprint_flag(app);
-  if (auto code = parse_command_line(app, argc, argv)) return *code;
+};
 
-  PictureFormat format = PictureFormat::kPng;
-  if (!rose_path.empty()) {
-    const std::string ext = std::filesystem::path(rose_path).extension().string();
-    if (ext != ".png" && ext != ".svg") {
-      std::cerr << "poet-controls: --rose " << rose_path << ": the file must end in .png or .svg\n";
-      return kExitUsage;
-    }
-    format = ext == ".svg" ? PictureFormat::kSvg : PictureFormat::kPng;
-  }
-  Expected<RunSnapshot> run = read_run_snapshot(run_dir);
-  if (!run) {
-    std::cerr << "poet-controls: " << run.error() << "\n";
-    return kExitUsage;
-  }
-  const Pair* pair = run->state.find(pair_id);
-  if (!pair || pair->env.encoding.is_cppn()) {
-    std::cerr << "poet-controls: "
-              << (pair ? "pair " + std::to_string(pair_id) + " has a CPPN course, which has no 5-vector"
-                       : "no pair " + std::to_string(pair_id) + " in " + run_dir)
-              << "\n";
-    return kExitUsage;
-  }
-  const EnvEncoding& target = pair->env.encoding;
+// Parses the command line into `o`. nullopt: go on; otherwise the exit code (as parse_command_line).
+std::optional<int> parse_options(int argc, char** argv, Options& o) {
+  CLI::App app{"Figure 3 at small scale: control runs for an environment POET solved, beside POET's lineage"};
+  app.add_option("--run-dir", o.run_dir, "The POET run")->required();
+  app.add_option("--pair", o.pair_id, "The pair whose environment the controls target")->required();
+  app.add_option("controls", o.controls, "The control runs' directories (made from poet-lineage's configs)")
+      ->required();
+  app.add_option("--rose", o.rose_path, "Draw the rose picture here (.png or .svg)");
+  app.add_option("--json", o.json_path, "Write the table as JSON here ('-' for stdout, instead of the table)");
+  add_fingerprint_flag(app);
+  return parse_command_line(app, argc, argv);
+}
+
+// The rose picture's format, from its file's extension (PNG when there is no picture).
+Expected<PictureFormat> rose_format(const std::string& rose_path) {
+  if (rose_path.empty()) return PictureFormat::kPng;
+  const std::string ext = std::filesystem::path(rose_path).extension().string();
+  if (ext != ".png" && ext != ".svg") return Unexpected{"--rose " + rose_path + ": the file must end in .png or .svg"};
+  return ext == ".svg" ? PictureFormat::kSvg : PictureFormat::kPng;
+}
+
+Expected<std::vector<ControlRow>> control_rows(const std::vector<std::string>& controls, const EnvEncoding& target) {
   std::vector<ControlRow> rows;
   for (const std::string& dir : controls) {
     Expected<ControlRow> row = control_row(dir, target);
-    if (!row) {
-      std::cerr << "poet-controls: " << row.error() << "\n";
-      return kExitUsage;
-    }
+    if (!row) return Unexpected{row.error()};
     rows.push_back(std::move(*row));
   }
-  const int64_t lineage_steps = lineage_es_steps(run->state, pair_id);
-  const std::optional<int64_t> lineage_env = lineage_env_steps(run->state, pair_id, pair_env_steps_at(run->stats));
+  return rows;
+}
 
-  if (!rose_path.empty()) {
-    ControlsRose rose;
-    rose.title = "Pair " + std::to_string(pair_id) + ": POET's environment and the controls' closest solved";
-    rose.poet_label = target.name;
-    rose.poet = env_vector(target);
-    for (const ControlRow& r : rows)
-      rose.controls.push_back({r.mode + ", seed " + std::to_string(r.seed),
-                               r.closest.distance ? std::optional<EnvVector>(r.closest.closest) : std::nullopt,
-                               r.closest.distance});
-    const Expected<std::string> bytes = render_controls_rose(format, rose);
-    std::ofstream out(rose_path, std::ios::binary);
-    if (!bytes || !(out << *bytes)) {
-      std::cerr << "poet-controls: cannot write " << rose_path << (bytes ? "" : ": " + bytes.error()) << "\n";
-      return 1;
-    }
-  }
-  if (!json_path.empty()) {
-    nlohmann::ordered_json out;
-    out["run_dir"] = run_dir;
-    out["pair"] = pair_id;
-    out["environment"] = target.name;
-    out["poet"] = {{"lineage_es_steps", lineage_steps},
-                   {"lineage_env_steps", lineage_env ? nlohmann::ordered_json(*lineage_env) : nullptr},
-                   {"created", pair->created_iteration},
-                   {"solved", pair->solved() ? nlohmann::ordered_json(pair->first_solved_iteration) : nullptr}};
-    out["controls"] = nlohmann::ordered_json::array();
-    for (const ControlRow& r : rows) out["controls"].push_back(json_of(r));
-    const std::string text = out.dump(2) + "\n";
-    if (json_path == "-") {
-      std::cout << text;
-      return 0;
-    }
-    std::ofstream file(json_path);
-    if (!(file << text)) {
-      std::cerr << "poet-controls: cannot write " << json_path << "\n";
-      return 1;
-    }
+// POET's side of the comparison: the pair, and the cost of its lineage.
+struct PoetLineage {
+  const Pair& pair;
+  int64_t es_steps = 0;
+  std::optional<int64_t> env_steps;  // nothing: not recorded
+};
+
+// Draws the rose picture into path; returns what went wrong, or "".
+std::string write_rose(const std::string& path, PictureFormat format, const PoetLineage& poet_side,
+                       const std::vector<ControlRow>& rows) {
+  const EnvEncoding& target = poet_side.pair.env.encoding;
+  ControlsRose rose;
+  rose.title = "Pair " + std::to_string(poet_side.pair.id) + ": POET's environment and the controls' closest solved";
+  rose.poet_label = target.name;
+  rose.poet = env_vector(target);
+  for (const ControlRow& r : rows)
+    rose.controls.push_back({r.mode + ", seed " + std::to_string(r.seed),
+                             r.closest.distance ? std::optional<EnvVector>(r.closest.closest) : std::nullopt,
+                             r.closest.distance});
+  const Expected<std::string> bytes = render_controls_rose(format, rose);
+  std::ofstream out(path, std::ios::binary);
+  if (!bytes || !(out << *bytes)) return "cannot write " + path + (bytes ? "" : ": " + bytes.error());
+  return "";
+}
+
+nlohmann::ordered_json comparison_json(const std::string& run_dir, const PoetLineage& poet_side,
+                                       const std::vector<ControlRow>& rows) {
+  const Pair& pair = poet_side.pair;
+  nlohmann::ordered_json out;
+  out["run_dir"] = run_dir;
+  out["pair"] = pair.id;
+  out["environment"] = pair.env.encoding.name;
+  out["poet"] = {{"lineage_es_steps", poet_side.es_steps},
+                 {"lineage_env_steps", poet_side.env_steps ? nlohmann::ordered_json(*poet_side.env_steps) : nullptr},
+                 {"created", pair.created_iteration},
+                 {"solved", pair.solved() ? nlohmann::ordered_json(pair.first_solved_iteration) : nullptr}};
+  out["controls"] = nlohmann::ordered_json::array();
+  for (const ControlRow& r : rows) out["controls"].push_back(json_of(r));
+  return out;
+}
+
+// Writes the JSON document to path ('-': stdout); the exit code.
+int write_json(const std::string& path, const nlohmann::ordered_json& doc) {
+  const std::string text = doc.dump(2) + "\n";
+  if (path == "-") {
+    std::cout << text;
     return 0;
   }
-  std::printf("pair %d: %s (%s), created at %d, %s\n", pair_id, target.name.c_str(),
-              std::string(level_label(target)).c_str(), pair->created_iteration,
-              pair->solved() ? ("solved at " + std::to_string(pair->first_solved_iteration)).c_str() : "not solved");
-  std::printf("POET's lineage: %lld ES steps, %s environment steps\n\n", static_cast<long long>(lineage_steps),
-              lineage_env ? number(static_cast<double>(*lineage_env) / 1e6, "%.1f M").c_str() : "(not recorded)");
+  std::ofstream file(path);
+  if (!(file << text)) {
+    std::cerr << "poet-controls: cannot write " << path << "\n";
+    return 1;
+  }
+  return 0;
+}
+
+// The comparison as a Markdown table, under a line on the pair and one on its lineage.
+void print_comparison(const PoetLineage& poet_side, const std::vector<ControlRow>& rows) {
+  const Pair& pair = poet_side.pair;
+  const EnvEncoding& target = pair.env.encoding;
+  std::printf("pair %d: %s (%s), created at %d, %s\n", pair.id, target.name.c_str(),
+              std::string(level_label(target)).c_str(), pair.created_iteration,
+              pair.solved() ? ("solved at " + std::to_string(pair.first_solved_iteration)).c_str() : "not solved");
+  std::printf("POET's lineage: %lld ES steps, %s environment steps\n\n", static_cast<long long>(poet_side.es_steps),
+              poet_side.env_steps ? number(static_cast<double>(*poet_side.env_steps) / 1e6, "%.1f M").c_str()
+                                  : "(not recorded)");
   std::printf(
       "| control | seed | ES steps | environment steps | best on the target | solved | closest solved | "
       "normalised distance |\n|---|---|---|---|---|---|---|---|\n");
@@ -204,5 +212,47 @@ int main(int argc, char** argv) {
         static_cast<long long>(r.es_steps), r.env_steps / 1e6, number(r.best_on_target, "%.1f").c_str(),
         r.solved_at_es_step ? ("yes, ES step " + std::to_string(*r.solved_at_es_step)).c_str() : "no",
         r.closest.distance ? r.closest.closest_env.c_str() : "nothing", number(r.closest.distance, "%.3f").c_str());
+}
+
+}  // namespace
+}  // namespace poet
+
+int main(int argc, char** argv) {
+  using namespace poet;
+  Options o;
+  if (auto code = parse_options(argc, argv, o)) return *code;
+  const Expected<PictureFormat> format = rose_format(o.rose_path);
+  if (!format) {
+    std::cerr << "poet-controls: " << format.error() << "\n";
+    return kExitUsage;
+  }
+  Expected<RunSnapshot> run = read_run_snapshot(o.run_dir);
+  if (!run) {
+    std::cerr << "poet-controls: " << run.error() << "\n";
+    return kExitUsage;
+  }
+  const Pair* pair = run->state.find(o.pair_id);
+  if (!pair || pair->env.encoding.is_cppn()) {
+    std::cerr << "poet-controls: "
+              << (pair ? "pair " + std::to_string(o.pair_id) + " has a CPPN course, which has no 5-vector"
+                       : "no pair " + std::to_string(o.pair_id) + " in " + o.run_dir)
+              << "\n";
+    return kExitUsage;
+  }
+  const Expected<std::vector<ControlRow>> rows = control_rows(o.controls, pair->env.encoding);
+  if (!rows) {
+    std::cerr << "poet-controls: " << rows.error() << "\n";
+    return kExitUsage;
+  }
+  const PoetLineage poet_side{*pair, lineage_es_steps(run->state, o.pair_id),
+                              lineage_env_steps(run->state, o.pair_id, pair_env_steps_at(run->stats))};
+
+  if (!o.rose_path.empty())
+    if (std::string error = write_rose(o.rose_path, *format, poet_side, *rows); !error.empty()) {
+      std::cerr << "poet-controls: " << error << "\n";
+      return 1;
+    }
+  if (!o.json_path.empty()) return write_json(o.json_path, comparison_json(o.run_dir, poet_side, *rows));
+  print_comparison(poet_side, *rows);
   return 0;
 }

@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <fstream>
 #include <iostream>
+#include <optional>
 #include <string>
 #include <thread>
 #include <vector>
@@ -43,122 +44,160 @@ std::string suite_list() {
   return names;
 }
 
-}  // namespace
-
-int main(int argc, char** argv) {
-  CLI::App app{"Evaluate a policy on courses over a range of terrain seeds, or on a held-out test suite"};
+// poet-eval's command line.
+struct Options {
   std::string policy_path, seeds = "0:49", json_path, suite_name, run_dir;
   std::vector<std::string> courses, env_paths;
   poet::WalkerFlags walker;
   int threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
-  auto* policy_option = app.add_option("--policy", policy_path, "Policy file, JSON [[p0..p2803], score]");
+  bool policy_given = false, suite_given = false, run_given = false;
+  std::string walker_flag;  // the first of the walker's flags given, which --run-dir refuses; empty: none
+};
+
+// Parses the command line into `o`. nullopt: go on; otherwise the exit code (as parse_command_line).
+std::optional<int> parse_options(int argc, char** argv, Options& o) {
+  CLI::App app{"Evaluate a policy on courses over a range of terrain seeds, or on a held-out test suite"};
+  auto* policy_option = app.add_option("--policy", o.policy_path, "Policy file, JSON [[p0..p2803], score]");
   auto* course_option =
-      app.add_option("--course", courses, "Named course (repeatable): flat, r1, r3, hard, hardcore-like");
-  auto* env_option = app.add_option("--env", env_paths,
+      app.add_option("--course", o.courses, "Named course (repeatable): flat, r1, r3, hard, hardcore-like");
+  auto* env_option = app.add_option("--env", o.env_paths,
                                     "Environment definition file (repeatable); its seed is replaced by the sweep's");
-  auto* seeds_option = app.add_option("--seeds", seeds, "Terrain seeds FIRST:LAST, inclusive (default 0:49)");
-  auto* suite_option = app.add_option("--suite", suite_name, "Held-out test suite instead of courses: " + suite_list())
-                           ->excludes(course_option, env_option, seeds_option);
-  auto* run_option = app.add_option("--run-dir", run_dir,
+  auto* seeds_option = app.add_option("--seeds", o.seeds, "Terrain seeds FIRST:LAST, inclusive (default 0:49)");
+  auto* suite_option =
+      app.add_option("--suite", o.suite_name, "Held-out test suite instead of courses: " + suite_list())
+          ->excludes(course_option, env_option, seeds_option);
+  auto* run_option = app.add_option("--run-dir", o.run_dir,
                                     "Evaluate every policy of this run directory (each pair's θ and best θ) on the "
                                     "suite, with the run's own walker")
                          ->needs(suite_option)
                          ->excludes(policy_option);
-  poet::add_walker_flags(app, walker);
-  app.add_option("--threads", threads, "Worker threads")->check(CLI::Range(1, 256));
-  app.add_option("--json", json_path, "Also write the results as JSON to this file ('-' for stdout)");
+  poet::add_walker_flags(app, o.walker);
+  app.add_option("--threads", o.threads, "Worker threads")->check(CLI::Range(1, 256));
+  app.add_option("--json", o.json_path, "Also write the results as JSON to this file ('-' for stdout)");
   poet::add_fingerprint_flag(app);
-  if (auto code = poet::parse_command_line(app, argc, argv)) return *code;
-  FILE* table = json_path == "-" ? stderr : stdout;
+  if (auto code = poet::parse_command_line(app, argc, argv)) return code;
+  o.policy_given = static_cast<bool>(*policy_option);
+  o.suite_given = static_cast<bool>(*suite_option);
+  o.run_given = static_cast<bool>(*run_option);
+  for (const char* flag : {"--push-scale", "--lidar", "--max-steps"})
+    if (o.walker_flag.empty() && app.count(flag) > 0) o.walker_flag = flag;
+  return std::nullopt;
+}
 
-  std::optional<poet::CourseSuite> suite;
-  if (*suite_option) {
-    suite = poet::named_suite(suite_name);
-    if (!suite) {
-      std::fprintf(stderr, "poet-eval: unknown suite '%s' (known: %s)\n", suite_name.c_str(), suite_list().c_str());
-      return 2;
-    }
-  }
-  if (*run_option) {
-    for (const char* flag : {"--push-scale", "--lidar", "--max-steps"})
-      if (app.count(flag) > 0) {
-        std::fprintf(stderr, "poet-eval: %s does not go with --run-dir, which evaluates with the run's own walker\n",
-                     flag);
-        return 2;
-      }
-    auto run = poet::read_run_snapshot(run_dir);
-    if (!run) {
-      std::fprintf(stderr, "poet-eval: %s\n", run.error().c_str());
-      return 2;
-    }
-    const poet::RunSuite scores = poet::evaluate_run_on_suite(run->state, *suite, threads);
-    std::fputs(poet::run_suite_table(scores).c_str(), table);
-    if (!json_path.empty() && !write_json(json_path, poet::run_suite_json(scores, *suite, run_dir, true))) return 1;
-    return 0;
-  }
-  if (!*policy_option) {
-    std::fprintf(stderr, "poet-eval: --policy (or --run-dir with --suite) is required\n");
+// The JSON of a policy's evaluation: the walker and the policy, to which the results are added.
+nlohmann::json policy_doc(const Options& o) {
+  nlohmann::json doc = {
+      {"push_scale", o.walker.push_scale}, {"lidar", o.walker.lidar}, {"max_steps", o.walker.max_steps}};
+  doc["policy"] = o.policy_path;
+  return doc;
+}
+
+// --run-dir: every policy of the run on the suite, with the run's own walker.
+int evaluate_run(const Options& o, const poet::CourseSuite& suite, FILE* table) {
+  if (!o.walker_flag.empty()) {
+    std::fprintf(stderr, "poet-eval: %s does not go with --run-dir, which evaluates with the run's own walker\n",
+                 o.walker_flag.c_str());
     return 2;
   }
-  auto policy = poet::load_policy(policy_path);
-  if (!policy) {
-    std::fprintf(stderr, "poet-eval: %s\n", policy.error().c_str());
+  auto run = poet::read_run_snapshot(o.run_dir);
+  if (!run) {
+    std::fprintf(stderr, "poet-eval: %s\n", run.error().c_str());
     return 2;
   }
-  const poet::Mlp mlp(policy->params);
-  const poet::WalkerOptions options = walker.options();
-  const nlohmann::json walker_json = {
-      {"push_scale", walker.push_scale}, {"lidar", walker.lidar}, {"max_steps", walker.max_steps}};
+  const poet::RunSuite scores = poet::evaluate_run_on_suite(run->state, suite, o.threads);
+  std::fputs(poet::run_suite_table(scores).c_str(), table);
+  if (!o.json_path.empty() && !write_json(o.json_path, poet::run_suite_json(scores, suite, o.run_dir, true))) return 1;
+  return 0;
+}
 
-  if (suite) {
-    const poet::SuiteScore score = poet::run_suite(mlp, *suite, options, walker.max_steps, threads);
-    std::fputs(poet::suite_table(score).c_str(), table);
-    nlohmann::json doc = walker_json;
-    doc["policy"] = policy_path;
-    doc.update(poet::to_json(score, *suite));
-    if (!json_path.empty() && !write_json(json_path, doc)) return 1;
-    return 0;
-  }
+int evaluate_on_suite(const Options& o, const poet::Mlp& mlp, const poet::CourseSuite& suite, FILE* table) {
+  const poet::SuiteScore score = poet::run_suite(mlp, suite, o.walker.options(), o.walker.max_steps, o.threads);
+  std::fputs(poet::suite_table(score).c_str(), table);
+  nlohmann::json doc = policy_doc(o);
+  doc.update(poet::to_json(score, suite));
+  if (!o.json_path.empty() && !write_json(o.json_path, doc)) return 1;
+  return 0;
+}
 
-  unsigned first = 0, last = 0;
-  char tail = 0;
-  if (std::sscanf(seeds.c_str(), "%u:%u%c", &first, &last, &tail) != 2 || last < first || last >= poet::kMaxEnvSeed) {
-    std::fprintf(stderr, "poet-eval: --seeds must be FIRST:LAST with 0 <= FIRST <= LAST < 1000000\n");
-    return 2;
-  }
-  std::vector<std::pair<std::string, poet::EnvEncoding>> targets;
-  for (const auto& name : courses) {
+using Targets = std::vector<std::pair<std::string, poet::EnvEncoding>>;
+
+// The courses --course and --env name (flat when none); nullopt, after a message, when one is unknown or unreadable.
+std::optional<Targets> sweep_targets(const Options& o) {
+  Targets targets;
+  for (const auto& name : o.courses) {
     auto encoding = poet::named_course(name);
     if (!encoding) {
       std::fprintf(stderr, "poet-eval: unknown course '%s'\n", name.c_str());
-      return 2;
+      return std::nullopt;
     }
     targets.emplace_back(name, *encoding);
   }
-  for (const auto& path : env_paths) {
+  for (const auto& path : o.env_paths) {
     auto def = poet::load_env_def(path);
     if (!def) {
       std::fprintf(stderr, "poet-eval: %s\n", def.error().c_str());
-      return 2;
+      return std::nullopt;
     }
     targets.emplace_back(def->encoding.name, def->encoding);
   }
   if (targets.empty()) targets.emplace_back("flat", *poet::named_course("flat"));
+  return targets;
+}
 
+// The policy on each course over the seeds: a row per course.
+int sweep_courses(const Options& o, const poet::Mlp& mlp, FILE* table) {
+  unsigned first = 0, last = 0;
+  char tail = 0;
+  if (std::sscanf(o.seeds.c_str(), "%u:%u%c", &first, &last, &tail) != 2 || last < first || last >= poet::kMaxEnvSeed) {
+    std::fprintf(stderr, "poet-eval: --seeds must be FIRST:LAST with 0 <= FIRST <= LAST < 1000000\n");
+    return 2;
+  }
+  const std::optional<Targets> targets = sweep_targets(o);
+  if (!targets) return 2;
+
+  const poet::WalkerOptions options = o.walker.options();
   std::fprintf(table, "%-16s %6s %9s %9s %9s %8s %5s %9s %10s\n", "course", "seeds", "mean", "min", "max", "finished",
                "fell", "timed_out", "mean_steps");
   nlohmann::json results = nlohmann::json::array();
-  for (const auto& [label, encoding] : targets) {
+  for (const auto& [label, encoding] : *targets) {
     const poet::CourseSweep s =
-        poet::sweep_course(mlp, label, encoding, first, int(last - first + 1), options, walker.max_steps, threads);
+        poet::sweep_course(mlp, label, encoding, first, int(last - first + 1), options, o.walker.max_steps, o.threads);
     std::fprintf(table, "%-16s %6zu %9.2f %9.2f %9.2f %8d %5d %9d %10.1f\n", label.c_str(), s.episodes.size(),
                  s.mean_return(), s.min_return(), s.max_return(), s.finished(), s.fell(), s.timed_out(),
                  s.mean_steps());
     results.push_back(poet::to_json(s));
   }
-  nlohmann::json doc = walker_json;
-  doc["policy"] = policy_path;
+  nlohmann::json doc = policy_doc(o);
   doc["courses"] = results;
-  if (!json_path.empty() && !write_json(json_path, doc)) return 1;
+  if (!o.json_path.empty() && !write_json(o.json_path, doc)) return 1;
   return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  Options o;
+  if (auto code = parse_options(argc, argv, o)) return *code;
+  FILE* table = o.json_path == "-" ? stderr : stdout;
+
+  std::optional<poet::CourseSuite> suite;
+  if (o.suite_given) {
+    suite = poet::named_suite(o.suite_name);
+    if (!suite) {
+      std::fprintf(stderr, "poet-eval: unknown suite '%s' (known: %s)\n", o.suite_name.c_str(), suite_list().c_str());
+      return 2;
+    }
+  }
+  if (o.run_given) return evaluate_run(o, *suite, table);
+  if (!o.policy_given) {
+    std::fprintf(stderr, "poet-eval: --policy (or --run-dir with --suite) is required\n");
+    return 2;
+  }
+  auto policy = poet::load_policy(o.policy_path);
+  if (!policy) {
+    std::fprintf(stderr, "poet-eval: %s\n", policy.error().c_str());
+    return 2;
+  }
+  const poet::Mlp mlp(policy->params);
+  return suite ? evaluate_on_suite(o, mlp, *suite, table) : sweep_courses(o, mlp, table);
 }

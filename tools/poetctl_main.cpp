@@ -80,6 +80,119 @@ std::function<bool(const std::string&)> printer(void (*print)(const Message&), c
   };
 }
 
+// poetctl's command line: the subcommand given, and what the options bound.
+struct Options {
+  std::string command;  // the subcommand's name
+  std::string address;
+  bool json = false;
+  int pair_id = 0;
+  int64_t since = 0;
+  int64_t limit = kMaxEventsPerPage;
+  std::string key_dir, key_name;
+  bool authorize = false;
+  std::string picture_kind_name, picture_out, picture_run_dir;
+  int picture_pair = -1;
+  std::string pack_dir, pack_file;
+};
+
+// The subcommands that ask the status socket.
+void add_status_commands(CLI::App& app, Options& o) {
+  app.add_subcommand("status", "The run at a glance: iteration, pairs, workers, throughput");
+  app.add_subcommand("pairs", "Every pair: environment, scores, lineage in brief");
+  auto* pair = app.add_subcommand("pair", "One pair: its scores over iterations and its lineage");
+  pair->add_option("id", o.pair_id, "The pair's id")->required()->check(CLI::Range(0, 999'999'999));
+  app.add_subcommand("archive", "Every environment ever admitted");
+  app.add_subcommand("workers", "The connected workers");
+  auto* events = app.add_subcommand("events", "The run's events (events.jsonl), from line --since");
+  events->add_option("--since", o.since, "The first line (0-based; default 0)")
+      ->check(CLI::Range(int64_t{0}, int64_t{1} << 50));
+  events->add_option("--limit", o.limit, "At most this many events")->check(CLI::Range(int64_t{1}, kMaxEventsPerPage));
+  app.add_subcommand("metrics", "The Prometheus metrics, as text");
+}
+
+void add_keygen_command(CLI::App& app, Options& o) {
+  auto* keygen = app.add_subcommand(
+      "keygen", "Make a CURVE key pair DIR/NAME.key and DIR/NAME.key_secret, for --curve-keys (no socket involved)");
+  keygen->add_option("dir", o.key_dir, "The key directory (created if missing)")->required();
+  keygen->add_option("name", o.key_name, "coordinator, or worker")
+      ->required()
+      ->check(CLI::IsMember({"coordinator", "worker"}));
+  keygen->add_flag("--authorize", o.authorize, "Also copy the public key into DIR/authorized/ (workers only)");
+}
+
+void add_picture_command(CLI::App& app, Options& o) {
+  auto* picture = app.add_subcommand(
+      "picture",
+      "A picture of the run: scores, levels, annecs, tree, rose (.png/.svg) or a pair's course, filmstrip, lineage "
+      "(.png/.svg) or walk (.gif); from the live coordinator, or from a run directory's files with --run-dir");
+  picture
+      ->add_option("kind", o.picture_kind_name,
+                   "scores, levels, annecs, tree, rose, course, filmstrip, lineage or walk")
+      ->required();
+  picture->add_option("out", o.picture_out, "The file to write: .png, .svg or .gif")->required();
+  picture->add_option("--pair", o.picture_pair, "The pair (course, filmstrip, lineage, walk)")
+      ->check(CLI::Range(0, 999'999'999));
+  picture->add_option("--run-dir", o.picture_run_dir, "Draw from this run directory's files instead (never changed)");
+}
+
+void add_pack_commands(CLI::App& app, Options& o) {
+  auto* pack = app.add_subcommand(
+      "pack",
+      "Write RUN_DIR's run (its last checkpoint and the logs it has seen; the run may be going on) into one "
+      "file, to go on elsewhere with poet-coordinator --resume --from-pack (no socket involved)");
+  pack->add_option("run_dir", o.pack_dir, "The run directory")->required();
+  pack->add_option("file", o.pack_file, "The pack to write (replaced if it exists)")->required();
+  auto* unpack = app.add_subcommand(
+      "unpack",
+      "Restore a pack into DIR (new or empty) without running it: read it with poet-report, or go on with "
+      "poet-coordinator --run-dir DIR --resume");
+  unpack->add_option("file", o.pack_file, "The pack")->required();
+  unpack->add_option("dir", o.pack_dir, "The run directory to make")->required();
+}
+
+// Parses the command line into `o`. nullopt: go on; otherwise the exit code (as parse_command_line).
+std::optional<int> parse_options(int argc, char** argv, Options& o) {
+  CLI::App app{"Ask a running poet-coordinator's status socket what its run is doing"};
+  app.fallthrough();  // --address and --json may come after the command
+  app.require_subcommand(1);
+  app.add_option("--address", o.address,
+                 std::string("The coordinator's status socket HOST:PORT (default: $") + kAddressVariable +
+                     " if set, else " + poet::kCoordinatorStatusAddress + ")");
+  app.add_flag("--json", o.json, "Print the server's JSON as it came (/metrics is always text)");
+  add_fingerprint_flag(app);
+  add_status_commands(app, o);
+  add_keygen_command(app, o);
+  add_picture_command(app, o);
+  add_pack_commands(app, o);
+  if (std::optional<int> code = parse_command_line(app, argc, argv)) return code;
+  o.command = app.get_subcommands().front()->get_name();  // exactly one, as required
+  return std::nullopt;
+}
+
+// The request of a status subcommand, and the table its answer prints as.
+Command status_command(const Options& o) {
+  if (o.command == "status") return {"/status", printer(&print_status, "/status"), nullptr};
+  if (o.command == "pairs") return {"/pairs", printer(&print_pairs, "/pairs"), nullptr};
+  if (o.command == "pair") {
+    const std::string path = "/pairs/" + std::to_string(o.pair_id);
+    return {path, printer(&print_pair, path), nullptr};
+  }
+  if (o.command == "archive") return {"/archive", printer(&print_archive, "/archive"), nullptr};
+  if (o.command == "workers") return {"/workers", printer(&print_workers, "/workers"), nullptr};
+  if (o.command == "events") {
+    const std::string path = "/events?since=" + std::to_string(o.since) + "&limit=" + std::to_string(o.limit);
+    return {path, printer(&print_events, "/events"), nullptr};
+  }
+  return {"/metrics", nullptr, nullptr};
+}
+
+// --address, else $POET_STATUS, else the default.
+std::string status_address(const std::string& address) {
+  if (!address.empty()) return address;
+  const char* from_environment = std::getenv(kAddressVariable);
+  return from_environment && *from_environment ? from_environment : poet::kCoordinatorStatusAddress;
+}
+
 }  // namespace
 }  // namespace poet
 
@@ -87,104 +200,21 @@ int main(int argc, char** argv) {
   std::signal(SIGPIPE, SIG_IGN);  // a server that hangs up is an error to report, not a reason to die
   using namespace poet;
 
-  CLI::App app{"Ask a running poet-coordinator's status socket what its run is doing"};
-  app.fallthrough();  // --address and --json may come after the command
-  app.require_subcommand(1);
-  std::string address;
-  app.add_option("--address", address,
-                 std::string("The coordinator's status socket HOST:PORT (default: $") + kAddressVariable +
-                     " if set, else " + poet::kCoordinatorStatusAddress + ")");
-  bool json = false;
-  app.add_flag("--json", json, "Print the server's JSON as it came (/metrics is always text)");
-  add_fingerprint_flag(app);
+  Options o;
+  if (const std::optional<int> code = parse_options(argc, argv, o)) return *code;
+  if (o.command == "keygen") return make_keys(o.key_dir, o.key_name, o.authorize);
+  if (o.command == "pack") return pack_run(o.pack_dir, o.pack_file);
+  if (o.command == "unpack") return unpack_run(o.pack_file, o.pack_dir);
+  if (o.command != "picture") return run(status_address(o.address), status_command(o), o.json);
 
-  int pair_id = 0;
-  int64_t since = 0;
-  int64_t limit = kMaxEventsPerPage;
-  auto* status = app.add_subcommand("status", "The run at a glance: iteration, pairs, workers, throughput");
-  auto* pairs = app.add_subcommand("pairs", "Every pair: environment, scores, lineage in brief");
-  auto* pair = app.add_subcommand("pair", "One pair: its scores over iterations and its lineage");
-  pair->add_option("id", pair_id, "The pair's id")->required()->check(CLI::Range(0, 999'999'999));
-  auto* archive = app.add_subcommand("archive", "Every environment ever admitted");
-  auto* workers = app.add_subcommand("workers", "The connected workers");
-  auto* events = app.add_subcommand("events", "The run's events (events.jsonl), from line --since");
-  events->add_option("--since", since, "The first line (0-based; default 0)")
-      ->check(CLI::Range(int64_t{0}, int64_t{1} << 50));
-  events->add_option("--limit", limit, "At most this many events")->check(CLI::Range(int64_t{1}, kMaxEventsPerPage));
-  auto* metrics = app.add_subcommand("metrics", "The Prometheus metrics, as text");
-  std::string key_dir;
-  std::string key_name;
-  bool authorize = false;
-  auto* keygen = app.add_subcommand(
-      "keygen", "Make a CURVE key pair DIR/NAME.key and DIR/NAME.key_secret, for --curve-keys (no socket involved)");
-  keygen->add_option("dir", key_dir, "The key directory (created if missing)")->required();
-  keygen->add_option("name", key_name, "coordinator, or worker")
-      ->required()
-      ->check(CLI::IsMember({"coordinator", "worker"}));
-  keygen->add_flag("--authorize", authorize, "Also copy the public key into DIR/authorized/ (workers only)");
-  std::string picture_kind_name, picture_out, picture_run_dir;
-  int picture_pair = -1;
-  auto* picture = app.add_subcommand(
-      "picture",
-      "A picture of the run: scores, levels, annecs, tree, rose (.png/.svg) or a pair's course, filmstrip, lineage "
-      "(.png/.svg) or walk (.gif); from the live coordinator, or from a run directory's files with --run-dir");
-  picture
-      ->add_option("kind", picture_kind_name, "scores, levels, annecs, tree, rose, course, filmstrip, lineage or walk")
-      ->required();
-  picture->add_option("out", picture_out, "The file to write: .png, .svg or .gif")->required();
-  picture->add_option("--pair", picture_pair, "The pair (course, filmstrip, lineage, walk)")
-      ->check(CLI::Range(0, 999'999'999));
-  picture->add_option("--run-dir", picture_run_dir, "Draw from this run directory's files instead (never changed)");
-  std::string pack_dir, pack_file;
-  auto* pack = app.add_subcommand(
-      "pack",
-      "Write RUN_DIR's run (its last checkpoint and the logs it has seen; the run may be going on) into one "
-      "file, to go on elsewhere with poet-coordinator --resume --from-pack (no socket involved)");
-  pack->add_option("run_dir", pack_dir, "The run directory")->required();
-  pack->add_option("file", pack_file, "The pack to write (replaced if it exists)")->required();
-  auto* unpack = app.add_subcommand(
-      "unpack",
-      "Restore a pack into DIR (new or empty) without running it: read it with poet-report, or go on with "
-      "poet-coordinator --run-dir DIR --resume");
-  unpack->add_option("file", pack_file, "The pack")->required();
-  unpack->add_option("dir", pack_dir, "The run directory to make")->required();
-  if (const std::optional<int> code = parse_command_line(app, argc, argv)) return *code;
-  if (keygen->parsed()) return make_keys(key_dir, key_name, authorize);
-  if (pack->parsed()) return pack_run(pack_dir, pack_file);
-  if (unpack->parsed()) return unpack_run(pack_file, pack_dir);
-  std::optional<PictureRequest> picture_request_made;
-  if (picture->parsed()) {
-    Expected<PictureRequest> request = picture_request(picture_kind_name, picture_out, picture_pair);
-    if (!request) {
-      std::fprintf(stderr, "poetctl picture: %s\n", request.error().c_str());
-      return kExitUsage;
-    }
-    if (!picture_run_dir.empty()) return picture_from_files(picture_run_dir, *request, picture_out);
-    picture_request_made = *request;
+  Expected<PictureRequest> request = picture_request(o.picture_kind_name, o.picture_out, o.picture_pair);
+  if (!request) {
+    std::fprintf(stderr, "poetctl picture: %s\n", request.error().c_str());
+    return kExitUsage;
   }
-
-  if (address.empty()) {
-    const char* from_environment = std::getenv(kAddressVariable);
-    address = from_environment && *from_environment ? from_environment : poet::kCoordinatorStatusAddress;
-  }
-
+  if (!o.picture_run_dir.empty()) return picture_from_files(o.picture_run_dir, *request, o.picture_out);
   Command command;
-  if (status->parsed()) command = {"/status", printer(&print_status, "/status"), nullptr};
-  if (pairs->parsed()) command = {"/pairs", printer(&print_pairs, "/pairs"), nullptr};
-  if (pair->parsed()) {
-    const std::string path = "/pairs/" + std::to_string(pair_id);
-    command = {path, printer(&print_pair, path), nullptr};
-  }
-  if (archive->parsed()) command = {"/archive", printer(&print_archive, "/archive"), nullptr};
-  if (workers->parsed()) command = {"/workers", printer(&print_workers, "/workers"), nullptr};
-  if (events->parsed()) {
-    const std::string path = "/events?since=" + std::to_string(since) + "&limit=" + std::to_string(limit);
-    command = {path, printer(&print_events, "/events"), nullptr};
-  }
-  if (metrics->parsed()) command = {"/metrics", nullptr, nullptr};
-  if (picture_request_made) {
-    command.path = picture_path(picture_kind_name, picture_out, *picture_request_made);
-    command.save = [&](const std::string& body) { return save_picture(picture_out, body, command.path); };
-  }
-  return run(address, command, json);
+  command.path = picture_path(o.picture_kind_name, o.picture_out, *request);
+  command.save = [&](const std::string& body) { return save_picture(o.picture_out, body, command.path); };
+  return run(status_address(o.address), command, o.json);
 }

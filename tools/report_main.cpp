@@ -141,8 +141,8 @@ void print_phase_times(const RunMetrics& m) {
   std::printf("\n");
 }
 
-void print_table(const RunSnapshot& run, const RunMetrics& m, const Coverage& coverage,
-                 const std::string& samples_file) {
+// The run: its directory, mode, progress and counters.
+void print_run_header(const RunSnapshot& run, const RunMetrics& m) {
   const RunState& state = run.state;
   std::printf("Run %s: %s, seed %llu, %d of %d iterations done%s\n", run.dir.c_str(),
               std::string(mode_words(state.settings.mode)).c_str(),
@@ -159,7 +159,9 @@ void print_table(const RunSnapshot& run, const RunMetrics& m, const Coverage& co
         "Domain randomisation: every rollout ran on a course drawn at the level %s, not on the pair's "
         "environment, which only names the run (its level below is that name's)\n\n",
         std::string(to_string(*level)).c_str());
+}
 
+void print_levels(const RunState& state, const RunMetrics& m) {
   std::printf(
       "Environments by difficulty level (spec §1.4; the first environment counts as admitted at iteration 0)\n");
   std::printf("  %-22s %8s %10s %9s %7s   %s\n", "level", "created", "passed MC", "admitted", "solved",
@@ -179,9 +181,9 @@ void print_table(const RunSnapshot& run, const RunMetrics& m, const Coverage& co
     std::printf(
         "  (CPPN terrain: Table 1's levels describe obstacle courses; every CPPN course counts as easy here, "
         "and ANNECS is this run's measure)\n\n");
-  print_milestones(run, m);
-  print_phase_times(m);
+}
 
+void print_transfers(const RunMetrics& m) {
   std::printf("Transfers: %lld replacement attempts, %lld accepted", static_cast<long long>(m.transfer_attempts),
               static_cast<long long>(m.transfer_successes));
   if (m.transfer_attempts > 0)
@@ -196,7 +198,9 @@ void print_table(const RunSnapshot& run, const RunMetrics& m, const Coverage& co
                 largest->score - largest->previous_score, largest->target, largest->source,
                 largest->proposal ? "proposal" : "direct", largest->iteration, largest->previous_score, largest->score);
   std::printf("\n");
-  print_goal_switching(run, m);
+}
+
+void print_annecs_and_frontier(const RunMetrics& m) {
   std::printf("ANNECS at admission: %d — %s\n", m.annecs.at_admission, kAnnecsAtAdmission);
   std::printf("ANNECS at archiving: %d — %s\n\n", m.annecs.at_archiving, kAnnecsAtArchiving);
   if (!m.frontier_over_time.empty()) {
@@ -207,7 +211,10 @@ void print_table(const RunSnapshot& run, const RunMetrics& m, const Coverage& co
         "%.1f (%.1f)\n\n",
         f.solved[0], f.admitted[0], f.solved[1], f.admitted[1], f.solved[2], f.admitted[2]);
   }
+}
 
+// Coverage of the levels by what was solved, and the solved environment closest to the target.
+void print_coverage(const RunMetrics& m, const Coverage& coverage, const std::string& samples_file) {
   std::printf(
       "Coverage (seed %llu, %d samples per level; sum of normalised distances to the nearest environment "
       "solved at challenging or above, lower is better)\n",
@@ -228,7 +235,9 @@ void print_table(const RunSnapshot& run, const RunMetrics& m, const Coverage& co
     else
       std::printf("\nClosest solved environment to the target %s: none solved\n", t.target_name.c_str());
   }
+}
 
+void print_pairs(const RunState& state) {
   std::printf("\nPairs\n  %4s %-28s %-12s %7s %6s %6s %7s %7s %8s %8s %8s %5s\n", "id", "environment", "level",
               "created", "parent", "from", "solved", "retired", "best", "latest", "ES steps", "xfers");
   for (const Pair& p : state.pairs) {
@@ -241,6 +250,19 @@ void print_table(const RunSnapshot& run, const RunMetrics& m, const Coverage& co
                 p.active() ? "-" : std::to_string(p.retired_iteration).c_str(), p.best_score, p.latest_score,
                 static_cast<long long>(p.es_steps), p.transfers.size());
   }
+}
+
+void print_table(const RunSnapshot& run, const RunMetrics& m, const Coverage& coverage,
+                 const std::string& samples_file) {
+  print_run_header(run, m);
+  print_levels(run.state, m);
+  print_milestones(run, m);
+  print_phase_times(m);
+  print_transfers(m);
+  print_goal_switching(run, m);
+  print_annecs_and_frontier(m);
+  print_coverage(m, coverage, samples_file);
+  print_pairs(run.state);
 }
 
 // The pair whose lineage the plots draw: the last that print_goal_switching shows (the first pair when none).
@@ -268,154 +290,173 @@ std::string write_samples(const std::string& path, const Coverage& coverage) {
   return out ? "" : "cannot write " + path;
 }
 
+// poet-report's command line.
+struct Options {
+  std::string run_dir, json_path, plots_dir, target_path, samples_path;
+  uint64_t coverage_seed = kDefaultCoverageSeed;
+  int per_level = kDefaultCoveragePerLevel;
+  int until_iteration = 0;
+  int64_t until_env_steps = 0;
+  bool until_iteration_given = false;
+  bool until_env_steps_given = false;
+  std::string suite_name;
+  bool suite_given = false;
+  int threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+};
+
+// Parses the command line into `o`. nullopt: go on; otherwise the exit code (as parse_command_line).
+std::optional<int> parse_options(int argc, char** argv, Options& o) {
+  CLI::App app{"The paper's metrics of a run directory: a table, JSON and plots. Never changes the run."};
+  app.add_option("--run-dir", o.run_dir, "Run directory (finished, live or resumed)")->required();
+  app.add_option("--json", o.json_path,
+                 "Write the metrics as JSON to this file ('-' for stdout, instead of the table)");
+  app.add_option(
+      "--plots", o.plots_dir,
+      "Write scores.png, levels.png, annecs.png, frontier.png, phases.png, tree.png and lineage.png (the courses along "
+      "the last lineage the table shows) into this directory");
+  app.add_option("--target", o.target_path,
+                 "Environment file (envs/*.env.json form): report the solved environment closest to it (default: a "
+                 "control run's own target)");
+  app.add_option("--coverage-samples", o.samples_path, "Write the coverage sample and per-sample distances (CSV) here");
+  app.add_option("--coverage-seed", o.coverage_seed, "Seed of the coverage sample");
+  app.add_option("--coverage-per-level", o.per_level, "Coverage samples per difficulty level (paper: 1000)")
+      ->check(CLI::Range(1, 1000000));
+  auto* until_option = app.add_option("--until-iteration", o.until_iteration,
+                                      "Report the run as it stood at the end of this iteration (to compare runs at "
+                                      "equal budgets)")
+                           ->check(CLI::Range(0, INT_MAX));
+  app.add_option("--until-env-steps", o.until_env_steps,
+                 "Report the run as it stood at the last iteration within this many environment steps (counted by "
+                 "that iteration's ES steps and evaluations)")
+      ->check(CLI::Range(int64_t{0}, INT64_MAX))
+      ->excludes(until_option);
+  auto* suite_option =
+      app.add_option(
+             "--suite", o.suite_name,
+             "Also run every agent of the run (each pair's θ and its best θ) on this held-out test suite and report "
+             "the best single agent and the best per group (as poet-eval --run-dir does)")
+          // a cut run keeps today's θs (run_directory/reading/run_cut.h): its agents are not the ones it had then
+          ->excludes(until_option, app.get_option("--until-env-steps"));
+  app.add_option("--threads", o.threads, "Threads for --suite's episodes")
+      ->check(CLI::Range(1, 256))
+      ->needs(suite_option);
+  add_fingerprint_flag(app);
+  if (auto code = parse_command_line(app, argc, argv)) return code;
+  o.until_iteration_given = app.count("--until-iteration") > 0;
+  o.until_env_steps_given = app.count("--until-env-steps") > 0;
+  o.suite_given = static_cast<bool>(*suite_option);
+  return std::nullopt;
+}
+
+// What the report is of, as the command line names it.
+struct Inputs {
+  std::optional<CourseSuite> suite;
+  std::optional<EnvEncoding> target;
+  RunSnapshot run;  // cut where --until-iteration or --until-env-steps says
+};
+
+// The inputs, or what is wrong with the command line (its outputs inside the run directory, an unknown suite,
+// an unreadable target or run, a cut before the first iteration).
+Expected<Inputs> read_inputs(const Options& o) {
+  for (const std::string* out : {&o.json_path, &o.plots_dir, &o.samples_path})
+    if (!out->empty() && *out != "-" && is_inside(*out, o.run_dir))
+      return Unexpected{*out + " is inside the run directory " + o.run_dir + "; the report never writes there"};
+  Inputs in;
+  if (o.suite_given && !(in.suite = named_suite(o.suite_name)))
+    return Unexpected{"unknown suite '" + o.suite_name + "'"};
+  if (!o.target_path.empty()) {
+    Expected<EnvDef> def = load_env_def(o.target_path);
+    if (!def) return Unexpected{"--target: " + def.error()};
+    in.target = def->encoding;
+  }
+  Expected<RunSnapshot> run = read_run_snapshot(o.run_dir);
+  if (!run) return Unexpected{run.error()};
+  in.run = std::move(*run);
+  if (o.until_iteration_given || o.until_env_steps_given) {
+    int until_iteration = o.until_iteration;
+    if (o.until_env_steps_given) {
+      const std::optional<int> last = last_iteration_within(in.run, o.until_env_steps);
+      if (!last)
+        return Unexpected{"--until-env-steps " + std::to_string(o.until_env_steps) + ": " +
+                          (in.run.stats.empty() || in.run.stats.front().run_env_steps >= 0
+                               ? "the run's first iteration took more"
+                               : "this run's pair_stats.csv does not record its environment steps")};
+      until_iteration = *last;
+    }
+    until_iteration = std::min(until_iteration, in.run.state.next_iteration - 1);
+    in.run = cut_run(std::move(in.run), until_iteration);
+    if (o.json_path.empty())
+      std::printf("(cut at the end of iteration %d: %lld environment steps by its ES steps and evaluations)\n",
+                  until_iteration, static_cast<long long>(in.run.state.counters.env_steps));
+  }
+  return in;
+}
+
+// Writes the plots into plots_dir; returns what went wrong, or "".
+std::string write_plots(const std::string& plots_dir, const RunSnapshot& run, const RunMetrics& metrics) {
+  std::error_code ec;
+  fs::create_directories(plots_dir, ec);
+  if (ec) return "--plots: cannot make " + plots_dir + ": " + ec.message();
+  const fs::path dir(plots_dir);
+  const std::pair<const char*, Expected<std::string>> plots[] = {
+      {"scores.png", render_score_plot(PictureFormat::kPng, run)},
+      {"levels.png", render_level_plot(PictureFormat::kPng, metrics)},
+      {"annecs.png", render_annecs_plot(PictureFormat::kPng, metrics)},
+      {"frontier.png", render_frontier_plot(PictureFormat::kPng, metrics)},
+      {"phases.png", render_phase_plot(PictureFormat::kPng, metrics)},
+      {"tree.png", render_tree_plot(PictureFormat::kPng, run, metrics)},
+      {"lineage.png", render_run_picture(run, {PictureKind::kLineage, PictureEncoding::kPng, deepest_pair(run)})}};
+  for (const auto& [name, bytes] : plots) {
+    const std::string path = (dir / name).string();
+    const std::string error = bytes ? write_bytes(path, *bytes) : "cannot draw " + path + ": " + bytes.error();
+    if (!error.empty()) return error;
+  }
+  return "";
+}
+
+int fail(const std::string& message, int code) {
+  std::cerr << "poet-report: " << message << "\n";
+  return code;
+}
+
 }  // namespace
 }  // namespace poet
 
 int main(int argc, char** argv) {
   using namespace poet;
-  CLI::App app{"The paper's metrics of a run directory: a table, JSON and plots. Never changes the run."};
-  std::string run_dir, json_path, plots_dir, target_path, samples_path;
-  uint64_t coverage_seed = kDefaultCoverageSeed;
-  int per_level = kDefaultCoveragePerLevel;
-  app.add_option("--run-dir", run_dir, "Run directory (finished, live or resumed)")->required();
-  app.add_option("--json", json_path, "Write the metrics as JSON to this file ('-' for stdout, instead of the table)");
-  app.add_option(
-      "--plots", plots_dir,
-      "Write scores.png, levels.png, annecs.png, frontier.png, phases.png, tree.png and lineage.png (the courses along "
-      "the last lineage the table shows) into this directory");
-  app.add_option("--target", target_path,
-                 "Environment file (envs/*.env.json form): report the solved environment closest to it (default: a "
-                 "control run's own target)");
-  app.add_option("--coverage-samples", samples_path, "Write the coverage sample and per-sample distances (CSV) here");
-  app.add_option("--coverage-seed", coverage_seed, "Seed of the coverage sample");
-  app.add_option("--coverage-per-level", per_level, "Coverage samples per difficulty level (paper: 1000)")
-      ->check(CLI::Range(1, 1000000));
-  int until_iteration = 0;
-  int64_t until_env_steps = 0;
-  auto* until_option = app.add_option("--until-iteration", until_iteration,
-                                      "Report the run as it stood at the end of this iteration (to compare runs at "
-                                      "equal budgets)")
-                           ->check(CLI::Range(0, INT_MAX));
-  app.add_option("--until-env-steps", until_env_steps,
-                 "Report the run as it stood at the last iteration within this many environment steps (counted by "
-                 "that iteration's ES steps and evaluations)")
-      ->check(CLI::Range(int64_t{0}, INT64_MAX))
-      ->excludes(until_option);
-  std::string suite_name;
-  int threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
-  auto* suite_option =
-      app.add_option(
-             "--suite", suite_name,
-             "Also run every agent of the run (each pair's θ and its best θ) on this held-out test suite and report "
-             "the best single agent and the best per group (as poet-eval --run-dir does)")
-          // a cut run keeps today's θs (run_directory/reading/run_cut.h): its agents are not the ones it had then
-          ->excludes(until_option, app.get_option("--until-env-steps"));
-  app.add_option("--threads", threads, "Threads for --suite's episodes")
-      ->check(CLI::Range(1, 256))
-      ->needs(suite_option);
-  add_fingerprint_flag(app);
-  if (auto code = parse_command_line(app, argc, argv)) return *code;
-
-  for (const std::string* out : {&json_path, &plots_dir, &samples_path})
-    if (!out->empty() && *out != "-" && is_inside(*out, run_dir)) {
-      std::cerr << "poet-report: " << *out << " is inside the run directory " << run_dir
-                << "; the report never writes there\n";
-      return 2;
-    }
-  std::optional<CourseSuite> suite;
-  if (*suite_option && !(suite = named_suite(suite_name))) {
-    std::cerr << "poet-report: unknown suite '" << suite_name << "'\n";
-    return 2;
-  }
-  std::optional<EnvEncoding> target;
-  if (!target_path.empty()) {
-    Expected<EnvDef> def = load_env_def(target_path);
-    if (!def) {
-      std::cerr << "poet-report: --target: " << def.error() << "\n";
-      return 2;
-    }
-    target = def->encoding;
-  }
-  Expected<RunSnapshot> run = read_run_snapshot(run_dir);
-  if (!run) {
-    std::cerr << "poet-report: " << run.error() << "\n";
-    return 2;
-  }
-  if (app.count("--until-env-steps") > 0) {
-    const std::optional<int> last = last_iteration_within(*run, until_env_steps);
-    if (!last) {
-      std::cerr << "poet-report: --until-env-steps " << until_env_steps << ": "
-                << (run->stats.empty() || run->stats.front().run_env_steps >= 0
-                        ? "the run's first iteration took more"
-                        : "this run's pair_stats.csv does not record its environment steps")
-                << "\n";
-      return 2;
-    }
-    until_iteration = *last;
-  }
-  if (app.count("--until-iteration") > 0 || app.count("--until-env-steps") > 0) {
-    until_iteration = std::min(until_iteration, run->state.next_iteration - 1);
-    *run = cut_run(std::move(*run), until_iteration);
-    if (json_path.empty())
-      std::printf("(cut at the end of iteration %d: %lld environment steps by its ES steps and evaluations)\n",
-                  until_iteration, static_cast<long long>(run->state.counters.env_steps));
-  }
-  const RunMetrics metrics = compute_run_metrics(*run, target);
-  const Coverage coverage = compute_coverage(run->state, coverage_seed, per_level);
+  Options o;
+  if (auto code = parse_options(argc, argv, o)) return *code;
+  Expected<Inputs> in = read_inputs(o);
+  if (!in) return fail(in.error(), 2);
+  const RunSnapshot& run = in->run;
+  const RunMetrics metrics = compute_run_metrics(run, in->target);
+  const Coverage coverage = compute_coverage(run.state, o.coverage_seed, o.per_level);
   std::optional<RunSuite> suite_scores;
-  if (suite) suite_scores = evaluate_run_on_suite(run->state, *suite, threads);
+  if (in->suite) suite_scores = evaluate_run_on_suite(run.state, *in->suite, o.threads);
   auto print_all = [&] {
-    print_table(*run, metrics, coverage, samples_path);
+    print_table(run, metrics, coverage, o.samples_path);
     if (suite_scores)
-      std::printf("\nagents on the test suite %s:\n%s", suite->name.c_str(), run_suite_table(*suite_scores).c_str());
+      std::printf("\nagents on the test suite %s:\n%s", in->suite->name.c_str(),
+                  run_suite_table(*suite_scores).c_str());
   };
 
-  if (!plots_dir.empty()) {
-    std::error_code ec;
-    fs::create_directories(plots_dir, ec);
-    if (ec) {
-      std::cerr << "poet-report: --plots: cannot make " << plots_dir << ": " << ec.message() << "\n";
-      return 1;
-    }
-    const fs::path dir(plots_dir);
-    const std::pair<const char*, Expected<std::string>> plots[] = {
-        {"scores.png", render_score_plot(PictureFormat::kPng, *run)},
-        {"levels.png", render_level_plot(PictureFormat::kPng, metrics)},
-        {"annecs.png", render_annecs_plot(PictureFormat::kPng, metrics)},
-        {"frontier.png", render_frontier_plot(PictureFormat::kPng, metrics)},
-        {"phases.png", render_phase_plot(PictureFormat::kPng, metrics)},
-        {"tree.png", render_tree_plot(PictureFormat::kPng, *run, metrics)},
-        {"lineage.png", render_run_picture(*run, {PictureKind::kLineage, PictureEncoding::kPng, deepest_pair(*run)})}};
-    for (const auto& [name, bytes] : plots) {
-      const std::string path = (dir / name).string();
-      const std::string error = bytes ? write_bytes(path, *bytes) : "cannot draw " + path + ": " + bytes.error();
-      if (!error.empty()) {
-        std::cerr << "poet-report: " << error << "\n";
-        return 1;
-      }
-    }
-  }
-  if (!samples_path.empty())
-    if (std::string error = write_samples(samples_path, coverage); !error.empty()) {
-      std::cerr << "poet-report: " << error << "\n";
-      return 1;
-    }
-  if (json_path.empty()) {
+  if (!o.plots_dir.empty())
+    if (std::string error = write_plots(o.plots_dir, run, metrics); !error.empty()) return fail(error, 1);
+  if (!o.samples_path.empty())
+    if (std::string error = write_samples(o.samples_path, coverage); !error.empty()) return fail(error, 1);
+  if (o.json_path.empty()) {
     print_all();
     return 0;
   }
-  nlohmann::ordered_json doc = report_json(*run, metrics, coverage, samples_path);
-  if (suite_scores) doc["suite"] = run_suite_json(*suite_scores, *suite, run_dir, false);
+  nlohmann::ordered_json doc = report_json(run, metrics, coverage, o.samples_path);
+  if (suite_scores) doc["suite"] = run_suite_json(*suite_scores, *in->suite, o.run_dir, false);
   const std::string text = doc.dump(2) + "\n";
-  if (json_path == "-") {
+  if (o.json_path == "-") {
     std::cout << text;
     return 0;
   }
-  std::ofstream out(json_path);
-  if (!(out << text)) {
-    std::cerr << "poet-report: cannot write " << json_path << "\n";
-    return 1;
-  }
+  std::ofstream out(o.json_path);
+  if (!(out << text)) return fail("cannot write " + o.json_path, 1);
   print_all();
   return 0;
 }

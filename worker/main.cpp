@@ -56,41 +56,26 @@ std::string check_endpoint(const std::string& endpoint) {
   return "expected tcp://HOST:PORT or ipc://PATH, got " + endpoint;
 }
 
-}  // namespace
-}  // namespace poet::worker
-
-int main(int argc, char** argv) {
-  using namespace poet::worker;
-  // first of all, so that every thread started later has the signals blocked; before the loop a signal ends the
-  // worker at once with 0 (there is nothing to say goodbye to)
-  static poet::StopSignals signals(0);
-
+// poet-worker's command line; --connect and the lie's shape go straight into the loop's settings.
+struct Options {
   LoopSettings settings;
   int threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
   std::string name;
   std::string log_level = "info";
   std::string fault;
-  CLI::App app{"A POET worker: runs the rollouts a poet-coordinator sends it"};
-  app.add_option("--connect", settings.endpoint, "The coordinator's job endpoint, tcp://HOST:PORT")
-      ->required()
-      ->check(CLI::Validator(check_endpoint, "ENDPOINT"));
-  app.add_option("--threads", threads, "Episodes run at once (default: hardware concurrency)")
-      ->check(CLI::Range(1, 4096));
-  app.add_option("--name", name, "Name in the coordinator's logs (default: host:pid)");
   std::string curve_keys;
-  app.add_option("--curve-keys", curve_keys,
-                 "CURVE authentication: DIR holds worker.key(_secret), this worker's pair, and coordinator.key, the "
-                 "coordinator's public key (made by `poetctl keygen`)")
-      ->check(CLI::ExistingDirectory);
-  app.add_option("--log-level", log_level, "trace, debug, info (default), warn, error or off")
-      ->check(CLI::IsMember({"trace", "debug", "info", "warn", "error", "off"}));
-  app.add_option("--fault", fault,
+  int parent_pid = 0;
+};
+
+// The test-only options, hidden from --help: --fault and the shape of wrong-results' lies.
+void add_fault_options(CLI::App& app, Options& o) {
+  app.add_option("--fault", o.fault,
                  "Test-only misbehaviour, for tests of the coordinator's poison-job rule, leases and verification: "
                  "crash-on-job (abort() on receiving a Job), ignore-jobs (never answer a Job, keep heartbeating), "
                  "error-on-job (answer every Job with an error) or wrong-results (returns off by one)")
       ->check(CLI::IsMember({"crash-on-job", "ignore-jobs", "error-on-job", "wrong-results"}))
       ->group("");  // hidden from --help
-  LieShape& lie = settings.session.lie;
+  LieShape& lie = o.settings.session.lie;
   app.add_option("--lie-after", lie.honest_jobs, "wrong-results: answer the first N jobs honestly")
       ->check(CLI::NonNegativeNumber)
       ->group("");
@@ -100,50 +85,95 @@ int main(int argc, char** argv) {
   app.add_flag("--lie-where-predicted-unchecked", lie.where_predicted_unchecked,
                "wrong-results: lie only where a public rule of the batch and job ids predicts no check")
       ->group("");
-  int parent_pid = 0;
-  app.add_option("--parent-pid", parent_pid,
+}
+
+// Parses the command line into `o`. nullopt: go on; otherwise the exit code (as parse_command_line).
+std::optional<int> parse_options(int argc, char** argv, Options& o) {
+  CLI::App app{"A POET worker: runs the rollouts a poet-coordinator sends it"};
+  app.add_option("--connect", o.settings.endpoint, "The coordinator's job endpoint, tcp://HOST:PORT")
+      ->required()
+      ->check(CLI::Validator(check_endpoint, "ENDPOINT"));
+  app.add_option("--threads", o.threads, "Episodes run at once (default: hardware concurrency)")
+      ->check(CLI::Range(1, 4096));
+  app.add_option("--name", o.name, "Name in the coordinator's logs (default: host:pid)");
+  app.add_option("--curve-keys", o.curve_keys,
+                 "CURVE authentication: DIR holds worker.key(_secret), this worker's pair, and coordinator.key, the "
+                 "coordinator's public key (made by `poetctl keygen`)")
+      ->check(CLI::ExistingDirectory);
+  app.add_option("--log-level", o.log_level, "trace, debug, info (default), warn, error or off")
+      ->check(CLI::IsMember({"trace", "debug", "info", "warn", "error", "off"}));
+  add_fault_options(app, o);
+  app.add_option("--parent-pid", o.parent_pid,
                  "Exit when process PID, the coordinator that started this worker, is gone (--local-workers)")
       ->check(CLI::Range(1, INT_MAX))
       ->group("");
   poet::add_fingerprint_flag(app);
-  if (const std::optional<int> code = poet::parse_command_line(app, argc, argv)) return *code;
+  return poet::parse_command_line(app, argc, argv);
+}
 
-  spdlog::set_default_logger(spdlog::stderr_color_mt("poet-worker"));
-  spdlog::set_level(spdlog::level::from_str(log_level));
-  if (parent_pid != 0) {
-    // a local worker ends with its coordinator, however that ends (a SIGKILL included): the kernel sends SIGTERM
-    // when the parent goes, and a parent gone before this line is seen as a changed parent pid
-    ::prctl(PR_SET_PDEATHSIG, SIGTERM);
-    if (::getppid() != parent_pid) {
-      spdlog::warn("the coordinator that started this worker (pid {}) is gone: exiting", parent_pid);
-      return 0;
-    }
+// A local worker ends with its coordinator, however that ends (a SIGKILL included): the kernel sends SIGTERM
+// when the parent goes, and a parent gone before this is seen as a changed parent pid. False: gone already.
+bool follow_parent(int parent_pid) {
+  ::prctl(PR_SET_PDEATHSIG, SIGTERM);
+  if (::getppid() != parent_pid) {
+    spdlog::warn("the coordinator that started this worker (pid {}) is gone: exiting", parent_pid);
+    return false;
   }
+  return true;
+}
 
-  if (!curve_keys.empty()) {
-    poet::Expected<poet::CurveKeyPair> own = poet::read_key_pair(curve_keys, "worker");
-    poet::Expected<std::string> coordinator =
-        poet::read_key_file(std::filesystem::path(curve_keys) / "coordinator.key");
-    if (!own || !coordinator) {
-      spdlog::error("--curve-keys: {} (make keys with `poetctl keygen`)", own ? coordinator.error() : own.error());
-      return poet::kExitUsage;
-    }
-    settings.curve = CurveClient{*coordinator, own->public_key, own->secret_key};
-  }
-  settings.threads = threads;
-  settings.session.threads = static_cast<uint32_t>(threads);
-  settings.session.name = name.empty() ? default_name() : name;
-  if (fault == "crash-on-job") settings.session.fault = Fault::kCrashOnJob;
-  if (fault == "ignore-jobs") settings.session.fault = Fault::kIgnoreJobs;
-  if (fault == "error-on-job") settings.session.fault = Fault::kErrorOnJob;
-  if (fault == "wrong-results") settings.session.fault = Fault::kWrongResults;
+// The keys in the --curve-keys directory: the worker's own pair and the coordinator's public key.
+poet::Expected<CurveClient> curve_client(const std::string& dir) {
+  poet::Expected<poet::CurveKeyPair> own = poet::read_key_pair(dir, "worker");
+  poet::Expected<std::string> coordinator = poet::read_key_file(std::filesystem::path(dir) / "coordinator.key");
+  if (!own || !coordinator) return poet::Unexpected{own ? coordinator.error() : own.error()};
+  return CurveClient{*coordinator, own->public_key, own->secret_key};
+}
+
+// What the worker says of itself in its Hellos: threads, name, the fault it plays and the local token.
+void set_session(Options& o) {
+  SessionSettings& session = o.settings.session;
+  session.threads = static_cast<uint32_t>(o.threads);
+  session.name = o.name.empty() ? default_name() : o.name;
+  if (o.fault == "crash-on-job") session.fault = Fault::kCrashOnJob;
+  if (o.fault == "ignore-jobs") session.fault = Fault::kIgnoreJobs;
+  if (o.fault == "error-on-job") session.fault = Fault::kErrorOnJob;
+  if (o.fault == "wrong-results") session.fault = Fault::kWrongResults;
   // a worker started by --local-workers gets the coordinator's secret in its environment, not its command line
   if (const char* token = std::getenv(poet::kLocalTokenVariable)) {
-    settings.session.local_token = token;
+    session.local_token = token;
     ::unsetenv(poet::kLocalTokenVariable);
   }
-  if (!fault.empty()) spdlog::warn("--fault {}: this worker misbehaves on purpose (a test)", fault);
-  spdlog::info("{}: {} threads, connecting to {}; build digest {:016x}", settings.session.name, threads,
+}
+
+}  // namespace
+}  // namespace poet::worker
+
+int main(int argc, char** argv) {
+  using namespace poet::worker;
+  // first of all, so that every thread started later has the signals blocked; before the loop a signal ends the
+  // worker at once with 0 (there is nothing to say goodbye to)
+  static poet::StopSignals signals(0);
+
+  Options o;
+  if (const std::optional<int> code = parse_options(argc, argv, o)) return *code;
+  spdlog::set_default_logger(spdlog::stderr_color_mt("poet-worker"));
+  spdlog::set_level(spdlog::level::from_str(o.log_level));
+  if (o.parent_pid != 0 && !follow_parent(o.parent_pid)) return 0;
+
+  LoopSettings& settings = o.settings;
+  if (!o.curve_keys.empty()) {
+    poet::Expected<CurveClient> curve = curve_client(o.curve_keys);
+    if (!curve) {
+      spdlog::error("--curve-keys: {} (make keys with `poetctl keygen`)", curve.error());
+      return poet::kExitUsage;
+    }
+    settings.curve = *curve;
+  }
+  settings.threads = o.threads;
+  set_session(o);
+  if (!o.fault.empty()) spdlog::warn("--fault {}: this worker misbehaves on purpose (a test)", o.fault);
+  spdlog::info("{}: {} threads, connecting to {}; build digest {:016x}", settings.session.name, o.threads,
                settings.endpoint, poet::build_fingerprint_digest());
 
   try {

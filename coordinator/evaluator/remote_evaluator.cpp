@@ -28,6 +28,19 @@ Millis now_ms() {
       .count();
 }
 
+// Waits up to 10 ms for a message on the wake pipe, the job socket or the authenticator's socket (with CURVE).
+void wait_for_messages(WakePipe& wake, zmq::socket_t& socket, CurveAuthenticator* authenticator) {
+  zmq::pollitem_t items[] = {{nullptr, wake.read_fd(), ZMQ_POLLIN, 0},
+                             {socket.handle(), 0, ZMQ_POLLIN, 0},
+                             {authenticator ? authenticator->socket().handle() : nullptr, 0, ZMQ_POLLIN, 0}};
+  try {
+    zmq::poll(items, authenticator ? 3 : 2, std::chrono::milliseconds(10));
+  } catch (const zmq::error_t& e) {
+    if (e.num() != EINTR) spdlog::error("poll: {}", e.what());
+  }
+  wake.drain();
+}
+
 }  // namespace
 
 RemoteEvaluator::RemoteEvaluator(DispatchSettings settings, std::stop_token stop)
@@ -192,96 +205,105 @@ void RemoteEvaluator::loop() {
         return;
       }
     }
-    zmq::pollitem_t items[] = {{nullptr, wake_.read_fd(), ZMQ_POLLIN, 0},
-                               {socket_->handle(), 0, ZMQ_POLLIN, 0},
-                               {authenticator_ ? authenticator_->socket().handle() : nullptr, 0, ZMQ_POLLIN, 0}};
-    try {
-      zmq::poll(items, authenticator_ ? 3 : 2, std::chrono::milliseconds(10));
-    } catch (const zmq::error_t& e) {
-      if (e.num() != EINTR) spdlog::error("poll: {}", e.what());
-    }
-    wake_.drain();
+    wait_for_messages(wake_, *socket_, authenticator_.get());
     const Millis now = now_ms();
     std::lock_guard lock(mutex_);
-    if (authenticator_) {
-      authenticator_->answer_all([&](const std::string& key, const std::string& reason) {
-        note_drop(DropReason::kUnauthorisedKey, "a worker with CURVE key " + key + " (" + reason + ")");
-      });
-    }
-    const int64_t demoted_before = dispatcher_.workers_demoted();
-    receive_all(now);
-    for (const auto& [first, end] : dispatcher_.take_ready_ranges())
-      if (ready_) (*ready_)(first, dispatcher_.results(first, end));
-    for (const WorkerId& dead : dispatcher_.expire(now)) {
-      if (const auto held_back = log_lost_.admit(now))
-        spdlog::warn("worker {} silent for {} ms: removed, its jobs go back to the queue{}", peer_id_text(dead),
-                     dispatcher_.settings().liveness_ms, LogThrottle::held_back_note(*held_back));
-    }
-    if (shutdown_requested_) {
-      for (const WorkerView& w : dispatcher_.workers()) {
-        Outgoing bye{w.id, {}};
-        bye.message.mutable_shutdown()->set_reason(shutdown_reason_);
-        send(bye);
-      }
-      shutdown_requested_ = false;
-      shutting_down_ = true;
-    }
-    const int64_t backups_before = dispatcher_.backup_jobs();
-    if (authenticator_) {  // a worker found wrong (by an answer or the checker): its key too, before it is told,
-      // so that it cannot come back on a new socket
-      for (const WorkerId& id : dispatcher_.refused_workers()) {
-        if (!keys_refused_for_.insert(id).second) continue;
-        if (const auto key = peer_keys_.find(id); key != peer_keys_.end()) authenticator_->refuse(key->second);
-      }
-      // bounded: the keys of peers that are gone are forgotten once they outnumber the worker limit
-      if (peer_keys_.size() > 2 * dispatcher_.settings().max_workers)
-        std::erase_if(peer_keys_, [&](const auto& peer) { return !dispatcher_.has_worker(peer.first); });
-    }
-    std::vector<WorkerId> unreachable;  // told to the dispatcher once it has made every message
-    size_t sent = 0;
-    dispatcher_.outgoing(now, [&](Outgoing&& message) {
-      if (!transmit(message)) unreachable.push_back(message.worker);
-      // Making a batch's first jobs takes milliseconds; ZeroMQ's I/O thread, when it shares this thread's core,
-      // would otherwise ship none of them until all are made, and the workers wait.
-      if (++sent % kYieldEvery == 0) std::this_thread::yield();
-    });
-    for (const WorkerId& id : unreachable) dispatcher_.lose_worker(id);
-    if (const int64_t demoted = dispatcher_.workers_demoted() - demoted_before; demoted > 0) {
-      if (const auto held_back = log_demoted_.admit(now))
-        spdlog::warn(
-            "{} worker(s) that never returned a result let a lease expire or returned an error: given "
-            "no more jobs ({} so far){}",
-            demoted, dispatcher_.workers_demoted(), LogThrottle::held_back_note(*held_back));
-    }
-    for (Dispatcher::CoordinatorCheck& check : dispatcher_.take_coordinator_checks()) {
-      if (check.disputed)
-        spdlog::warn(
-            "two workers answered job {} differently and no other worker can decide: the coordinator runs "
-            "its {} task(s) itself",
-            check.job_id, check.tasks.size());
-      else
-        spdlog::debug("no other worker can check job {}: the coordinator runs its {} task(s) itself", check.job_id,
-                      check.tasks.size());
-      checks_.push_back(std::move(check));
-      if (!checker_.joinable()) checker_ = std::thread([this] { check_loop(); });
-      checks_changed_.notify_one();
-    }
-    // from every path: this thread's answers and the checker's (check_loop)
-    for (size_t& i = wrong_logged_; i < dispatcher_.wrong_workers().size(); ++i)
-      spdlog::error(
-          "worker {} returned results that two other answers did not (two workers', or a worker's and the "
-          "coordinator's own): refused, and its results of this batch are computed again",
-          dispatcher_.wrong_workers()[i]);
-    if (const int64_t backups = dispatcher_.backup_jobs() - backups_before; backups > 0) {
-      if (const auto held_back = log_backups_.admit(now))
-        spdlog::warn("{} job(s) held far longer than this batch's jobs take: sent to a second worker too{}", backups,
-                     LogThrottle::held_back_note(*held_back));
-    }
-    if (dispatcher_.batch_done() || dispatcher_.failure()) changed_.notify_all();
+    serve(now);
     if (publish_ && now - last_publish >= 500) {
       publish_(dispatcher_.view(now));
       last_publish = now;
     }
+  }
+}
+
+void RemoteEvaluator::serve(Millis now) {
+  if (authenticator_) {
+    authenticator_->answer_all([&](const std::string& key, const std::string& reason) {
+      note_drop(DropReason::kUnauthorisedKey, "a worker with CURVE key " + key + " (" + reason + ")");
+    });
+  }
+  const int64_t demoted_before = dispatcher_.workers_demoted();
+  receive_all(now);
+  for (const auto& [first, end] : dispatcher_.take_ready_ranges())
+    if (ready_) (*ready_)(first, dispatcher_.results(first, end));
+  for (const WorkerId& dead : dispatcher_.expire(now)) {
+    if (const auto held_back = log_lost_.admit(now))
+      spdlog::warn("worker {} silent for {} ms: removed, its jobs go back to the queue{}", peer_id_text(dead),
+                   dispatcher_.settings().liveness_ms, LogThrottle::held_back_note(*held_back));
+  }
+  if (shutdown_requested_) send_shutdowns();
+  const int64_t backups_before = dispatcher_.backup_jobs();
+  if (authenticator_) refuse_keys_of_wrong_workers();
+  send_outgoing(now);
+  if (const int64_t demoted = dispatcher_.workers_demoted() - demoted_before; demoted > 0) {
+    if (const auto held_back = log_demoted_.admit(now))
+      spdlog::warn(
+          "{} worker(s) that never returned a result let a lease expire or returned an error: given "
+          "no more jobs ({} so far){}",
+          demoted, dispatcher_.workers_demoted(), LogThrottle::held_back_note(*held_back));
+  }
+  start_coordinator_checks();
+  // from every path: this thread's answers and the checker's (check_loop)
+  for (size_t& i = wrong_logged_; i < dispatcher_.wrong_workers().size(); ++i)
+    spdlog::error(
+        "worker {} returned results that two other answers did not (two workers', or a worker's and the "
+        "coordinator's own): refused, and its results of this batch are computed again",
+        dispatcher_.wrong_workers()[i]);
+  if (const int64_t backups = dispatcher_.backup_jobs() - backups_before; backups > 0) {
+    if (const auto held_back = log_backups_.admit(now))
+      spdlog::warn("{} job(s) held far longer than this batch's jobs take: sent to a second worker too{}", backups,
+                   LogThrottle::held_back_note(*held_back));
+  }
+  if (dispatcher_.batch_done() || dispatcher_.failure()) changed_.notify_all();
+}
+
+void RemoteEvaluator::send_shutdowns() {
+  for (const WorkerView& w : dispatcher_.workers()) {
+    Outgoing bye{w.id, {}};
+    bye.message.mutable_shutdown()->set_reason(shutdown_reason_);
+    send(bye);
+  }
+  shutdown_requested_ = false;
+  shutting_down_ = true;
+}
+
+// A worker found wrong (by an answer or the checker): its key too, before it is told, so that it cannot come back on
+// a new socket.
+void RemoteEvaluator::refuse_keys_of_wrong_workers() {
+  for (const WorkerId& id : dispatcher_.refused_workers()) {
+    if (!keys_refused_for_.insert(id).second) continue;
+    if (const auto key = peer_keys_.find(id); key != peer_keys_.end()) authenticator_->refuse(key->second);
+  }
+  // bounded: the keys of peers that are gone are forgotten once they outnumber the worker limit
+  if (peer_keys_.size() > 2 * dispatcher_.settings().max_workers)
+    std::erase_if(peer_keys_, [&](const auto& peer) { return !dispatcher_.has_worker(peer.first); });
+}
+
+void RemoteEvaluator::send_outgoing(Millis now) {
+  std::vector<WorkerId> unreachable;  // told to the dispatcher once it has made every message
+  size_t sent = 0;
+  dispatcher_.outgoing(now, [&](Outgoing&& message) {
+    if (!transmit(message)) unreachable.push_back(message.worker);
+    // Making a batch's first jobs takes milliseconds; ZeroMQ's I/O thread, when it shares this thread's core,
+    // would otherwise ship none of them until all are made, and the workers wait.
+    if (++sent % kYieldEvery == 0) std::this_thread::yield();
+  });
+  for (const WorkerId& id : unreachable) dispatcher_.lose_worker(id);
+}
+
+void RemoteEvaluator::start_coordinator_checks() {
+  for (Dispatcher::CoordinatorCheck& check : dispatcher_.take_coordinator_checks()) {
+    if (check.disputed)
+      spdlog::warn(
+          "two workers answered job {} differently and no other worker can decide: the coordinator runs "
+          "its {} task(s) itself",
+          check.job_id, check.tasks.size());
+    else
+      spdlog::debug("no other worker can check job {}: the coordinator runs its {} task(s) itself", check.job_id,
+                    check.tasks.size());
+    checks_.push_back(std::move(check));
+    if (!checker_.joinable()) checker_ = std::thread([this] { check_loop(); });
+    checks_changed_.notify_one();
   }
 }
 

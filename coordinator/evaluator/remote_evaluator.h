@@ -80,6 +80,13 @@ class RemoteEvaluator final : public Evaluator {
  private:
   RemoteEvaluator(DispatchSettings settings, std::stop_token stop);
   void loop();
+  // One round of the socket thread, under the lock: the messages in, the results out to `ready`, workers lost,
+  // Shutdowns, refused keys, the messages out, the coordinator's checks, and the log of what changed.
+  void serve(Millis now);
+  void send_shutdowns();                // to every known worker, once shutdown_workers() asks
+  void refuse_keys_of_wrong_workers();  // with CURVE: the keys of the workers found wrong
+  void send_outgoing(Millis now);       // what the dispatcher has to send; workers that cannot be reached are lost
+  void start_coordinator_checks();      // hands the checks only the coordinator can run to check_loop()
   void receive_all(Millis now);
   void handle(const std::string& peer, const zmq::message_t& payload, Millis now);
   void send(const Outgoing& message);                         // and a worker it cannot reach is lost

@@ -22,49 +22,60 @@ std::string label_value(std::string_view text) {
   return out;
 }
 
-}  // namespace
-
-std::string prometheus_text(const BoardView& v) {
+// The exposition text, written a metric family at a time: its HELP and TYPE lines, then its samples.
+struct Exposition {
   std::string text;
-  auto family = [&](const char* name, const char* type, const char* help) {
-    text += std::string("# HELP ") + name + " " + help + "\n# TYPE " + name + " " + type + "\n";
-  };
-  auto sample = [&](const std::string& name, auto value) { text += name + " " + std::to_string(value) + "\n"; };
 
-  const PublishedRun empty;
-  const PublishedRun& run = v.run ? *v.run : empty;
+  void family(const char* name, const char* type, const char* help) {
+    text += std::string("# HELP ") + name + " " + help + "\n# TYPE " + name + " " + type + "\n";
+  }
+  template <class T>
+  void sample(const std::string& name, T value) {
+    text += name + " " + std::to_string(value) + "\n";
+  }
+  // a sample in seconds, to the millisecond
+  void seconds(const std::string& name, double value) {
+    char formatted[32];
+    std::snprintf(formatted, sizeof formatted, "%.3f", value);
+    text += name + " " + formatted + "\n";
+  }
+};
+
+// The run as last published: progress, the archive, the counters and ANNECS.
+void write_run(Exposition& out, const PublishedRun& run) {
   int active = 0, solved = 0;
   for (const PairInfo& info : run.pairs) {
     active += info.pair.active() ? 1 : 0;
     solved += info.pair.solved() ? 1 : 0;
   }
-  family("poet_iteration", "gauge", "The iteration the run does next.");
-  sample("poet_iteration", run.next_iteration);
-  family("poet_iterations_limit", "gauge", "The run stops before this iteration.");
-  sample("poet_iterations_limit", run.iterations);
-  family("poet_last_checkpoint_iteration", "gauge", "The next iteration of the last checkpoint written.");
-  sample("poet_last_checkpoint_iteration", run.last_checkpoint_iteration);
-  family("poet_run_finished", "gauge", "1 when the run reached its stopping rule.");
-  sample("poet_run_finished", run.finished ? 1 : 0);
-  family("poet_pairs_created", "gauge", "Pairs ever created (the archive).");
-  sample("poet_pairs_created", run.pairs.size());
-  family("poet_pairs_active", "gauge", "Active environment-agent pairs.");
-  sample("poet_pairs_active", active);
-  family("poet_pairs_solved", "gauge", "Pairs whose environment was ever solved.");
-  sample("poet_pairs_solved", solved);
-  family("poet_rollouts_total", "counter", "Rollouts since the run began.");
-  sample("poet_rollouts_total", run.counters.rollouts);
-  family("poet_env_steps_total", "counter", "Environment steps since the run began.");
-  sample("poet_env_steps_total", run.counters.env_steps);
-  family("poet_annecs", "gauge",
-         "ANNECS (accumulated number of novel environments created and solved) as of the last iteration done, by "
-         "definition. at_admission: environments admitted by reproduction and solved since, counted when solved. "
-         "at_archiving: environments retired that had been solved by then, counted at retirement.");
-  sample("poet_annecs{definition=\"at_admission\"}", run.annecs.at_admission);
-  sample("poet_annecs{definition=\"at_archiving\"}", run.annecs.at_archiving);
+  out.family("poet_iteration", "gauge", "The iteration the run does next.");
+  out.sample("poet_iteration", run.next_iteration);
+  out.family("poet_iterations_limit", "gauge", "The run stops before this iteration.");
+  out.sample("poet_iterations_limit", run.iterations);
+  out.family("poet_last_checkpoint_iteration", "gauge", "The next iteration of the last checkpoint written.");
+  out.sample("poet_last_checkpoint_iteration", run.last_checkpoint_iteration);
+  out.family("poet_run_finished", "gauge", "1 when the run reached its stopping rule.");
+  out.sample("poet_run_finished", run.finished ? 1 : 0);
+  out.family("poet_pairs_created", "gauge", "Pairs ever created (the archive).");
+  out.sample("poet_pairs_created", run.pairs.size());
+  out.family("poet_pairs_active", "gauge", "Active environment-agent pairs.");
+  out.sample("poet_pairs_active", active);
+  out.family("poet_pairs_solved", "gauge", "Pairs whose environment was ever solved.");
+  out.sample("poet_pairs_solved", solved);
+  out.family("poet_rollouts_total", "counter", "Rollouts since the run began.");
+  out.sample("poet_rollouts_total", run.counters.rollouts);
+  out.family("poet_env_steps_total", "counter", "Environment steps since the run began.");
+  out.sample("poet_env_steps_total", run.counters.env_steps);
+  out.family("poet_annecs", "gauge",
+             "ANNECS (accumulated number of novel environments created and solved) as of the last iteration done, "
+             "by definition. at_admission: environments admitted by reproduction and solved since, counted when "
+             "solved. at_archiving: environments retired that had been solved by then, counted at retirement.");
+  out.sample("poet_annecs{definition=\"at_admission\"}", run.annecs.at_admission);
+  out.sample("poet_annecs{definition=\"at_archiving\"}", run.annecs.at_archiving);
+}
 
-  const DispatchView no_dispatch;
-  const DispatchView& dispatch = v.dispatch ? *v.dispatch : no_dispatch;
+// The dispatcher's workers, queue and counts, each a family of one sample.
+void write_dispatch(Exposition& out, const DispatchView& dispatch) {
   struct Series {
     const char* name;
     const char* type;
@@ -103,44 +114,57 @@ std::string prometheus_text(const BoardView& v) {
        dispatch.rollbacks},
   };
   for (const Series& one : series) {
-    family(one.name, one.type, one.help);
-    sample(one.name, one.value);
+    out.family(one.name, one.type, one.help);
+    out.sample(one.name, one.value);
   }
-  family("poet_dropped_frames_total", "counter", "Frames and Hellos the dispatcher dropped or refused, by reason.");
+}
+
+// A sample per drop reason, zero for those that have not happened.
+void write_dropped_frames(Exposition& out, const DispatchView& dispatch) {
+  out.family("poet_dropped_frames_total", "counter", "Frames and Hellos the dispatcher dropped or refused, by reason.");
   std::map<std::string, int64_t> dropped;
   for (const char* reason : kDropReasonNames) dropped[reason] = 0;
   for (const auto& [reason, count] : dispatch.dropped_frames) dropped[reason] = count;
   for (const auto& [reason, count] : dropped)
-    sample("poet_dropped_frames_total{reason=\"" + label_value(reason) + "\"}", count);
-  family("poet_skipped_key_files_total", "counter",
-         "Files in the CURVE authorized/ folder skipped because they hold no key, each counted once when found.");
-  sample("poet_skipped_key_files_total", v.skipped_key_files);
-  family("poet_cached_episodes_total", "counter",
-         "Episodes the loop asked for again and the score cache answered without running them, since the "
-         "coordinator started (the run's rollout counters include them).");
-  sample("poet_cached_episodes_total", v.cached_episodes);
-  family("poet_cached_env_steps_total", "counter", "The environment steps of those episodes.");
-  sample("poet_cached_env_steps_total", v.cached_env_steps);
-  family("poet_phase_seconds_total", "counter",
-         "Seconds this coordinator spent in each phase of an iteration, as of its last checkpoint (wall_times.csv "
-         "keeps them per iteration; the time between iterations is in none).");
-  for (size_t k = 0; k < kPhaseNames.size(); ++k) {
-    char value[32];
-    std::snprintf(value, sizeof value, "%.3f", v.phase_seconds[k]);
-    text += "poet_phase_seconds_total{phase=\"" + std::string(kPhaseNames[k]) + "\"} " + value + "\n";
-  }
-  family("poet_waiting_seconds_total", "counter",
-         "Of those seconds, the ones the run loop spent waiting for rollouts; the rest is the coordinator's own "
-         "serial work.");
-  char waiting[32];
-  std::snprintf(waiting, sizeof waiting, "%.3f", v.waiting_seconds);
-  text += std::string("poet_waiting_seconds_total ") + waiting + "\n";
+    out.sample("poet_dropped_frames_total{reason=\"" + label_value(reason) + "\"}", count);
+}
 
-  family("poet_uptime_seconds", "gauge", "Seconds since the coordinator started.");
-  char uptime[32];
-  std::snprintf(uptime, sizeof uptime, "%.3f", v.uptime_s);
-  text += std::string("poet_uptime_seconds ") + uptime + "\n";
-  return text;
+// The coordinator's own: key files skipped, the score cache, and where its time went.
+void write_coordinator(Exposition& out, const BoardView& v) {
+  out.family("poet_skipped_key_files_total", "counter",
+             "Files in the CURVE authorized/ folder skipped because they hold no key, each counted once when found.");
+  out.sample("poet_skipped_key_files_total", v.skipped_key_files);
+  out.family("poet_cached_episodes_total", "counter",
+             "Episodes the loop asked for again and the score cache answered without running them, since the "
+             "coordinator started (the run's rollout counters include them).");
+  out.sample("poet_cached_episodes_total", v.cached_episodes);
+  out.family("poet_cached_env_steps_total", "counter", "The environment steps of those episodes.");
+  out.sample("poet_cached_env_steps_total", v.cached_env_steps);
+  out.family("poet_phase_seconds_total", "counter",
+             "Seconds this coordinator spent in each phase of an iteration, as of its last checkpoint (wall_times.csv "
+             "keeps them per iteration; the time between iterations is in none).");
+  for (size_t k = 0; k < kPhaseNames.size(); ++k)
+    out.seconds("poet_phase_seconds_total{phase=\"" + std::string(kPhaseNames[k]) + "\"}", v.phase_seconds[k]);
+  out.family("poet_waiting_seconds_total", "counter",
+             "Of those seconds, the ones the run loop spent waiting for rollouts; the rest is the coordinator's own "
+             "serial work.");
+  out.seconds("poet_waiting_seconds_total", v.waiting_seconds);
+
+  out.family("poet_uptime_seconds", "gauge", "Seconds since the coordinator started.");
+  out.seconds("poet_uptime_seconds", v.uptime_s);
+}
+
+}  // namespace
+
+std::string prometheus_text(const BoardView& v) {
+  const PublishedRun empty;
+  const DispatchView no_dispatch;
+  Exposition out;
+  write_run(out, v.run ? *v.run : empty);
+  write_dispatch(out, v.dispatch ? *v.dispatch : no_dispatch);
+  write_dropped_frames(out, v.dispatch ? *v.dispatch : no_dispatch);
+  write_coordinator(out, v);
+  return out.text;
 }
 
 }  // namespace poet
