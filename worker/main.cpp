@@ -34,7 +34,6 @@
 namespace poet::worker {
 namespace {
 
-constexpr int kExitError = 1;
 
 // "host:pid", the default name.
 std::string default_name() {
@@ -186,6 +185,6 @@ int main(int argc, char** argv) {
     return run_worker(settings, wake, stop);
   } catch (const std::exception& e) {
     spdlog::error("{}", e.what());
-    return kExitError;
+    return poet::kExitError;
   }
 }
