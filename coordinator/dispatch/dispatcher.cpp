@@ -288,7 +288,7 @@ std::vector<WorkerId> Dispatcher::expire(Millis now) {
 void Dispatcher::expire_leases(Millis now) {
   // leases of proven workers never expire (they are backed up): with none held by others, no job need be looked at
   if (workers_.unproven_holding()) {
-    const auto unproven = [&](const WorkerId& id) { return !workers_.find(id)->view.proven; };
+    const auto unproven = [&](const WorkerId& id) { return !workers_.is_proven(id); };
     for (const auto& [job_id, id] : jobs_.take_back_expired(now, unproven)) {
       RegisteredWorker& holder = *workers_.find(id);
       holder.jobs.erase(job_id);
@@ -325,7 +325,7 @@ OpenJob* Dispatcher::next_job(const RegisteredWorker& worker, Millis now) {
   // Nothing queued: a proven worker takes at once a job held only by workers not proven, since those may never
   // answer; so peers that take jobs and sit on them delay nothing while a proven worker is free.
   if (spare_.unproven_holding) {
-    const auto unproven = [&](const WorkerId& id) { return !workers_.find(id)->view.proven; };
+    const auto unproven = [&](const WorkerId& id) { return !workers_.is_proven(id); };
     if (OpenJob* job = jobs_.held_only_by(unproven, may)) return job;
   }
   // a backup: a job whose every holder has held it past the lease (proven ones: slow, or silent)

@@ -168,9 +168,8 @@ class Dispatcher {
   int64_t verified_jobs() const { return verification_.verified(); }
   // Jobs whose answer waits for the coordinator's own (no connected worker may check or decide).
   int64_t coordinator_checks_waiting() const { return coordinator_checks_waiting_; }
-  int64_t coordinator_checks() const {
-    return verification_.coordinator_checks();
-  }                                                          // settled by the coordinator's own answer
+  // jobs settled by the coordinator's own answer
+  int64_t coordinator_checks() const { return verification_.coordinator_checks(); }
   int64_t rollbacks() const { return ledger_.rollbacks(); }  // times take_rollback asked to go back
   // Workers refused for a wrong result, with their names, in order (the log and /metrics read them).
   const std::vector<std::string>& wrong_workers() const { return ledger_.names(); }

@@ -72,7 +72,6 @@ class JobQueue {
   OpenJob& at(uint64_t id) { return jobs_.at(id); }
   bool contains(uint64_t id) const { return jobs_.contains(id); }
   std::map<uint64_t, OpenJob>& open() { return jobs_; }  // by id
-  const std::map<uint64_t, OpenJob>& open() const { return jobs_; }
   const std::deque<uint64_t>& queued() const { return queue_; }
 
   // The lease held on it by `worker` from now.

@@ -1,8 +1,8 @@
 #pragma once
-// What is verified, as a pure judge: which jobs are chosen for a check (drawn from a secret the workers never see),
-// whose answers need a second one (a chosen job's, or any answer of a worker on probation), and what the answers
-// held for a job say once another comes in — taken, held for another worker, or one of two found wrong. It knows
-// no queue and no sockets; the Dispatcher acts on its verdicts.
+// What is verified — a judge, and the count of what it found right: which jobs are chosen for a check (drawn from a
+// secret the workers never see), whose answers need a second one (a chosen job's, or any answer of a worker on
+// probation), and what the answers held for a job say once another comes in — taken, held for another worker, or one of
+// two found wrong. It knows no queue and no sockets; the Dispatcher acts on its verdicts.
 
 #include <cstddef>
 #include <cstdint>

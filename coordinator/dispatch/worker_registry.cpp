@@ -37,6 +37,11 @@ const RegisteredWorker* WorkerRegistry::find(const WorkerId& id) const {
   return it == by_id_.end() ? nullptr : &it->second;
 }
 
+bool WorkerRegistry::is_proven(const WorkerId& id) const {
+  const RegisteredWorker* worker = find(id);
+  return worker != nullptr && worker->view.proven;
+}
+
 bool WorkerRegistry::heard_from(const WorkerId& id, Millis now) {
   RegisteredWorker* worker = find(id);
   if (worker == nullptr) return false;

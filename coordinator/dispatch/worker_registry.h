@@ -1,8 +1,9 @@
 #pragma once
 // Who is connected and how far each is trusted: the workers in the order they said Hello, when each was last heard
 // from, whether it is proven (alive and answering: it returned a valid result, or is local), demoted (not proven,
-// and let a lease expire or returned an error: given nothing more) or on trial (not proven, sent a job it has not
-// answered yet), and the checks its answers passed. Time is a parameter; no queue, no sockets.
+// and let a lease or its trial run out, or returned an error or a result that does not parse: given nothing more)
+// or on trial (not proven, sent a job it has not answered yet), and the checks its answers passed. Time is a parameter;
+// no queue, no sockets.
 
 #include <cstddef>
 #include <cstdint>
@@ -37,6 +38,7 @@ class WorkerRegistry {
   RegisteredWorker* find(const WorkerId& id);
   const RegisteredWorker* find(const WorkerId& id) const;
   bool contains(const WorkerId& id) const { return by_id_.contains(id); }
+  bool is_proven(const WorkerId& id) const;  // false for an unknown id
   size_t size() const { return by_id_.size(); }
   // In the order they said Hello: jobs go out in this order.
   const std::vector<RegisteredWorker*>& in_order() const { return arrival_; }
