@@ -169,7 +169,10 @@ TEST_F(HostilePeersTest, AKeyAuthorisedLaterLetsTheRefusedWorkerIn) {
   // copied in while both run (as an operator would, then renamed: a half-written file is not a key yet)
   fs::copy_file(keys / "worker.key", keys / "authorized" / "worker.key.partial");
   fs::rename(keys / "authorized" / "worker.key.partial", keys / "authorized" / "worker.key");
-  ASSERT_EQ(await_log("worker", "(welcomed) by the coordinator"), "welcomed") << read(root_ / "worker.err");
+  // (the coordinator's log too: once, under load, every reconnection after the first refusal went unanswered)
+  ASSERT_EQ(await_log("worker", "(welcomed) by the coordinator"), "welcomed")
+      << read(root_ / "worker.err") << "\ncoordinator:\n"
+      << read(root_ / "C.err");
   EXPECT_EQ(wait(pid), 0) << read(root_ / "C.err");
   expect_same_run(reference, root_ / "C");
   EXPECT_EQ(wait(worker), 0);
