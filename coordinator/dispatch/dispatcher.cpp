@@ -285,11 +285,10 @@ std::vector<WorkerId> Dispatcher::expire(Millis now) {
   return dead;
 }
 
-void Dispatcher::expire_leases(Millis now) {
+void Dispatcher::expire_leases(Millis now, bool unproven_holding) {
   // leases of proven workers never expire (they are backed up): with none held by others, no job need be looked at
-  if (workers_.unproven_holding()) {
-    const auto unproven = [&](const WorkerId& id) { return !workers_.is_proven(id); };
-    for (const auto& [job_id, id] : jobs_.take_back_expired(now, unproven)) {
+  if (unproven_holding) {
+    for (const auto& [job_id, id] : jobs_.take_back_expired(now, workers_.not_proven())) {
       RegisteredWorker& holder = *workers_.find(id);
       holder.jobs.erase(job_id);
       workers_.demote(holder);
@@ -325,8 +324,7 @@ OpenJob* Dispatcher::next_job(const RegisteredWorker& worker, Millis now) {
   // Nothing queued: a proven worker takes at once a job held only by workers not proven, since those may never
   // answer; so peers that take jobs and sit on them delay nothing while a proven worker is free.
   if (spare_.unproven_holding) {
-    const auto unproven = [&](const WorkerId& id) { return !workers_.is_proven(id); };
-    if (OpenJob* job = jobs_.held_only_by(unproven, may)) return job;
+    if (OpenJob* job = jobs_.held_only_by(workers_.not_proven(), may)) return job;
   }
   // a backup: a job whose every holder has held it past the lease (proven ones: slow, or silent)
   return spare_.overdue ? jobs_.backup(now, may) : nullptr;
@@ -411,9 +409,11 @@ std::vector<Outgoing> Dispatcher::outgoing(Millis now) {
 void Dispatcher::outgoing(Millis now, const std::function<void(Outgoing&&)>& deliver) {
   for (Outgoing& refusal : std::exchange(refusals_, {})) deliver(std::move(refusal));
   if (batch_active_) {
-    expire_leases(now);
+    // looked for once a round: a lease taken back below can only make it stale-true, which costs a look, no job
+    const bool unproven_holding = workers_.unproven_holding();
+    expire_leases(now, unproven_holding);
     check_unanswerable(now);
-    spare_ = {workers_.unproven_holding(), jobs_.any_overdue(now)};
+    spare_ = {unproven_holding, jobs_.any_overdue(now)};
   }
   // One job per worker per pass, so a batch spreads over every worker before any gets a second. But with queued
   // jobs enough to fill every worker, a worker's free places are filled at once, with consecutive jobs: these

@@ -184,7 +184,7 @@ class Dispatcher {
   void requeue(OpenJob& job, bool died);
   void send(OpenJob& job, RegisteredWorker& worker, Millis now, const std::function<void(Outgoing&&)>& deliver);
   // Takes jobs back from workers not proven whose lease ran out, and demotes them.
-  void expire_leases(Millis now);
+  void expire_leases(Millis now, bool unproven_holding);
   // What an idle worker may be given beyond the queue, found once per outgoing() rather than once per worker:
   // jobs held by workers not proven (taken at once by proven ones), and jobs held past the lease (backed up).
   struct Spare {

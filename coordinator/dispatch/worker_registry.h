@@ -39,6 +39,10 @@ class WorkerRegistry {
   const RegisteredWorker* find(const WorkerId& id) const;
   bool contains(const WorkerId& id) const { return by_id_.contains(id); }
   bool is_proven(const WorkerId& id) const;  // false for an unknown id
+  // A predicate for JobQueue's holder tests: true for an id not proven (or unknown).
+  auto not_proven() const {
+    return [this](const WorkerId& id) { return !is_proven(id); };
+  }
   size_t size() const { return by_id_.size(); }
   // In the order they said Hello: jobs go out in this order.
   const std::vector<RegisteredWorker*>& in_order() const { return arrival_; }
