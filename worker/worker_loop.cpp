@@ -51,6 +51,7 @@ class SocketLoop {
       : settings_(settings), wake_(wake), stop_(stop), session_(settings.session), runner_(settings.threads, [&wake] {
           wake.notify();
         }) {}
+  ~SocketLoop() { close_socket(); }
 
   int run() {
     std::optional<int> code =
@@ -78,7 +79,7 @@ class SocketLoop {
  private:
   // A fresh DEALER connected to the coordinator; false (and no socket) when the endpoint cannot be connected.
   bool connect() {
-    monitor_.reset();
+    close_socket();
     try {
       zmq::socket_t socket(context_, zmq::socket_type::dealer);
       socket.set(zmq::sockopt::linger, 0);
@@ -101,6 +102,18 @@ class SocketLoop {
       socket_.reset();
       return false;
     }
+  }
+
+  // Closes the socket and the PAIR its events arrive on, the monitor stopped first. libzmq's I/O thread sends each
+  // event to the monitor with a blocking send: one sent once this end of the PAIR is closed (the DISCONNECTED that
+  // follows the HANDSHAKE_FAILED_AUTH the session reacted to, or any event of a connection still going when the
+  // socket is closed) would wait forever, and with it the context's only I/O thread, that every later socket
+  // needs: no connection would be made again, and no event come. Stopped (under libzmq's monitor lock), the socket
+  // sends no more events.
+  void close_socket() {
+    if (socket_ && monitor_) zmq_socket_monitor(socket_->handle(), nullptr, 0);
+    socket_.reset();
+    monitor_.reset();
   }
 
   // The connections and handshakes of `socket` arrive on monitor_ (ZeroMQ's socket monitor over inproc).
@@ -233,10 +246,7 @@ class SocketLoop {
                    last_problem_.empty() ? "" : " (" + last_problem_ + ")");
     }
     if (actions.abandon_jobs) runner_.abandon();
-    if (actions.close_socket) {
-      socket_.reset();
-      monitor_.reset();
-    }
+    if (actions.close_socket) close_socket();
     if (actions.open_socket && !connect()) return apply(session_.on_connect_failed(Clock::now()));
     bool sent = false;
     for (const wire::WorkerMessage& message : actions.send) {
@@ -250,7 +260,7 @@ class SocketLoop {
     if (actions.exit_code) {
       // the last message (a Goodbye) gets a moment to leave; linger 0 would discard it
       if (socket_ && sent) socket_->set(zmq::sockopt::linger, kGoodbyeLingerMs);
-      socket_.reset();
+      close_socket();
       return actions.exit_code;
     }
     return std::nullopt;
