@@ -7,9 +7,15 @@
 namespace poet {
 
 std::vector<double> nice_ticks(double lo, double hi, int target, bool integer) {
-  if (!(hi > lo)) hi = lo + 1;
-  const double raw = (hi - lo) / std::max(1, target);
+  // Any bounds give a few finite ticks: a bound that is not finite, or a span too narrow for a double to step
+  // through (a constant near 1e300) or too wide to subtract (±1e308), is brought back to one it can.
+  const int n = std::max(1, target);
+  if (!std::isfinite(lo)) lo = 0;
+  if (!std::isfinite(hi) || !(hi > lo)) hi = lo + std::max(1.0, std::abs(lo) * 1e-9);
+  if (!std::isfinite(hi)) return {lo};
+  const double raw = hi / n - lo / n;  // (hi - lo) / n without overflowing
   const double magnitude = std::pow(10.0, std::floor(std::log10(raw)));
+  if (!(magnitude > 0) || !std::isfinite(magnitude)) return {lo, hi};
   double step = magnitude;
   for (double m : {1.0, 2.0, 5.0, 10.0})
     if (m * magnitude >= raw) {
@@ -17,9 +23,14 @@ std::vector<double> nice_ticks(double lo, double hi, int target, bool integer) {
       break;
     }
   if (integer) step = std::max(1.0, std::round(step));
+  const double first = std::ceil(lo / step) * step;
   std::vector<double> ticks;
-  for (double v = std::ceil(lo / step) * step; v <= hi + step * 1e-9; v += step)
+  for (int k = 0; k <= 4 * n + 4; ++k) {  // about n of them; the bound holds whatever rounding does
+    const double v = first + k * step;
+    if (!(v <= hi + step * 1e-9)) break;
     ticks.push_back(std::abs(v) < step * 1e-9 ? 0.0 : v);
+  }
+  if (ticks.empty()) ticks.push_back(lo);
   return ticks;
 }
 
@@ -32,6 +43,12 @@ void set_line_style(cairo_t* cr, ChartSeries::Line line) {
 }
 
 namespace {
+
+// Values beyond this are drawn at it: no score, count or step of a run comes near, and within it the axis
+// arithmetic has room (a span of 1e308 overflows a double).
+constexpr double kChartLimit = 1e12;
+
+double on_chart(double v) { return std::clamp(v, -kChartLimit, kChartLimit); }
 
 std::string tick_label(double v) {
   char text[32];
@@ -48,16 +65,19 @@ void draw_chart(cairo_t* cr, double x, double y, double width, double height, co
   double x_lo = 0, x_hi = 1, y_lo = 0, y_hi = 1;
   bool any = false;
   for (const ChartSeries& s : chart.series)
-    for (const auto& [px, py] : s.points) {
-      if (!std::isfinite(px) || !std::isfinite(py)) continue;
+    for (const auto& [vx, vy] : s.points) {
+      if (!std::isfinite(vx) || !std::isfinite(vy)) continue;
+      const double px = on_chart(vx), py = on_chart(vy);
       if (!any) x_lo = x_hi = px, y_lo = y_hi = py, any = true;
       x_lo = std::min(x_lo, px), x_hi = std::max(x_hi, px);
       y_lo = std::min(y_lo, py), y_hi = std::max(y_hi, py);
     }
-  if (chart.reference_line)
-    y_lo = std::min(y_lo, chart.reference_line->first), y_hi = std::max(y_hi, chart.reference_line->first);
-  if (chart.y_min) y_lo = *chart.y_min;
-  if (chart.y_max) y_hi = *chart.y_max;
+  if (chart.reference_line && std::isfinite(chart.reference_line->first)) {
+    const double ref = on_chart(chart.reference_line->first);
+    y_lo = std::min(y_lo, ref), y_hi = std::max(y_hi, ref);
+  }
+  if (chart.y_min && std::isfinite(*chart.y_min)) y_lo = on_chart(*chart.y_min);
+  if (chart.y_max && std::isfinite(*chart.y_max)) y_hi = on_chart(*chart.y_max);
   if (x_hi <= x_lo) x_hi = x_lo + 1;
   if (y_hi <= y_lo) y_hi = y_lo + 1;
   const std::vector<double> x_ticks = nice_ticks(x_lo, x_hi, 6, chart.integer_x);
@@ -70,8 +90,8 @@ void draw_chart(cairo_t* cr, double x, double y, double width, double height, co
       std::any_of(chart.series.begin(), chart.series.end(), [](const ChartSeries& s) { return !s.label.empty(); }) ? 150
                                                                                                                    : 0;
   const double left = x + 62, right = x + width - 16 - legend_width, top = y + 34, bottom = y + height - 46;
-  const auto px = [&](double v) { return left + (v - x_lo) / (x_hi - x_lo) * (right - left); };
-  const auto py = [&](double v) { return bottom - (v - y_lo) / (y_hi - y_lo) * (bottom - top); };
+  const auto px = [&](double v) { return left + (on_chart(v) - x_lo) / (x_hi - x_lo) * (right - left); };
+  const auto py = [&](double v) { return bottom - (on_chart(v) - y_lo) / (y_hi - y_lo) * (bottom - top); };
 
   cairo_set_source_rgb(cr, 0.1, 0.1, 0.1);
   draw_text(cr, chart.title, (left + right) / 2, y + 20, 14, 0.5, true);
@@ -107,7 +127,7 @@ void draw_chart(cairo_t* cr, double x, double y, double width, double height, co
   cairo_save(cr);
   cairo_rectangle(cr, left, top, right - left, bottom - top);
   cairo_clip(cr);
-  if (chart.reference_line) {
+  if (chart.reference_line && std::isfinite(chart.reference_line->first)) {
     const double ry = py(chart.reference_line->first);
     const double dash[] = {6, 4};
     cairo_set_dash(cr, dash, 2, 0);
@@ -137,7 +157,7 @@ void draw_chart(cairo_t* cr, double x, double y, double width, double height, co
       }
       last_y = vy;
     }
-    if (s.points.size() == 1) {  // a lone point: a dot
+    if (s.points.size() == 1 && started) {  // a lone point: a dot
       cairo_arc(cr, px(s.points[0].first), py(s.points[0].second), 2.5, 0, 2 * M_PI);
       cairo_fill(cr);
     }
