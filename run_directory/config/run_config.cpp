@@ -284,8 +284,7 @@ std::optional<std::string> validate(const pb::RunConfig& config) {
   Checks c;
   c.known_enum("mode", config.mode(), pb::RunConfig::Mode_IsValid);
   if (c.failed()) return std::move(c).result();  // the mode rules below need a known mode
-  // 400× the paper's 25,200 (10 days on 256 cores) and 200× the reference's 50,000
-  c.integer("iterations", config.iterations(), 0, 10'000'000);
+  c.integer("iterations", config.iterations(), 0, kMaxIterations);
   // at least one checkpoint every 10^6 iterations, so a crash never loses more
   c.integer("checkpoint_interval", config.checkpoint_interval(), 1, 1'000'000);
   // θ₀ ~ N(0, init_stddev²) for a tanh network (reference 0.1); beyond 10 every unit starts saturated

@@ -17,6 +17,10 @@ namespace poet {
 // Config files larger than this are refused unread: a real one is a few kilobytes.
 inline constexpr std::uintmax_t kMaxRunConfigBytes = 1u << 20;
 
+// The most iterations a run may be given, and so reach: 400× the paper's 25,200 (10 days on 256 cores) and 200× the
+// reference's 50,000. A checkpoint past it is refused too: the readers keep series per iteration.
+inline constexpr int kMaxIterations = 10'000'000;
+
 // Text format in, a validated config out. Syntax errors, unknown fields, wrong types and repeated singular
 // fields come back as "line L:C: <parser's message>" (1-based); a parsed config that validate() refuses comes
 // back with validate()'s message. A text that sets no value at all (empty, only comments, only empty sections)

@@ -287,7 +287,9 @@ Expected<RunState> from_checkpoint(const pb::Checkpoint& checkpoint) {
   if (Error error = validate(checkpoint.config())) return Unexpected{"config." + *error};
   state.settings = run_settings(checkpoint.config());
   if (!checkpoint.has_next_iteration()) return Unexpected{"next_iteration: missing"};
-  if (Error error = check_at_least("next_iteration", checkpoint.next_iteration(), 0)) return Unexpected{*error};
+  if (checkpoint.next_iteration() < 0 || checkpoint.next_iteration() > kMaxIterations)
+    return Unexpected{"next_iteration: must be in [0, " + number_text(int64_t{kMaxIterations}) + "] (got " +
+                      number_text(int64_t{checkpoint.next_iteration()}) + ")"};
   state.next_iteration = checkpoint.next_iteration();
   if (!checkpoint.has_next_pair_id()) return Unexpected{"next_pair_id: missing"};
   state.next_pair_id = checkpoint.next_pair_id();

@@ -211,6 +211,9 @@ TEST(CheckpointTest, HostileCheckpointsNameTheField) {
       {"bad config", [](pb::Checkpoint& c) { c.mutable_config()->mutable_es()->set_perturbations(0); },
        "config.es.perturbations"},
       {"negative iteration", [](pb::Checkpoint& c) { c.set_next_iteration(-1); }, "next_iteration"},
+      // the readers keep series per iteration: 2^31 − 1 would have them allocate without end
+      {"iteration past any run", [](pb::Checkpoint& c) { c.set_next_iteration(2147483647); },
+       "next_iteration: must be in [0, 10000000] (got 2147483647)"},
       {"no pairs", [](pb::Checkpoint& c) { c.clear_pairs(); }, "pairs: none"},
       {"short theta", [](pb::Checkpoint& c) { c.mutable_pairs(1)->mutable_theta()->Truncate(12); },
        "pairs[1].theta: 12 values, expected 2804"},
