@@ -45,56 +45,74 @@ std::string sweep_cell(const CourseSweep& s) {
   return buf;
 }
 
-nlohmann::json load_json(const fs::path& p) {
-  std::ifstream in(p);
-  return nlohmann::json::parse(in);
+// The reference's trace files are a few hundred kilobytes; a larger one is not one of them.
+constexpr std::uintmax_t kMaxTraceBytes = 64u << 20;
+
+// Reads a trace file and hands it to `read`; whatever is missing or of the wrong type in it (read uses at(), which
+// throws, never operator[] on a const json, which does not check) comes back as an error naming the file.
+template <typename Read>
+void read_trace(const fs::path& file, Read&& read) {
+  std::error_code ec;
+  if (!fs::is_regular_file(file, ec)) throw std::runtime_error(file.string() + ": not a file");
+  if (fs::file_size(file, ec) > kMaxTraceBytes) throw std::runtime_error(file.string() + ": larger than 64 MB");
+  try {
+    std::ifstream in(file);
+    read(nlohmann::json::parse(in));
+  } catch (const nlohmann::json::exception& e) {
+    throw std::runtime_error(file.string() + ": " + e.what());
+  }
 }
 
 void traces(const fs::path& ref) {
   std::printf(
       "\n### Traces: flat course, push 0 (walker-traces/)\n\n| figure | reference | this project |\n|---|---|---|\n");
-  const nlohmann::json t1 = load_json(ref / "walker-traces/T1_zero_action.json");
   const Terrain flat = Terrain::generate({*named_course("flat"), 0});
-  WalkerEnv env(flat, kNoPush);
-  const Observation obs = env.reset();
-  double worst_mass = 0, worst_angle = 0, worst_obs = 0;
-  const auto bodies = env.body_setup();
-  const auto joints = env.joint_setup();
-  for (size_t i = 0; i < bodies.size(); ++i)
-    worst_mass = std::max(worst_mass, std::abs(bodies[i].mass - t1["setup"]["bodies"][i]["mass"].get<double>()));
-  for (size_t j = 0; j < joints.size(); ++j)
-    worst_angle = std::max(
-        worst_angle, std::abs(joints[j].reference_angle - t1["setup"]["joints"][j]["reference_angle"].get<double>()));
-  for (size_t i = 0; i < obs.size(); ++i)
-    worst_obs = std::max(worst_obs, std::abs(obs[i] - t1["reset"]["obs"][i].get<double>()));
-  row("body masses (5 bodies), largest difference", "T1 setup", fmt("%.1e kg", worst_mass));
-  row("joint reference angles, largest difference", "−0.05, 0, +0.05, 0", fmt("%.1e rad", worst_angle));
-  row("reset observation, largest element difference", "T1 reset.obs", fmt("%.1e", worst_obs));
-  const RolloutResult zero = rollout(Mlp(zero_params()), flat, kNoPush);
-  row("T1 zero action: steps, return",
-      std::to_string(t1["summary"]["n_steps"].get<int>()) + ", " +
-          fmt("%.2f", t1["summary"]["total_return"].get<double>()),
-      std::to_string(zero.steps) + ", " + fmt("%.2f", zero.total_reward));
+  read_trace(ref / "walker-traces/T1_zero_action.json", [&](const nlohmann::json& t1) {
+    WalkerEnv env(flat, kNoPush);
+    const Observation obs = env.reset();
+    double worst_mass = 0, worst_angle = 0, worst_obs = 0;
+    const auto bodies = env.body_setup();
+    const auto joints = env.joint_setup();
+    const nlohmann::json& setup = t1.at("setup");
+    for (size_t i = 0; i < bodies.size(); ++i)
+      worst_mass = std::max(worst_mass, std::abs(bodies[i].mass - setup.at("bodies").at(i).at("mass").get<double>()));
+    for (size_t j = 0; j < joints.size(); ++j)
+      worst_angle = std::max(worst_angle, std::abs(joints[j].reference_angle -
+                                                   setup.at("joints").at(j).at("reference_angle").get<double>()));
+    for (size_t i = 0; i < obs.size(); ++i)
+      worst_obs = std::max(worst_obs, std::abs(obs[i] - t1.at("reset").at("obs").at(i).get<double>()));
+    row("body masses (5 bodies), largest difference", "T1 setup", fmt("%.1e kg", worst_mass));
+    row("joint reference angles, largest difference", "−0.05, 0, +0.05, 0", fmt("%.1e rad", worst_angle));
+    row("reset observation, largest element difference", "T1 reset.obs", fmt("%.1e", worst_obs));
+    const RolloutResult zero = rollout(Mlp(zero_params()), flat, kNoPush);
+    const nlohmann::json& summary = t1.at("summary");
+    row("T1 zero action: steps, return",
+        std::to_string(summary.at("n_steps").get<int>()) + ", " + fmt("%.2f", summary.at("total_return").get<double>()),
+        std::to_string(zero.steps) + ", " + fmt("%.2f", zero.total_reward));
+  });
 
-  const nlohmann::json t2 = load_json(ref / "walker-traces/T2_scripted_actions.json");
-  WalkerEnv scripted(flat, kNoPush);
-  scripted.reset();
-  const auto& a = t2["steps"][0]["action"];
-  scripted.step({a[0], a[1], a[2], a[3]});
-  row("T2 step 1: leg 1 knee angle (limit −0.1)", fmt("%+.3f rad", t2["steps"][0]["joint_angle"][1].get<double>()),
-      fmt("%+.3f rad", scripted.observation()[6] - 1.0));
+  read_trace(ref / "walker-traces/T2_scripted_actions.json", [&](const nlohmann::json& t2) {
+    WalkerEnv scripted(flat, kNoPush);
+    scripted.reset();
+    const nlohmann::json& first = t2.at("steps").at(0);
+    const nlohmann::json& a = first.at("action");
+    scripted.step({a.at(0).get<double>(), a.at(1).get<double>(), a.at(2).get<double>(), a.at(3).get<double>()});
+    row("T2 step 1: leg 1 knee angle (limit −0.1)", fmt("%+.3f rad", first.at("joint_angle").at(1).get<double>()),
+        fmt("%+.3f rad", scripted.observation()[6] - 1.0));
+  });
 
-  const nlohmann::json t3 = load_json(ref / "walker-traces/T3_trained_policies.json");
-  for (const auto& p : t3["policies"]) {
-    const std::string file = p["policy_file"];
-    auto policy = load_policy(ref / file);
-    if (!policy) throw std::runtime_error(policy.error());
-    const RolloutResult r = rollout(Mlp(policy->params), flat, kNoPush);
-    row("T3 " + fs::path(file).stem().string() + ": return, steps, finished",
-        fmt("%.2f", p["total_return"].get<double>()) + ", " + std::to_string(p["n_steps"].get<int>()) +
-            (p["finished"].get<bool>() ? ", yes" : ", no"),
-        fmt("%.2f", r.total_reward) + ", " + std::to_string(r.steps) + (r.finished ? ", yes" : ", no"));
-  }
+  read_trace(ref / "walker-traces/T3_trained_policies.json", [&](const nlohmann::json& t3) {
+    for (const auto& p : t3.at("policies")) {
+      const std::string file = p.at("policy_file").get<std::string>();
+      auto policy = load_policy(ref / file);
+      if (!policy) throw std::runtime_error(policy.error());
+      const RolloutResult r = rollout(Mlp(policy->params), flat, kNoPush);
+      row("T3 " + fs::path(file).stem().string() + ": return, steps, finished",
+          fmt("%.2f", p.at("total_return").get<double>()) + ", " + std::to_string(p.at("n_steps").get<int>()) +
+              (p.at("finished").get<bool>() ? ", yes" : ", no"),
+          fmt("%.2f", r.total_reward) + ", " + std::to_string(r.steps) + (r.finished ? ", yes" : ", no"));
+    }
+  });
 }
 
 void trained_walkers(const fs::path& ref) {

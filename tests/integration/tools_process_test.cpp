@@ -83,6 +83,25 @@ TEST_F(ToolsProcessTest, BadValueExitsTwo) {
   }
 }
 
+// Reference traces that lack what the table reads, or are no file at all, are an error naming the file (exit 1),
+// never a crash.
+TEST_F(ToolsProcessTest, FidelityNamesTheTraceFileItCannotRead) {
+  const fs::path traces = root_ / "ref" / "walker-traces";
+  fs::create_directories(traces);
+  std::ofstream(traces / "T1_zero_action.json")
+      << R"({"setup":{"bodies":[],"joints":[]},"reset":{"obs":[]},"summary":{"n_steps":1,"total_return":1}})";
+  Outcome o = run(POET_FIDELITY_BIN, {"--reference", (root_ / "ref").string()}, "empty-trace");
+  EXPECT_EQ(o.code, 1) << o.err;
+  EXPECT_TRUE(contains(o.err, "T1_zero_action.json: ")) << o.err;
+  EXPECT_TRUE(contains(o.err, "out of range")) << o.err;
+
+  fs::remove(traces / "T1_zero_action.json");
+  fs::create_directory(traces / "T1_zero_action.json");
+  o = run(POET_FIDELITY_BIN, {"--reference", (root_ / "ref").string()}, "directory-trace");
+  EXPECT_EQ(o.code, 1) << o.err;
+  EXPECT_TRUE(contains(o.err, "T1_zero_action.json: not a file")) << o.err;
+}
+
 // poet-eval --suite: the table has a line per group of the suite, the JSON every episode; what does not go with a
 // suite, or names no suite, exits 2 saying so.
 TEST_F(ToolsProcessTest, EvalRunsAPolicyOnATestSuite) {
