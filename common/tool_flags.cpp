@@ -1,5 +1,8 @@
 #include "common/tool_flags.h"
 
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
 #include <iostream>
 
 #include "common/build_fingerprint.h"
@@ -16,6 +19,17 @@ void add_walker_flags(CLI::App& app, WalkerFlags& flags) {
   app.add_option("--lidar", flags.lidar, "Lidar rule: nearest (default) or first (the reference's)")
       ->check(CLI::IsMember({"nearest", "first"}));
   app.add_option("--max-steps", flags.max_steps, "Time limit in steps")->check(CLI::Range(1, walker::kMaxTimeLimit));
+}
+
+int output_checked(const char* tool, int code) {
+  errno = 0;
+  std::cout.flush();
+  const bool failed = !std::cout.good() || std::fflush(stdout) != 0 || std::ferror(stdout);
+  if (!failed) return code;
+  const int error = errno;
+  std::fprintf(stderr, "%s: cannot write standard output%s%s\n", tool, error ? ": " : "",
+               error ? std::strerror(error) : "");
+  return code == 0 ? kExitError : code;
 }
 
 void add_fingerprint_flag(CLI::App& app) {

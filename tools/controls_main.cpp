@@ -15,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "common/text_file.h"
 #include "common/tool_flags.h"
 #include "engine/lineage.h"
 #include "report/report_plots.h"
@@ -157,9 +158,9 @@ std::string write_rose(const std::string& path, PictureFormat format, const Poet
                              r.closest.distance ? std::optional<EnvVector>(r.closest.closest) : std::nullopt,
                              r.closest.distance});
   const Expected<std::string> bytes = render_controls_rose(format, rose);
-  std::ofstream out(path, std::ios::binary);
-  if (!bytes || !(out << *bytes)) return "cannot write " + path + (bytes ? "" : ": " + bytes.error());
-  return "";
+  if (!bytes) return "cannot write " + path + ": " + bytes.error();
+  const auto error = write_file_atomically(path, *bytes);
+  return error ? "cannot write " + path + ": " + *error : "";
 }
 
 nlohmann::ordered_json comparison_json(const std::string& run_dir, const PoetLineage& poet_side,
@@ -185,9 +186,8 @@ int write_json(const std::string& path, const nlohmann::ordered_json& doc) {
     std::cout << text;
     return 0;
   }
-  std::ofstream file(path);
-  if (!(file << text)) {
-    std::cerr << "poet-controls: cannot write " << path << "\n";
+  if (const auto error = write_file_atomically(path, text)) {
+    std::cerr << "poet-controls: cannot write " << path << ": " << *error << "\n";
     return 1;
   }
   return 0;
@@ -217,7 +217,7 @@ void print_comparison(const PoetLineage& poet_side, const std::vector<ControlRow
 }  // namespace
 }  // namespace poet
 
-int main(int argc, char** argv) {
+int run_tool(int argc, char** argv) {
   using namespace poet;
   Options o;
   if (auto code = parse_options(argc, argv, o)) return *code;
@@ -256,3 +256,5 @@ int main(int argc, char** argv) {
   print_comparison(poet_side, *rows);
   return 0;
 }
+
+int main(int argc, char** argv) { return poet::output_checked("poet-controls", run_tool(argc, argv)); }

@@ -175,7 +175,7 @@ int sweep_courses(const Options& o, const poet::Mlp& mlp, FILE* table) {
 
 }  // namespace
 
-int main(int argc, char** argv) {
+int run_tool(int argc, char** argv) {
   Options o;
   if (auto code = parse_options(argc, argv, o)) return *code;
   FILE* table = o.json_path == "-" ? stderr : stdout;
@@ -201,3 +201,5 @@ int main(int argc, char** argv) {
   const poet::Mlp mlp(policy->params);
   return suite ? evaluate_on_suite(o, mlp, *suite, table) : sweep_courses(o, mlp, table);
 }
+
+int main(int argc, char** argv) { return poet::output_checked("poet-eval", run_tool(argc, argv)); }

@@ -221,7 +221,7 @@ void lidar_rules() {
 
 }  // namespace
 
-int main(int argc, char** argv) {
+int run_tool(int argc, char** argv) {
   CLI::App app{"Print the fidelity table: the reference walker's figures next to this project's"};
   std::string reference = POET_REFERENCE_DIR;
   g_threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
@@ -248,3 +248,5 @@ int main(int argc, char** argv) {
   }
   return 0;
 }
+
+int main(int argc, char** argv) { return poet::output_checked("poet-fidelity", run_tool(argc, argv)); }

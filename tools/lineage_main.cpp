@@ -18,7 +18,7 @@
 #include "run_directory/config/run_config.h"
 #include "run_directory/reading/run_snapshot.h"
 
-int main(int argc, char** argv) {
+int run_tool(int argc, char** argv) {
   using namespace poet;
   CLI::App app{"A pair's lineage and the direct-path budget of its environment"};
   std::string run_dir;
@@ -102,3 +102,5 @@ int main(int argc, char** argv) {
     std::printf("environment steps of those ES steps: not recorded (a run of a build before pair_env_steps)\n");
   return 0;
 }
+
+int main(int argc, char** argv) { return poet::output_checked("poet-lineage", run_tool(argc, argv)); }

@@ -23,6 +23,7 @@
 #include <thread>
 
 #include "common/envgen/env_json.h"
+#include "common/text_file.h"
 #include "common/tool_flags.h"
 #include "engine/engine.h"
 #include "report/report_plots.h"
@@ -272,22 +273,20 @@ int deepest_pair(const RunSnapshot& run) {
 }
 
 std::string write_samples(const std::string& path, const Coverage& coverage) {
-  std::ofstream out(path);
-  if (!out) return "cannot write " + path + ": " + std::strerror(errno);
-  out << "level,roughness,gap_lo,gap_hi,stump_lo,stump_hi,distance\n";
+  std::string text = "level,roughness,gap_lo,gap_hi,stump_lo,stump_hi,distance\n";
   char line[256];
   for (const CoverageSample& s : coverage.samples) {
     std::snprintf(line, sizeof line, "%s,%.17g,%.17g,%.17g,%.17g,%.17g,",
                   level_name(static_cast<size_t>(s.level)).c_str(), s.e[0], s.e[1], s.e[2], s.e[3], s.e[4]);
-    out << line;
+    text += line;
     if (s.distance) {
       std::snprintf(line, sizeof line, "%.17g", *s.distance);
-      out << line;
+      text += line;
     }
-    out << "\n";
+    text += "\n";
   }
-  out.flush();
-  return out ? "" : "cannot write " + path;
+  const auto error = write_file_atomically(path, text);
+  return error ? "cannot write " + path + ": " + *error : "";
 }
 
 // poet-report's command line.
@@ -422,7 +421,7 @@ int fail(const std::string& message, int code) {
 }  // namespace
 }  // namespace poet
 
-int main(int argc, char** argv) {
+int run_tool(int argc, char** argv) {
   using namespace poet;
   Options o;
   if (auto code = parse_options(argc, argv, o)) return *code;
@@ -455,8 +454,10 @@ int main(int argc, char** argv) {
     std::cout << text;
     return 0;
   }
-  std::ofstream out(o.json_path);
-  if (!(out << text)) return fail("cannot write " + o.json_path, 1);
+  if (const auto error = write_file_atomically(o.json_path, text))
+    return fail("cannot write " + o.json_path + ": " + *error, 1);
   print_all();
   return 0;
 }
+
+int main(int argc, char** argv) { return poet::output_checked("poet-report", run_tool(argc, argv)); }

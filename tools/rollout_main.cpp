@@ -28,7 +28,7 @@ std::string outcome(const poet::RolloutResult& r) {
 
 }  // namespace
 
-int main(int argc, char** argv) {
+int run_tool(int argc, char** argv) {
   CLI::App app{"Run one walker episode and draw it"};
   std::string policy_path, env_path, course = "flat", picture = "rollout.svg";
   std::optional<uint64_t> random_seed;
@@ -120,3 +120,5 @@ int main(int argc, char** argv) {
   }
   return 0;
 }
+
+int main(int argc, char** argv) { return poet::output_checked("poet-rollout", run_tool(argc, argv)); }

@@ -102,6 +102,19 @@ TEST_F(ToolsProcessTest, FidelityNamesTheTraceFileItCannotRead) {
   EXPECT_TRUE(contains(o.err, "T1_zero_action.json: not a file")) << o.err;
 }
 
+// A table that cannot all be written (standard output on a full device) is a failure, not a whole table.
+TEST_F(ToolsProcessTest, AnOutputThatDoesNotAllGetThereExitsOne) {
+  fs::create_symlink("/dev/full", root_ / "full.out");  // the child's stdout file
+  const std::string walker = std::string(POET_SOURCE_DIR) + "/data/walkers/flat-walker.json";
+  const pid_t pid =
+      children_.start({POET_EVAL_BIN, "--policy", walker, "--course", "flat", "--seeds", "0:1", "--max-steps", "10"},
+                      root_ / "full", {.directory = root_});
+  ASSERT_GT(pid, 0);
+  EXPECT_EQ(children_.wait(pid, 60s), 1);
+  const std::string err = read_file(root_ / "full.err");
+  EXPECT_TRUE(contains(err, "poet-eval: cannot write standard output: No space left on device")) << err;
+}
+
 // poet-eval --suite: the table has a line per group of the suite, the JSON every episode; what does not go with a
 // suite, or names no suite, exits 2 saying so.
 TEST_F(ToolsProcessTest, EvalRunsAPolicyOnATestSuite) {
