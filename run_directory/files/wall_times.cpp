@@ -40,8 +40,10 @@ std::string wall_times_text(const std::vector<WallTime>& lines) {
   return text;
 }
 
-Expected<std::vector<WallTime>> parse_wall_times(std::string_view text) {
-  std::vector<WallTime> out;
+namespace {
+
+// parse_wall_times, with the lines read before an error left in `out`.
+Expected<std::vector<WallTime>> parse_lines(std::string_view text, std::vector<WallTime>& out) {
   size_t line_number = 0;
   size_t most_fields = 2;  // the header's
   while (!text.empty()) {
@@ -97,12 +99,22 @@ Expected<std::vector<WallTime>> parse_wall_times(std::string_view text) {
   return out;
 }
 
-Expected<std::vector<WallTime>> read_wall_times(const std::filesystem::path& path) {
+}  // namespace
+
+Expected<std::vector<WallTime>> parse_wall_times(std::string_view text, std::vector<WallTime>* valid_prefix) {
+  std::vector<WallTime> lines;
+  Expected<std::vector<WallTime>> parsed = parse_lines(text, lines);
+  if (!parsed && valid_prefix) *valid_prefix = std::move(lines);
+  return parsed;
+}
+
+Expected<std::vector<WallTime>> read_wall_times(const std::filesystem::path& path,
+                                                std::vector<WallTime>* valid_prefix) {
   Expected<std::string> text = read_text_file(path, kMaxWallTimesBytes);
   if (!text) return Unexpected{text.error()};
   const size_t end = text->rfind('\n');
   text->resize(end == std::string::npos ? 0 : end + 1);
-  return parse_wall_times(*text);
+  return parse_wall_times(*text, valid_prefix);
 }
 
 WallTimes WallTimes::open(const std::filesystem::path& dir, int next_iteration, std::string* warning) {
@@ -110,13 +122,16 @@ WallTimes WallTimes::open(const std::filesystem::path& dir, int next_iteration, 
   std::vector<WallTime> kept;
   std::error_code ec;
   if (std::filesystem::exists(path, ec)) {
-    Expected<std::vector<WallTime>> lines = read_wall_times(path);
-    if (lines) {
-      for (const WallTime& w : *lines)
-        if (w.iteration < next_iteration) kept.push_back(w);
-    } else if (warning) {
-      *warning = path.string() + ": " + lines.error() + "; the run's earlier wall times are lost, its clock restarts";
-    }
+    std::vector<WallTime> valid;  // on a damaged file, the lines before the damage
+    Expected<std::vector<WallTime>> lines = read_wall_times(path, &valid);
+    if (lines) valid = std::move(*lines);
+    for (const WallTime& w : valid)
+      if (w.iteration < next_iteration) kept.push_back(w);
+    if (!lines && warning)
+      *warning = path.string() + ": " + lines.error() +
+                 (kept.empty() ? "; the run's earlier wall times are lost, its clock restarts"
+                               : "; the lines from there on are dropped, the clock goes on from iteration " +
+                                     std::to_string(kept.back().iteration));
   }
   const std::string text = wall_times_text(kept);
   const double carried = kept.empty() ? 0.0 : kept.back().seconds;

@@ -44,15 +44,17 @@ struct WallTime {
 };
 
 // The lines of a wall_times.csv, in order. Iterations must increase and times must be finite, non-negative and
-// not decrease; an error names the line and says what is wrong.
-Expected<std::vector<WallTime>> parse_wall_times(std::string_view text);
+// not decrease; an error names the line and says what is wrong. With valid_prefix, an error leaves there the lines
+// before the first bad one.
+Expected<std::vector<WallTime>> parse_wall_times(std::string_view text, std::vector<WallTime>* valid_prefix = nullptr);
 
 // The file's text for these lines (the header, then a line each, as the writer writes them).
 std::string wall_times_text(const std::vector<WallTime>& lines);
 
 // Reads a wall_times.csv: its whole lines (a last line without its newline is one being written, or cut by a
-// crash, and is left out), parsed. Errors say what is wrong, without the path.
-Expected<std::vector<WallTime>> read_wall_times(const std::filesystem::path& path);
+// crash, and is left out), parsed. Errors say what is wrong, without the path; valid_prefix as parse_wall_times'.
+Expected<std::vector<WallTime>> read_wall_times(const std::filesystem::path& path,
+                                                std::vector<WallTime>* valid_prefix = nullptr);
 
 // The writer a coordinator keeps for its run directory.
 class WallTimes {

@@ -1,5 +1,5 @@
 // Tests run_directory/files/wall_times.cpp: the clock continues across processes from the lines the checkpoint has
-// seen, later lines are dropped, and a damaged file is named and costs only the times.
+// seen, later lines are dropped, and a damaged line is named and costs only the times from it on.
 
 #include "run_directory/files/wall_times.h"
 
@@ -90,12 +90,25 @@ TEST_F(WallTimesTest, ALineCutByACrashIsDropped) {
   EXPECT_EQ(text(), std::string(kWallTimesHeader) + "0,1.000\n");
 }
 
-TEST_F(WallTimesTest, ADamagedFileIsNamedAndTheClockRestarts) {
-  write("iteration,wall_s\n0,1.000\n1,x\n");
+// A damaged line is named; the lines before it (those the checkpoint has seen) are kept and the clock goes on.
+TEST_F(WallTimesTest, ADamagedLineIsNamedAndTheLinesBeforeItAreKept) {
+  write("iteration,wall_s\n0,1.000\n1,2.000\n2,x\n3,4.000\n");
   std::string warning;
   WallTimes w = WallTimes::open(dir_, 5, &warning);
   EXPECT_NE(warning.find(kWallTimesFile), std::string::npos) << warning;
-  EXPECT_NE(warning.find("line 3"), std::string::npos) << warning;
+  EXPECT_NE(warning.find("line 4"), std::string::npos) << warning;
+  EXPECT_NE(warning.find("the clock goes on from iteration 1"), std::string::npos) << warning;
+  EXPECT_EQ(w.carried(), 2.0);
+  EXPECT_EQ(text(), std::string(kWallTimesHeader) + "0,1.000\n1,2.000\n");
+}
+
+// With no good line before the damage (here the header), the times are lost and the clock restarts.
+TEST_F(WallTimesTest, ADamagedHeaderIsNamedAndTheClockRestarts) {
+  write("iteration;wall_s\n0,1.000\n");
+  std::string warning;
+  WallTimes w = WallTimes::open(dir_, 5, &warning);
+  EXPECT_NE(warning.find("line 1"), std::string::npos) << warning;
+  EXPECT_NE(warning.find("its clock restarts"), std::string::npos) << warning;
   EXPECT_EQ(w.carried(), 0);
   EXPECT_EQ(text(), kWallTimesHeader);
 }
