@@ -1,13 +1,15 @@
-// Tests poetctl as a real process against hostile status sockets (tests/support's ScriptedHttpServer on loopback):
-// an answer trickled a byte at a time ends at the deadline for the whole answer, a body past the cap and malformed
-// answers are refused with what they were, a picture command given something other than its picture writes
-// nothing, and the server's control characters never reach the terminal raw. Every child is bounded in time and
-// killed, and the directory removed, even when a test fails.
+// Tests poetctl as a real process against hostile status sockets (tests/support's ScriptedHttpServer on loopback)
+// and its keygen against half a key pair: an answer trickled a byte at a time ends at the deadline for the whole
+// answer, a body past the cap and malformed answers are refused with what they were, a picture command given
+// something other than its picture writes nothing, the server's control characters never reach the terminal raw,
+// and keygen writes neither half of a pair when either is there. Every child is bounded in time and killed, and
+// the directory removed, even when a test fails.
 
 #include <gtest/gtest.h>
 
 #include <chrono>
 #include <filesystem>
+#include <fstream>
 #include <string>
 #include <vector>
 
@@ -146,6 +148,24 @@ TEST_F(PoetctlProcessTest, TheServersControlCharactersNeverReachTheTerminal) {
   EXPECT_EQ(not_found.code, 1);
   EXPECT_TRUE(contains(not_found.err, "404 <p>\\u001b[31mgone</p>")) << not_found.err;
   for (const Outcome& o : {error, not_found}) EXPECT_FALSE(contains(o.err, "\x1b")) << o.err;
+}
+
+TEST_F(PoetctlProcessTest, KeygenWritesNeitherHalfOfAPairWhenEitherIsThere) {
+  const fs::path keys = root_ / "keys";
+  fs::create_directories(keys);
+  std::ofstream(keys / "worker.key") << "an old public key\n";
+  const Outcome o = poetctl({"keygen", keys.string(), "worker"}, "keygen");
+  EXPECT_EQ(o.code, 1) << o.err;
+  EXPECT_TRUE(contains(o.err, "worker.key")) << o.err;
+  EXPECT_TRUE(contains(o.err, "exists")) << o.err;
+  EXPECT_FALSE(fs::exists(keys / "worker.key_secret")) << "a secret that does not match the public key";
+  // --authorize for the coordinator is refused before anything is written
+  const Outcome authorize = poetctl({"keygen", keys.string(), "coordinator", "--authorize"}, "authorize");
+  EXPECT_EQ(authorize.code, 2) << authorize.err;
+  EXPECT_FALSE(fs::exists(keys / "coordinator.key_secret"));
+  // a fresh pair where there is none
+  EXPECT_EQ(poetctl({"keygen", keys.string(), "coordinator"}, "fresh").code, 0);
+  EXPECT_TRUE(fs::exists(keys / "coordinator.key") && fs::exists(keys / "coordinator.key_secret"));
 }
 
 }  // namespace
