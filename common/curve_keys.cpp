@@ -62,9 +62,20 @@ std::optional<std::string> write_key_pair(const std::filesystem::path& dir, std:
   std::filesystem::create_directories(dir, ec);
   if (ec) return dir.string() + ": " + ec.message();
   const std::string base(name);
+  const std::filesystem::path secret = dir / (base + ".key_secret");
+  const std::filesystem::path public_key = dir / (base + ".key");
+  // both checked before either is written: a new secret beside an old public key would be a pair that does not match
+  for (const std::filesystem::path& path : {secret, public_key}) {
+    if (std::filesystem::symlink_status(path, ec).type() == std::filesystem::file_type::not_found) continue;
+    return path.string() + ": " + (ec ? ec.message() : std::strerror(EEXIST)) +
+           " (no key is replaced: remove both files of the pair to make another)";
+  }
   // the secret first: a pair with no public half is harmless, a public key without its secret is useless
-  if (auto error = create_file(dir / (base + ".key_secret"), keys.secret_key + "\n", 0600)) return error;
-  if (auto error = create_file(dir / (base + ".key"), keys.public_key + "\n", 0644)) return error;
+  if (auto error = create_file(secret, keys.secret_key + "\n", 0600)) return error;
+  if (auto error = create_file(public_key, keys.public_key + "\n", 0644)) {
+    std::filesystem::remove(secret, ec);  // the public key came between the check and now: leave no half pair
+    return error;
+  }
   sync_directory(dir);
   return std::nullopt;
 }

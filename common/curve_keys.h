@@ -29,8 +29,8 @@ struct CurveKeyPair {
 // DIR/NAME.key and DIR/NAME.key_secret.
 Expected<CurveKeyPair> read_key_pair(const std::filesystem::path& dir, std::string_view name);
 
-// Writes DIR/NAME.key (0644) and DIR/NAME.key_secret (0600), creating DIR; refuses to replace either file.
-// Returns an error message, or nothing.
+// Writes DIR/NAME.key (0644) and DIR/NAME.key_secret (0600), creating DIR; refuses to replace either file, and
+// writes neither when either exists. Returns an error message, or nothing.
 std::optional<std::string> write_key_pair(const std::filesystem::path& dir, std::string_view name,
                                           const CurveKeyPair& keys);
 

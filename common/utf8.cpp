@@ -1,5 +1,8 @@
 #include "common/utf8.h"
 
+#include <cstdio>
+#include <utility>
+
 namespace poet {
 namespace {
 
@@ -31,6 +34,15 @@ size_t sequence_length(std::string_view text, size_t i) {
   return length;
 }
 
+// The control character that starts at text[i] (its code point, and how many bytes it takes), or 0 bytes for
+// any other character. C1 controls are two bytes in UTF-8 (C2 80 to C2 9F).
+std::pair<unsigned, size_t> control_at(std::string_view text, size_t i) {
+  const auto byte = [&](size_t k) { return static_cast<unsigned char>(text[k]); };
+  if ((byte(i) < 0x20 && byte(i) != '\n' && byte(i) != '\t') || byte(i) == 0x7F) return {byte(i), 1};
+  if (byte(i) == 0xC2 && i + 1 < text.size() && byte(i + 1) >= 0x80 && byte(i + 1) <= 0x9F) return {byte(i + 1), 2};
+  return {0, 0};
+}
+
 }  // namespace
 
 bool is_valid_utf8(std::string_view text) {
@@ -51,6 +63,24 @@ std::string valid_utf8(std::string_view text) {
       out.append(text.substr(i, length));
       i += length;
     }
+  }
+  return out;
+}
+
+std::string printable_text(std::string_view text) {
+  const std::string valid = valid_utf8(text);
+  std::string out;
+  out.reserve(valid.size());
+  for (size_t i = 0; i < valid.size();) {
+    const auto [code, length] = control_at(valid, i);
+    if (length == 0) {
+      out += valid[i++];
+      continue;
+    }
+    char escaped[8];
+    std::snprintf(escaped, sizeof escaped, "\\u%04x", code);
+    out += escaped;
+    i += length;
   }
   return out;
 }

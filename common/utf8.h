@@ -14,4 +14,10 @@ bool is_valid_utf8(std::string_view text);
 // paths from clients, before they go into JSON).
 std::string valid_utf8(std::string_view text);
 
+// The text made safe to print on a terminal: valid_utf8, then every control character but newline and tab — C0,
+// DEL and C1 (U+0080..U+009F) — written as \u00XX, so that text from a peer (a server's answer) cannot move the
+// cursor, retitle the window or hide what came before. Within a JSON string \u00XX means the same character, so
+// JSON stays the same JSON.
+std::string printable_text(std::string_view text);
+
 }  // namespace poet

@@ -29,6 +29,7 @@
 #include "coordinator/daemon/rollouts.h"
 #include "coordinator/daemon/run_loop.h"
 #include "coordinator/daemon/run_opening.h"
+#include "coordinator/evaluator/remote_evaluator.h"
 #include "coordinator/status/status_server.h"
 #include "run_directory/files/run_pack.h"
 #include "run_directory/files/wall_times.h"
@@ -120,7 +121,10 @@ int main(int argc, char** argv) {
   app.add_flag("--quiet", options.quiet, "No progress line");
   app.add_option("--listen", options.listen,
                  "Run rollouts on workers that connect here (e.g. tcp://0.0.0.0:5555); default with "
-                 "--local-workers: a free loopback port");
+                 "--local-workers: a free loopback port")
+      ->check(CLI::Validator(
+          [](const std::string& endpoint) { return poet::listen_endpoint_problem(endpoint).value_or(""); },
+          "ENDPOINT"));
   app.add_option("--local-workers", options.local_workers, "Start and supervise N poet-worker processes here")
       ->check(CLI::Range(0, 256));
   app.add_option("--liveness-ms", options.liveness_ms, "A worker silent this long is dead")

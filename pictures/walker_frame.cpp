@@ -11,8 +11,9 @@ namespace poet {
 
 std::optional<std::string> frame_options_error(const FrameOptions& options) {
   for (const auto& [name, value] : {std::pair{"width", options.width}, std::pair{"height", options.height}})
-    if (value < 16 || value > 4096)
-      return std::string(name) + " must be in [16, 4096] pixels, got " + std::to_string(value);
+    if (value < kMinFramePixels || value > kMaxFramePixels)
+      return std::string(name) + " must be in [" + std::to_string(kMinFramePixels) + ", " +
+             std::to_string(kMaxFramePixels) + "] pixels, got " + std::to_string(value);
   if (!(options.pixels_per_metre > 0 && options.pixels_per_metre <= 1000))
     return "pixels_per_metre must be in (0, 1000], got " + std::to_string(options.pixels_per_metre);
   return std::nullopt;

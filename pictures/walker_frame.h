@@ -13,8 +13,10 @@
 
 namespace poet {
 
+inline constexpr int kMinFramePixels = 16, kMaxFramePixels = 4096;  // a frame's width and height
+
 struct FrameOptions {
-  int width = 600, height = 400;  // pixels, each in [16, 4096]
+  int width = 600, height = 400;  // pixels, each in [kMinFramePixels, kMaxFramePixels]
   double pixels_per_metre = 30;   // in (0, 1000]
 };
 

@@ -25,11 +25,4 @@ CourseSpec course_from_json_text(const std::string& text) {
   return {def->encoding, def->seed};
 }
 
-uint32_t checked_seed(int64_t seed) {
-  if (seed < 0 || seed >= static_cast<int64_t>(kMaxEnvSeed))
-    throw std::invalid_argument("seed must be in [0, " + std::to_string(kMaxEnvSeed) + "), got " +
-                                std::to_string(seed));
-  return static_cast<uint32_t>(seed);
-}
-
 }  // namespace poet::python

@@ -20,7 +20,4 @@ struct CourseSpec {
 CourseSpec course_from_name_or_file(const std::string& course);
 CourseSpec course_from_json_text(const std::string& text);
 
-// A terrain seed from Python: in [0, kMaxEnvSeed), else std::invalid_argument naming it.
-uint32_t checked_seed(int64_t seed);
-
 }  // namespace poet::python

@@ -1,13 +1,14 @@
 // The Python module poet._poet (the package poet re-exports it): the walker as a Gymnasium-style environment,
 // policies and their evaluation. Arguments from Python are hostile input: wrong shapes, dtypes and non-finite
-// actions are ValueError, a step outside an episode is RuntimeError, unreadable files give the tools' messages.
-// The GIL is released while episodes run.
+// actions are ValueError, and so are integers out of range, whatever their size (int_args.h); a step outside an
+// episode is RuntimeError, unreadable files give the tools' messages. The GIL is released while episodes run.
 
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
 #include <algorithm>
+#include <climits>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
@@ -18,6 +19,7 @@
 #include "common/suite_score_json.h"
 #include "course_spec.h"
 #include "episode_env.h"
+#include "int_args.h"
 #include "pictures/walker_frame.h"
 #include "run_view.h"
 #include "simulation/course_sweep.h"
@@ -33,6 +35,27 @@ namespace poet::python {
 namespace {
 
 using FloatArray = py::array_t<float, py::array::c_style | py::array::forcecast>;
+
+// The most walkers one VectorWalkerEnv steps. Each holds its own Box2D world and course (about 220 KB), so 4096
+// of them take some 900 MB: a bound well past what one machine's cores step usefully (a few walkers per core),
+// which keeps a mistyped num_envs (10**9) a ValueError rather than an out-of-memory kill.
+constexpr int64_t kMaxVectorEnvs = 4096;
+// Threads for episodes, as the tools' --threads.
+constexpr int64_t kMaxThreads = 4096;
+constexpr int64_t kLastSeed = int64_t{kMaxEnvSeed} - 1;
+
+// A terrain seed from Python, of any size: in [0, kMaxEnvSeed), else ValueError.
+uint32_t terrain_seed(const py::int_& seed) { return static_cast<uint32_t>(int_in_range(seed, 0, kLastSeed, "seed")); }
+
+// The steps of an episode stepped from Python: at least one, at most what an int holds.
+int episode_steps(const py::int_& max_steps) {
+  return static_cast<int>(int_in_range(max_steps, 1, INT_MAX, "max_steps"));
+}
+
+// A frame's width or height as render() takes it.
+int frame_pixels(const py::int_& value, const char* name) {
+  return static_cast<int>(int_in_range(value, kMinFramePixels, kMaxFramePixels, name));
+}
 
 LidarRule lidar_rule(const std::string& name) {
   if (name == "nearest") return LidarRule::kNearest;
@@ -103,19 +126,19 @@ class PyWalkerEnv {
  public:
   // width and height: render()'s frame, the pictures' default size when not given; checked here, not at the first
   // frame (Gymnasium's rule: an env's rendering is settled when it is made).
-  PyWalkerEnv(CourseSpec course, std::optional<int64_t> seed, const std::string& lidar, double push_scale,
-              int max_steps, std::optional<int> width, std::optional<int> height)
-      : env_(std::move(course), seed ? std::optional(checked_seed(*seed)) : std::nullopt,
-             walker_options(lidar, push_scale), max_steps) {
-    if (width) frame_.width = *width;
-    if (height) frame_.height = *height;
+  PyWalkerEnv(CourseSpec course, const std::optional<py::int_>& seed, const std::string& lidar, double push_scale,
+              const py::int_& max_steps, const std::optional<py::int_>& width, const std::optional<py::int_>& height)
+      : env_(std::move(course), seed ? std::optional(terrain_seed(*seed)) : std::nullopt,
+             walker_options(lidar, push_scale), episode_steps(max_steps)) {
+    if (width) frame_.width = frame_pixels(*width, "width");
+    if (height) frame_.height = frame_pixels(*height, "height");
     if (auto error = frame_options_error(frame_)) throw std::invalid_argument(*error);
   }
 
-  py::tuple reset(std::optional<int64_t> seed, const py::object& options) {
+  py::tuple reset(const std::optional<py::int_>& seed, const py::object& options) {
     if (!options.is_none() && !py::isinstance<py::dict>(options))
       throw std::invalid_argument("options must be a dict or None");
-    const Observation& obs = env_.reset(seed ? std::optional(checked_seed(*seed)) : std::nullopt);
+    const Observation& obs = env_.reset(seed ? std::optional(terrain_seed(*seed)) : std::nullopt);
     return py::make_tuple(float_array(obs), episode_info(env_, false, false));
   }
 
@@ -172,25 +195,31 @@ class PyPolicy {
 // terminated nor truncated. Walker i runs courses[i % len(courses)].
 class PyVectorWalkerEnv {
  public:
-  PyVectorWalkerEnv(const std::vector<CourseSpec>& courses, int num_envs, int threads, const std::string& lidar,
-                    double push_scale, int max_steps)
-      : team_(std::clamp(threads, 1, std::max(num_envs, 1))) {  // no more threads than walkers
-    if (courses.empty()) throw std::invalid_argument("courses must name at least one course");
-    if (num_envs < 1) throw std::invalid_argument("num_envs must be at least 1, got " + std::to_string(num_envs));
-    if (threads < 1) throw std::invalid_argument("threads must be at least 1, got " + std::to_string(threads));
+  PyVectorWalkerEnv(const std::vector<CourseSpec>& courses, const py::int_& num_envs, const py::int_& threads,
+                    const std::string& lidar, double push_scale, const py::int_& max_steps)
+      : team_(team_size(courses, num_envs, threads)) {
     const WalkerOptions options = walker_options(lidar, push_scale);
-    for (int i = 0; i < num_envs; ++i)
-      envs_.emplace_back(courses[static_cast<size_t>(i) % courses.size()], std::nullopt, options, max_steps);
+    const int64_t count = num_envs.cast<int64_t>();  // checked by team_size
+    const int steps = episode_steps(max_steps);
+    for (int64_t i = 0; i < count; ++i)
+      envs_.emplace_back(courses[static_cast<size_t>(i) % courses.size()], std::nullopt, options, steps);
     ended_.assign(envs_.size(), 0);
   }
 
-  // seed: walker i gets seed + i; without one, each keeps its course's seed.
-  py::tuple reset(std::optional<int64_t> seed, const py::object& options) {
+  // seed: walker i gets seed + i, so the seed leaves room for every walker's below kMaxEnvSeed.
+  py::tuple reset(const std::optional<py::int_>& seed, const py::object& options) {
     if (!options.is_none() && !py::isinstance<py::dict>(options))
       throw std::invalid_argument("options must be a dict or None");
     std::vector<std::optional<uint32_t>> seeds(envs_.size());
-    if (seed)
-      for (size_t i = 0; i < envs_.size(); ++i) seeds[i] = checked_seed(*seed + static_cast<int64_t>(i));
+    if (seed) {
+      const int64_t last = kLastSeed - static_cast<int64_t>(envs_.size() - 1);
+      if (*seed < py::int_(0) || *seed > py::int_(last))
+        throw std::invalid_argument("seed must be in [0, " + std::to_string(last) +
+                                    "] (walker i gets seed + i, each below " + std::to_string(kMaxEnvSeed) + "), got " +
+                                    int_text(*seed));
+      for (size_t i = 0; i < envs_.size(); ++i)
+        seeds[i] = static_cast<uint32_t>(seed->cast<int64_t>() + static_cast<int64_t>(i));
+    }
     {
       py::gil_scoped_release release;
       team_.run(size(), [&](int i) { envs_[static_cast<size_t>(i)].reset(seeds[static_cast<size_t>(i)]); });
@@ -226,6 +255,13 @@ class PyVectorWalkerEnv {
   int size() const { return static_cast<int>(envs_.size()); }
 
  private:
+  // The threads of the team for the arguments, checked before any walker is made: no more threads than walkers.
+  static int team_size(const std::vector<CourseSpec>& courses, const py::int_& num_envs, const py::int_& threads) {
+    if (courses.empty()) throw std::invalid_argument("courses must name at least one course");
+    const int64_t walkers = int_in_range(num_envs, 1, kMaxVectorEnvs, "num_envs");
+    return static_cast<int>(std::min(int_in_range(threads, 1, kMaxThreads, "threads"), walkers));
+  }
+
   // (num_envs, 4) floating-point finite actions; anything else is ValueError.
   std::vector<Action> action_rows(const py::handle& value) const {
     const std::string shape = "(" + std::to_string(envs_.size()) + ", " + std::to_string(kActDim) + ")";
@@ -275,19 +311,20 @@ class PyVectorWalkerEnv {
 };
 
 // evaluate's and evaluate_suite's episodes run to their end inside one call: their length is bounded as the tools'.
-void check_time_limit(int max_steps) {
-  if (max_steps < 1 || max_steps > walker::kMaxTimeLimit)
-    throw std::invalid_argument("max_steps must be in [1, " + std::to_string(walker::kMaxTimeLimit) + "], got " +
-                                std::to_string(max_steps));
+int time_limit(const py::int_& max_steps) {
+  return static_cast<int>(int_in_range(max_steps, 1, walker::kMaxTimeLimit, "max_steps"));
 }
 
-py::dict evaluate(const PyPolicy& policy, const CourseSpec& course, const std::vector<int64_t>& seeds, int threads,
-                  const std::string& lidar, double push_scale, int max_steps) {
-  if (threads < 1) throw std::invalid_argument("threads must be at least 1, got " + std::to_string(threads));
-  check_time_limit(max_steps);
+int thread_count(const py::int_& threads) { return static_cast<int>(int_in_range(threads, 1, kMaxThreads, "threads")); }
+
+py::dict evaluate(const PyPolicy& policy, const CourseSpec& course, const std::vector<py::int_>& seeds,
+                  const py::int_& threads_arg, const std::string& lidar, double push_scale,
+                  const py::int_& max_steps_arg) {
+  const int threads = thread_count(threads_arg);
+  const int max_steps = time_limit(max_steps_arg);
   const WalkerOptions options = walker_options(lidar, push_scale);
   std::vector<uint32_t> terrain_seeds;
-  for (int64_t s : seeds) terrain_seeds.push_back(checked_seed(s));
+  for (const py::int_& s : seeds) terrain_seeds.push_back(terrain_seed(s));
   std::vector<RolloutResult> episodes;
   {
     py::gil_scoped_release release;
@@ -304,10 +341,10 @@ py::dict evaluate(const PyPolicy& policy, const CourseSpec& course, const std::v
 
 // The policy on a named test suite: suite_score_json.h's document (every episode) as JSON text, the numbers
 // poet-eval --suite --json writes.
-std::string evaluate_suite(const PyPolicy& policy, const std::string& name, int threads, const std::string& lidar,
-                           double push_scale, int max_steps) {
-  if (threads < 1) throw std::invalid_argument("threads must be at least 1, got " + std::to_string(threads));
-  check_time_limit(max_steps);
+std::string evaluate_suite(const PyPolicy& policy, const std::string& name, const py::int_& threads_arg,
+                           const std::string& lidar, double push_scale, const py::int_& max_steps_arg) {
+  const int threads = thread_count(threads_arg);
+  const int max_steps = time_limit(max_steps_arg);
   const std::optional<CourseSuite> suite = named_suite(name);
   if (!suite) throw std::invalid_argument("unknown suite '" + name + "'");
   const WalkerOptions options = walker_options(lidar, push_scale);
@@ -343,8 +380,8 @@ PYBIND11_MODULE(_poet, m) {
   m.def("_course_from_json_text", &course_from_json_text, py::arg("text"));
 
   py::class_<PyWalkerEnv>(m, "_WalkerEnv")
-      .def(py::init<CourseSpec, std::optional<int64_t>, const std::string&, double, int, std::optional<int>,
-                    std::optional<int>>(),
+      .def(py::init<CourseSpec, const std::optional<py::int_>&, const std::string&, double, const py::int_&,
+                    const std::optional<py::int_>&, const std::optional<py::int_>&>(),
            py::arg("course"), py::arg("seed"), py::arg("lidar"), py::arg("push_scale"), py::arg("max_steps"),
            py::arg("width"), py::arg("height"))
       .def("reset", &PyWalkerEnv::reset, py::arg("seed") = py::none(), py::arg("options") = py::none())
@@ -363,8 +400,10 @@ PYBIND11_MODULE(_poet, m) {
       .def_property_readonly("score", &PyPolicy::score, "The score recorded in the file, or None.");
 
   py::class_<PyVectorWalkerEnv>(m, "_VectorWalkerEnv")
-      .def(py::init<const std::vector<CourseSpec>&, int, int, const std::string&, double, int>(), py::arg("courses"),
-           py::arg("num_envs"), py::arg("threads"), py::arg("lidar"), py::arg("push_scale"), py::arg("max_steps"))
+      .def(py::init<const std::vector<CourseSpec>&, const py::int_&, const py::int_&, const std::string&, double,
+                    const py::int_&>(),
+           py::arg("courses"), py::arg("num_envs"), py::arg("threads"), py::arg("lidar"), py::arg("push_scale"),
+           py::arg("max_steps"))
       .def("reset", &PyVectorWalkerEnv::reset, py::arg("seed") = py::none(), py::arg("options") = py::none())
       .def("step", &PyVectorWalkerEnv::step, py::arg("actions"))
       .def_property_readonly("num_envs", &PyVectorWalkerEnv::size);

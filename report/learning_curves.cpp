@@ -1,28 +1,40 @@
 #include "report/learning_curves.h"
 
 #include <array>
-#include <fstream>
 #include <functional>
-#include <iterator>
 #include <map>
 #include <sstream>
+#include <string_view>
 
 #include "common/csv_fields.h"
+#include "common/text_file.h"
 #include "pictures/chart.h"
 
 namespace poet {
 namespace {
 
 constexpr std::array<const char*, 6> kColumns = {"es_step", "score", "finished", "env_steps", "rollouts", "wall_s"};
+// A curve is a line per ES step, some 100 bytes each: 64 MB is over half a million steps, and a file past it is
+// refused before it is read whole.
+constexpr std::uintmax_t kMaxCurveBytes = std::uintmax_t{64} << 20;
+constexpr std::string_view kUtf8Bom = "\xEF\xBB\xBF";
+
+// The next line of in without its line end, whether "\n" or "\r\n" (a CSV saved on Windows).
+bool next_line(std::istringstream& in, std::string& line) {
+  if (!std::getline(in, line)) return false;
+  if (line.ends_with('\r')) line.pop_back();
+  return true;
+}
 
 std::string where(const std::string& source, size_t line) { return source + ":" + std::to_string(line); }
 
 }  // namespace
 
 Expected<LearningCurve> parse_learning_curve(const std::string& text, const std::string& source) {
-  std::istringstream in(text);
+  // a byte-order mark, as spreadsheet programs write before UTF-8, is not part of the first column's name
+  std::istringstream in(text.starts_with(kUtf8Bom) ? text.substr(kUtf8Bom.size()) : text);
   std::string line;
-  if (!std::getline(in, line)) return Unexpected{source + ": empty, expected a header line"};
+  if (!next_line(in, line)) return Unexpected{source + ": empty, expected a header line"};
   std::map<std::string, size_t> column_of;
   const std::vector<std::string> header = csv_fields(line);
   for (size_t i = 0; i < header.size(); ++i) column_of[header[i]] = i;
@@ -34,7 +46,7 @@ Expected<LearningCurve> parse_learning_curve(const std::string& text, const std:
   }
 
   LearningCurve curve;
-  for (size_t number = 2; std::getline(in, line); ++number) {
+  for (size_t number = 2; next_line(in, line); ++number) {
     if (line.empty()) continue;
     const std::vector<std::string> fields = csv_fields(line);
     if (fields.size() != header.size())
@@ -67,9 +79,9 @@ Expected<LearningCurve> parse_learning_curve(const std::string& text, const std:
 }
 
 Expected<LearningCurve> read_learning_curve(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) return Unexpected{path + ": cannot be read"};
-  return parse_learning_curve(std::string(std::istreambuf_iterator<char>(in), {}), path);
+  Expected<std::string> text = read_text_file(path, kMaxCurveBytes);
+  if (!text) return Unexpected{path + ": " + text.error()};
+  return parse_learning_curve(*text, path);
 }
 
 const CurvePoint* first_solved(const LearningCurve& curve, double solved_score) {

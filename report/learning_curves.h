@@ -28,10 +28,11 @@ struct LearningCurve {
   std::vector<CurvePoint> points;  // in ES-step order
 };
 
-// The curve in `text` (the contents of `source`, which only names it in errors: "FILE:LINE: column: why").
+// The curve in `text` (the contents of `source`, which only names it in errors: "FILE:LINE: column: why"). Lines
+// may end in "\r\n" and the text may begin with a UTF-8 byte-order mark, as spreadsheet programs save CSV.
 Expected<LearningCurve> parse_learning_curve(const std::string& text, const std::string& source);
 
-// The curve in the file at path.
+// The curve in the file at path: a regular file of at most 64 MB (common/text_file.h), else an error naming it.
 Expected<LearningCurve> read_learning_curve(const std::string& path);
 
 // The first point that is solved: finished with a score of at least solved_score.

@@ -43,12 +43,12 @@ int run(int argc, char** argv) {
   for (const std::string& spec : specs) {
     const size_t eq = spec.find('=');
     if (eq == std::string::npos || eq == 0 || eq + 1 == spec.size()) {
-      std::fprintf(stderr, "curves: \"%s\" is not LABEL=CURVE.csv\n", spec.c_str());
+      std::fprintf(stderr, "poet-curves: \"%s\" is not LABEL=CURVE.csv\n", spec.c_str());
       return kExitUsage;
     }
     Expected<LearningCurve> curve = read_learning_curve(spec.substr(eq + 1));
     if (!curve) {
-      std::fprintf(stderr, "%s\n", curve.error().c_str());
+      std::fprintf(stderr, "poet-curves: %s\n", curve.error().c_str());
       return kExitUsage;
     }
     curve->label = spec.substr(0, eq);
@@ -60,8 +60,8 @@ int run(int argc, char** argv) {
     const std::string error =
         bytes ? write_bytes(plot_path, *bytes) : "cannot draw " + plot_path + ": " + bytes.error();
     if (!error.empty()) {
-      std::fprintf(stderr, "%s\n", error.c_str());
-      return 1;
+      std::fprintf(stderr, "poet-curves: %s\n", error.c_str());
+      return kExitError;
     }
   }
   return 0;

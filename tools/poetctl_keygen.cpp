@@ -13,6 +13,10 @@ namespace poet {
 
 // poetctl keygen: a fresh pair from libzmq's generator, written without replacing any key.
 int make_keys(const std::filesystem::path& dir, const std::string& name, bool authorize) {
+  if (authorize && name != "worker") {  // before anything is written
+    std::fprintf(stderr, "poetctl keygen: --authorize is for worker keys\n");
+    return kExitUsage;
+  }
   std::array<char, 41> public_key{};
   std::array<char, 41> secret_key{};
   if (zmq_curve_keypair(public_key.data(), secret_key.data()) != 0) {
@@ -25,10 +29,6 @@ int make_keys(const std::filesystem::path& dir, const std::string& name, bool au
     return kExitUnreachable;
   }
   std::printf("%s/%s.key: %s\n", dir.c_str(), name.c_str(), keys.public_key.c_str());
-  if (authorize && name != "worker") {
-    std::fprintf(stderr, "poetctl keygen: --authorize is for worker keys\n");
-    return kExitUsage;
-  }
   if (authorize) {
     const std::filesystem::path authorized = dir / "authorized";
     std::error_code ec;

@@ -4,9 +4,12 @@
 //   poetctl keygen DIR coordinator|worker [--authorize]
 //   poetctl picture KIND OUT [--pair ID] [--run-dir DIR]   a picture of the live run, or of a run directory's files
 //   poetctl pack RUN_DIR FILE | unpack FILE DIR           a run as one file, to move it between machines
-// Prints a table for people, or with --json the server's JSON as it came (/metrics is always its text). The
+// Prints a table for people, or with --json the server's JSON as it came (/metrics is always its text); whatever
+// the server sent is printed with its control characters written out (\u001b), so that it cannot drive the
+// terminal. Each request has a deadline for the whole answer and a cap on its size (status_request.h). The
 // address is --address, else $POET_STATUS, else 127.0.0.1:8580. Exit codes: 0 done, 1 the coordinator cannot be
-// reached or answered with an error (the message names the address), 2 bad command line or address.
+// reached, answered with an error or with something else than asked (the message names the address), 2 bad
+// command line or address.
 
 #include <CLI/CLI.hpp>
 #include <csignal>
@@ -17,6 +20,7 @@
 #include <string>
 
 #include "common/tool_flags.h"
+#include "common/utf8.h"
 #include "coordinator/status_client/status_defaults.h"
 #include "coordinator/status_client/status_request.h"
 #include "coordinator/status_client/status_tables.h"
@@ -39,10 +43,17 @@ std::optional<Message> parse(const std::string& body, const std::string& what) {
 }
 
 struct Command {
-  std::string path;                                    // with its query
-  std::function<bool(const std::string& body)> print;  // false: the body could not be read
-  std::function<int(const std::string& body)> save;    // instead of printing: keeps the body (an exit code)
+  std::string path;                                     // with its query
+  std::function<bool(const std::string& body)> print;   // false: the body could not be read
+  std::function<int(const StatusAnswer& answer)> save;  // instead of printing: keeps the body (an exit code)
+  StatusLimits limits = kStatusTextLimits;
 };
+
+// An error the server wrote, as it may be shown: printable, and no longer than a screenful.
+std::string server_text(const std::string& text) {
+  constexpr size_t kShown = 2000;
+  return printable_text(text.substr(0, kShown)) + (text.size() > kShown ? "..." : "");
+}
 
 int run(const std::string& address, const Command& command, bool json) {
   const Expected<HostPort> where = parse_host_port(address);
@@ -50,22 +61,23 @@ int run(const std::string& address, const Command& command, bool json) {
     std::fprintf(stderr, "poetctl: %s\n", where.error().c_str());
     return kExitUsage;
   }
-  const Expected<StatusAnswer> answer = status_get(*where, command.path);
+  const Expected<StatusAnswer> answer = status_get(*where, command.path, command.limits);
   const std::string what = "GET http://" + address + command.path;
   if (!answer) {
-    std::fprintf(stderr, "poetctl: cannot reach the coordinator at %s: %s\n", address.c_str(), answer.error().c_str());
+    std::fprintf(stderr, "poetctl: %s: %s\n", what.c_str(), answer.error().c_str());
     return kExitUnreachable;
   }
   if (answer->status != 200) {
     std::string message = answer->body;
-    if (auto error = parse<status::Error>(answer->body, what); error && !error->error().empty())
+    if (auto error = parse_status_json<status::Error>(answer->body); error && !error->error().empty())
       message = error->error();
-    std::fprintf(stderr, "poetctl: %s: %d %s\n", what.c_str(), answer->status, message.c_str());
+    std::fprintf(stderr, "poetctl: %s: %d %s\n", what.c_str(), answer->status, server_text(message).c_str());
     return kExitUnreachable;
   }
-  if (command.save) return command.save(answer->body);
+  if (command.save) return command.save(*answer);
   if (json || !command.print) {
-    std::fwrite(answer->body.data(), 1, answer->body.size(), stdout);
+    const std::string printable = printable_text(answer->body);
+    std::fwrite(printable.data(), 1, printable.size(), stdout);
     return 0;
   }
   return command.print(answer->body) ? 0 : kExitUnreachable;
@@ -215,6 +227,9 @@ int main(int argc, char** argv) {
   if (!o.picture_run_dir.empty()) return picture_from_files(o.picture_run_dir, *request, o.picture_out);
   Command command;
   command.path = picture_path(o.picture_kind_name, o.picture_out, *request);
-  command.save = [&](const std::string& body) { return save_picture(o.picture_out, body, command.path); };
+  command.limits = kStatusPictureLimits;
+  command.save = [&](const StatusAnswer& answer) {
+    return save_picture(o.picture_out, answer, command.path, request->encoding);
+  };
   return run(status_address(o.address), command, o.json);
 }

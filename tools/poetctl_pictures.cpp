@@ -1,8 +1,11 @@
 #include "poetctl_pictures.h"
 
+#include <algorithm>
+#include <cctype>
 #include <cstdio>
 
 #include "common/tool_flags.h"
+#include "common/utf8.h"
 #include "pictures/canvas.h"
 #include "poetctl_exit.h"
 #include "report/run_pictures.h"
@@ -62,12 +65,57 @@ std::string picture_path(const std::string& kind_name, const std::string& out, c
   return "/pictures/" + kind_name + "." + extension;
 }
 
-int save_picture(const std::string& out, const std::string& bytes, const std::string& path) {
-  if (std::string error = write_bytes(out, bytes); !error.empty()) {
+namespace {
+
+// A Content-Type's media type, lowercase, without its parameters ("image/svg+xml; charset=utf-8" -> "image/svg+xml").
+std::string media_type(const std::string& content_type) {
+  std::string type = content_type.substr(0, content_type.find(';'));
+  std::erase_if(type, [](unsigned char c) { return std::isspace(c); });
+  std::transform(type.begin(), type.end(), type.begin(), [](unsigned char c) { return std::tolower(c); });
+  return type;
+}
+
+// Whether bytes begin as a file of the encoding does: PNG's and GIF's signatures; for SVG, XML (a declaration or
+// the svg element, after white space) that has an svg element near its start.
+bool has_signature(PictureEncoding encoding, std::string_view bytes) {
+  switch (encoding) {
+    case PictureEncoding::kPng:
+      return bytes.starts_with("\x89PNG\r\n\x1a\n");
+    case PictureEncoding::kGif:
+      return bytes.starts_with("GIF87a") || bytes.starts_with("GIF89a");
+    case PictureEncoding::kSvg: {
+      const std::string_view head = bytes.substr(0, 4096);
+      const size_t start = head.find_first_not_of(" \t\r\n");
+      return start != std::string_view::npos && head.find("<svg") != std::string_view::npos &&
+             (head.substr(start).starts_with("<?xml") || head.substr(start).starts_with("<svg"));
+    }
+  }
+  return false;
+}
+
+}  // namespace
+
+std::optional<std::string> picture_problem(PictureEncoding encoding, const std::string& content_type,
+                                           std::string_view bytes) {
+  const std::string expected = mime_type(encoding);
+  if (media_type(content_type) != expected)
+    return "the answer is " + (content_type.empty() ? std::string("of no type") : printable_text(content_type)) +
+           ", not " + expected;
+  if (!has_signature(encoding, bytes)) return "the answer says " + expected + " but its bytes are not one";
+  return std::nullopt;
+}
+
+int save_picture(const std::string& out, const StatusAnswer& answer, const std::string& path,
+                 PictureEncoding encoding) {
+  if (std::optional<std::string> problem = picture_problem(encoding, answer.content_type, answer.body)) {
+    std::fprintf(stderr, "poetctl picture: %s: %s; %s not written\n", path.c_str(), problem->c_str(), out.c_str());
+    return kExitUnreachable;
+  }
+  if (std::string error = write_bytes(out, answer.body); !error.empty()) {
     std::fprintf(stderr, "poetctl picture: %s\n", error.c_str());
     return kExitUnreachable;
   }
-  std::printf("%s: %zu bytes from %s\n", out.c_str(), bytes.size(), path.c_str());
+  std::printf("%s: %zu bytes from %s\n", out.c_str(), answer.body.size(), path.c_str());
   return 0;
 }
 

@@ -15,6 +15,7 @@
 #include <set>
 #include <stop_token>
 #include <string>
+#include <string_view>
 #include <thread>
 #include <unordered_map>
 #include <vector>
@@ -43,6 +44,11 @@ struct CurveServer {
   std::function<void()> skipped_key_file;  // told of each file of authorized/ that holds no key (curve_authenticator.h)
   std::filesystem::path refused_keys_file;  // the keys of workers refused for wrong results, kept across a resume
 };
+
+// Why the job socket cannot listen on `endpoint` as given, or nullopt. ZeroMQ reads a tcp:// port modulo 65536
+// (tcp://HOST:99999 would listen on port 34463), so a tcp:// endpoint's port must be 1 to 65535, or * for a free
+// one; the rest of an endpoint, and other transports, are ZeroMQ's to judge when it binds.
+std::optional<std::string> listen_endpoint_problem(std::string_view endpoint);
 
 class RemoteEvaluator final : public Evaluator {
  public:

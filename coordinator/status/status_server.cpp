@@ -17,15 +17,42 @@ namespace {
 
 // A request URI longer than this is refused (414), before any route sees it.
 constexpr size_t kMaxUriBytes = 8192;
+// A query with more parameters than this is refused (400): the routes read two at most.
+constexpr size_t kMaxQueryParams = 64;
 // Connections held at once, slow ones included: each costs a few kilobytes of buffers, not a thread; one address
 // may hold a quarter of them, so that a flood from one place leaves room for the probes and the people.
 constexpr unsigned kMaxConnections = 1024;
 constexpr unsigned kMaxConnectionsPerAddress = 256;
 
-// One request's state between libmicrohttpd's calls: how much body has come.
+// One request's state between libmicrohttpd's calls: what its URI was found to be, how much body has come.
 struct RequestState {
+  int refusal = 0;  // 414 or 400 when the URI is refused before libmicrohttpd reads its query, else 0
+  bool headers_in = false;
   size_t body_bytes = 0;
 };
+
+// libmicrohttpd's URI log callback, which sees the request's URI before libmicrohttpd parses its query: its
+// return is the request's state. libmicrohttpd 0.9.75 (Debian 12's) keeps each query parameter in the
+// connection's 32 KB memory pool, and when a query of a few hundred parameters fills the pool it closes the
+// connection without an answer. So a URI to be refused, too long or with too many parameters, has its query
+// ended here, in libmicrohttpd's own buffer of the request line (the callback's `const` is only the API's: the
+// same bytes are parsed in place right after), and access() answers with the refusal: libmicrohttpd parses
+// nothing of it. The query is found with strchr: a URI with a NUL byte before its '?' hides its query from this
+// check (as from the routes), and such a request, not text, may still be closed unanswered.
+void* screen_uri(void*, const char* uri, MHD_Connection*) {
+  auto* state = new RequestState;
+  if (uri == nullptr) return state;  // a request line without a URI
+  const size_t length = std::strlen(uri);
+  const char* query = std::strchr(uri, '?');
+  const size_t params = query == nullptr ? 0 : 1 + static_cast<size_t>(std::count(query, uri + length, '&'));
+  if (length > kMaxUriBytes) {
+    state->refusal = 414;
+  } else if (params > kMaxQueryParams) {
+    state->refusal = 400;
+  }
+  if (state->refusal != 0 && query != nullptr) const_cast<char*>(query)[1] = '\0';
+  return state;
+}
 
 MHD_Result queue(MHD_Connection* connection, const StatusResponse& r) {
   MHD_Response* response =
@@ -72,9 +99,16 @@ struct StatusServer::Impl {
   static MHD_Result access(void* self, MHD_Connection* connection, const char* url, const char* method, const char*,
                            const char*, size_t* upload_data_size, void** state) {
     const Impl& impl = *static_cast<const Impl*>(self);
-    if (*state == nullptr) {
-      *state = new RequestState;
-      if (std::strlen(url) > kMaxUriBytes) return queue(connection, error_response(414, "request URI too long"));
+    if (*state == nullptr) *state = new RequestState;  // screen_uri made one, unless libmicrohttpd skipped it
+    auto& request = *static_cast<RequestState*>(*state);
+    if (!request.headers_in) {
+      request.headers_in = true;
+      if (request.refusal == 414 || std::strlen(url) > kMaxUriBytes)
+        return queue(connection,
+                     error_response(414, "request URI too long (at most " + std::to_string(kMaxUriBytes) + " bytes)"));
+      if (request.refusal == 400)
+        return queue(connection, error_response(400, "too many query parameters (at most " +
+                                                         std::to_string(kMaxQueryParams) + ")"));
       const char* length = MHD_lookup_connection_value(connection, MHD_HEADER_KIND, MHD_HTTP_HEADER_CONTENT_LENGTH);
       size_t declared = 0;
       if (length != nullptr) {
@@ -84,7 +118,6 @@ struct StatusServer::Impl {
       }
       return MHD_YES;
     }
-    auto& request = *static_cast<RequestState*>(*state);
     if (*upload_data_size > 0) {  // the body: only counted, no route reads one
       request.body_bytes += *upload_data_size;
       *upload_data_size = 0;
@@ -139,11 +172,12 @@ Expected<int> StatusServer::start(const std::string& address) {
   const unsigned threads = static_cast<unsigned>(std::clamp(options_.threads, 1, 16));
   unsigned flags = MHD_USE_INTERNAL_POLLING_THREAD | MHD_USE_EPOLL;
   if (ipv6) flags |= MHD_USE_IPv6;
-  impl->daemon = MHD_start_daemon(
-      flags, static_cast<uint16_t>(where->port), nullptr, nullptr, &Impl::access, impl.get(), MHD_OPTION_SOCK_ADDR,
-      reinterpret_cast<sockaddr*>(&bind_address), MHD_OPTION_THREAD_POOL_SIZE, threads, MHD_OPTION_CONNECTION_TIMEOUT,
-      timeout_s, MHD_OPTION_CONNECTION_LIMIT, kMaxConnections, MHD_OPTION_PER_IP_CONNECTION_LIMIT,
-      kMaxConnectionsPerAddress, MHD_OPTION_NOTIFY_COMPLETED, &request_completed, nullptr, MHD_OPTION_END);
+  impl->daemon =
+      MHD_start_daemon(flags, static_cast<uint16_t>(where->port), nullptr, nullptr, &Impl::access, impl.get(),
+                       MHD_OPTION_SOCK_ADDR, reinterpret_cast<sockaddr*>(&bind_address), MHD_OPTION_THREAD_POOL_SIZE,
+                       threads, MHD_OPTION_CONNECTION_TIMEOUT, timeout_s, MHD_OPTION_CONNECTION_LIMIT, kMaxConnections,
+                       MHD_OPTION_PER_IP_CONNECTION_LIMIT, kMaxConnectionsPerAddress, MHD_OPTION_URI_LOG_CALLBACK,
+                       &screen_uri, nullptr, MHD_OPTION_NOTIFY_COMPLETED, &request_completed, nullptr, MHD_OPTION_END);
   if (impl->daemon == nullptr) return Unexpected{cannot};
   const MHD_DaemonInfo* info = MHD_get_daemon_info(impl->daemon, MHD_DAEMON_INFO_BIND_PORT);
   port_ = info != nullptr ? info->port : where->port;

@@ -5,8 +5,11 @@
 // slowloris clients do not delay anyone else's answer (cpp-httplib, used before, gave each connection a pool
 // thread until its request was whole, and has no deadline for a whole request). A connection idle for
 // idle_timeout is closed; headers and URI are limited (414 past 8 KB, libmicrohttpd's own error past its 32 KB
-// buffer), and so is a body (413). A request line that cannot be parsed gets libmicrohttpd's own 400 (an HTML body)
-// or, when it is not a request line at all, a closed connection; every answer of a route has a JSON body. Nothing a
+// buffer), and so are a query (400 past 64 parameters, refused before libmicrohttpd parses them: it would close the
+// connection unanswered when they fill its memory pool) and a body (413). A request line that cannot be parsed gets
+// libmicrohttpd's own 400 (an HTML body) or, when it is not a request line at all (no space in it: binary garbage),
+// a closed connection: libmicrohttpd 0.9.75 parses the request line before calling anything of ours, and closes
+// such a line unanswered with no way for us to answer instead. Every answer of a route has a JSON body. Nothing a
 // client does touches the run: the board's lock is held only to copy a pointer. Sends use MSG_NOSIGNAL, so a client
 // that hangs up mid-answer cannot end the process.
 //

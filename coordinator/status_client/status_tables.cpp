@@ -4,18 +4,36 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdarg>
 #include <cstdio>
 #include <string>
 #include <vector>
 
 #include "common/event_text.h"
 #include "common/text_format.h"
+#include "common/utf8.h"
 
 namespace poet {
 namespace {
 
 // ---------------------------------------------------------------------------------------------------------
 // formatting
+
+// printf to stdout, the text made printable first: what it prints comes from the server, whose strings may hold
+// escape sequences meant for the terminal.
+[[gnu::format(printf, 1, 2)]] void say(const char* format, ...) {
+  va_list args;
+  va_start(args, format);
+  va_list measure;
+  va_copy(measure, args);
+  const int size = std::vsnprintf(nullptr, 0, format, measure);
+  va_end(measure);
+  std::string text(static_cast<size_t>(std::max(size, 0)), '\0');
+  if (size > 0) std::vsnprintf(text.data(), text.size() + 1, format, args);
+  va_end(args);
+  const std::string printable = printable_text(text);
+  std::fwrite(printable.data(), 1, printable.size(), stdout);
+}
 
 // A value as people read it in a table: whole numbers written out in full, others as number_text writes them.
 std::string table_number(double value) {
@@ -54,7 +72,11 @@ size_t display_width(const std::string& text) {
 class Table {
  public:
   explicit Table(std::vector<std::string> header) { rows_.push_back(std::move(header)); }
-  void add(std::vector<std::string> row) { rows_.push_back(std::move(row)); }
+  // the cells made printable here, so that the columns are sized as they will show
+  void add(std::vector<std::string> row) {
+    for (std::string& cell : row) cell = printable_text(cell);
+    rows_.push_back(std::move(row));
+  }
   void print() const {
     // a column is numeric (right-aligned) when every cell below the header is a number or "-"
     const size_t columns = rows_[0].size();
@@ -75,7 +97,7 @@ class Table {
         const std::string pad(width[i] - display_width(row[i]), ' ');
         line += (i ? "  " : "") + (numeric[i] ? pad + row[i] : row[i] + (i + 1 < row.size() ? pad : ""));
       }
-      std::printf("%s\n", line.c_str());
+      say("%s\n", line.c_str());
     }
   }
 
@@ -122,25 +144,24 @@ EventView event_view(const google::protobuf::Struct& event) {
 // the commands' printers
 
 void print_status(const status::Status& s) {
-  std::printf("run         %s (%s, seed %llu)\n", s.run_dir().c_str(), s.mode().empty() ? "-" : s.mode().c_str(),
-              static_cast<unsigned long long>(s.seed()));
-  std::printf("state       %s%s%s\n", s.state().c_str(), s.note().empty() ? "" : ": ", s.note().c_str());
-  std::printf("iteration   %d of %d%s, checkpoint at %d\n", s.iteration(), s.iterations(),
-              s.finished() ? " (finished)" : "", s.last_checkpoint_iteration());
-  std::printf("pairs       %d created, %d active, %d solved\n", s.pairs_created(), s.pairs_active(), s.pairs_solved());
-  std::printf("transfers   %lld accepted of %lld attempted\n", static_cast<long long>(s.transfer_successes()),
-              static_cast<long long>(s.transfer_attempts()));
-  std::printf("ANNECS      %d at admission, %d at archiving\n", s.annecs_at_admission(), s.annecs_at_archiving());
-  std::printf("workers     %d, %lld jobs queued, %lld in flight\n", s.workers(),
-              static_cast<long long>(s.queue_depth()), static_cast<long long>(s.in_flight_jobs()));
-  std::printf("rollouts    %lld (%s/s)\n", static_cast<long long>(s.rollouts()), fixed(s.rollouts_per_s(), 1).c_str());
-  std::printf("env steps   %lld (%s/s)\n", static_cast<long long>(s.env_steps()),
-              fixed(s.env_steps_per_s(), 0).c_str());
-  std::printf("uptime      %s\n", duration(s.uptime_s()).c_str());
+  say("run         %s (%s, seed %llu)\n", s.run_dir().c_str(), s.mode().empty() ? "-" : s.mode().c_str(),
+      static_cast<unsigned long long>(s.seed()));
+  say("state       %s%s%s\n", s.state().c_str(), s.note().empty() ? "" : ": ", s.note().c_str());
+  say("iteration   %d of %d%s, checkpoint at %d\n", s.iteration(), s.iterations(), s.finished() ? " (finished)" : "",
+      s.last_checkpoint_iteration());
+  say("pairs       %d created, %d active, %d solved\n", s.pairs_created(), s.pairs_active(), s.pairs_solved());
+  say("transfers   %lld accepted of %lld attempted\n", static_cast<long long>(s.transfer_successes()),
+      static_cast<long long>(s.transfer_attempts()));
+  say("ANNECS      %d at admission, %d at archiving\n", s.annecs_at_admission(), s.annecs_at_archiving());
+  say("workers     %d, %lld jobs queued, %lld in flight\n", s.workers(), static_cast<long long>(s.queue_depth()),
+      static_cast<long long>(s.in_flight_jobs()));
+  say("rollouts    %lld (%s/s)\n", static_cast<long long>(s.rollouts()), fixed(s.rollouts_per_s(), 1).c_str());
+  say("env steps   %lld (%s/s)\n", static_cast<long long>(s.env_steps()), fixed(s.env_steps_per_s(), 0).c_str());
+  say("uptime      %s\n", duration(s.uptime_s()).c_str());
   std::string dropped;
   for (const auto& [reason, count] : s.dropped_frames())
     if (count > 0) dropped += (dropped.empty() ? "" : ", ") + reason + " " + std::to_string(count);
-  if (!dropped.empty()) std::printf("dropped     %s\n", dropped.c_str());
+  if (!dropped.empty()) say("dropped     %s\n", dropped.c_str());
 }
 
 void print_pairs(const status::PairList& list) {
@@ -153,38 +174,36 @@ void print_pairs(const status::PairList& list) {
                std::to_string(p.es_steps()), p.difficulty()});
   }
   table.print();
-  std::printf("%d pairs\n", list.pairs_size());
+  say("%d pairs\n", list.pairs_size());
 }
 
 void print_pair(const status::PairDetail& d) {
   const status::PairSummary& p = d.pair();
   const status::Lineage& l = d.lineage();
-  std::printf("pair %d on %s (seed %u), %s\n", p.id(), p.env().c_str(), p.seed(), p.difficulty().c_str());
-  std::printf("created     iteration %d%s; %s\n", p.created_iteration(),
-              p.parent_id() < 0 ? " (the first pair)" : (" from pair " + std::to_string(p.parent_id())).c_str(),
-              p.active() ? "active" : ("retired at iteration " + std::to_string(p.retired_iteration())).c_str());
-  std::printf(
-      "scores      latest %s, best %s (iteration %s); %s\n", fixed(p.latest_score(), 2).c_str(),
+  say("pair %d on %s (seed %u), %s\n", p.id(), p.env().c_str(), p.seed(), p.difficulty().c_str());
+  say("created     iteration %d%s; %s\n", p.created_iteration(),
+      p.parent_id() < 0 ? " (the first pair)" : (" from pair " + std::to_string(p.parent_id())).c_str(),
+      p.active() ? "active" : ("retired at iteration " + std::to_string(p.retired_iteration())).c_str());
+  say("scores      latest %s, best %s (iteration %s); %s\n", fixed(p.latest_score(), 2).c_str(),
       fixed(p.best_score(), 2).c_str(), iteration_or_dash(p.best_iteration()).c_str(),
       p.solved() ? ("solved at iteration " + std::to_string(p.first_solved_iteration())).c_str() : "not solved");
-  std::printf("es steps    %lld\n", static_cast<long long>(p.es_steps()));
+  say("es steps    %lld\n", static_cast<long long>(p.es_steps()));
   std::string ancestors;
   for (int a : l.ancestors()) ancestors += (ancestors.empty() ? "" : " <- ") + std::to_string(a);
-  std::printf("ancestors   %s\n", ancestors.empty() ? "none" : ancestors.c_str());
-  std::printf("first θ     %s (admitted with %s)\n",
-              l.initial_source_pair() < 0 ? "fresh"
-                                          : ("from pair " + std::to_string(l.initial_source_pair()) +
-                                             (l.initial_by_proposal() ? ", a proposal" : ""))
-                                                .c_str(),
-              fixed(l.admission_score(), 2).c_str());
-  std::printf("transfers   %d accepted of %lld rounds\n", l.transfers_size(),
-              static_cast<long long>(l.transfer_attempts()));
+  say("ancestors   %s\n", ancestors.empty() ? "none" : ancestors.c_str());
+  say("first θ     %s (admitted with %s)\n",
+      l.initial_source_pair() < 0
+          ? "fresh"
+          : ("from pair " + std::to_string(l.initial_source_pair()) + (l.initial_by_proposal() ? ", a proposal" : ""))
+                .c_str(),
+      fixed(l.admission_score(), 2).c_str());
+  say("transfers   %d accepted of %lld rounds\n", l.transfers_size(), static_cast<long long>(l.transfer_attempts()));
   for (const status::Transfer& t : l.transfers())
-    std::printf("            iteration %d from pair %d (%s), score %s\n", t.iteration(), t.source_pair(),
-                t.proposal() ? "proposal" : "θ", fixed(t.score(), 2).c_str());
+    say("            iteration %d from pair %d (%s), score %s\n", t.iteration(), t.source_pair(),
+        t.proposal() ? "proposal" : "θ", fixed(t.score(), 2).c_str());
   constexpr int kShown = 20;
   const int n = d.scores_size();
-  std::printf("scores over iterations (%s%d rows; --json for all):\n", n > kShown ? "the last 20 of " : "", n);
+  say("scores over iterations (%s%d rows; --json for all):\n", n > kShown ? "the last 20 of " : "", n);
   Table table({"iteration", "score", "best"});
   for (int i = std::max(0, n - kShown); i < n; ++i)
     table.add(
@@ -208,7 +227,7 @@ void print_archive(const status::Archive& archive) {
                enc.has_stair_height() ? interval(enc.stair_height()) : "-"});
   }
   table.print();
-  std::printf("%d environments\n", archive.pairs_size());
+  say("%d environments\n", archive.pairs_size());
 }
 
 void print_workers(const status::WorkerList& list) {
@@ -218,17 +237,16 @@ void print_workers(const status::WorkerList& list) {
                std::to_string(w.results_done()), fixed(w.seconds_since_heartbeat(), 1) + " s ago",
                w.fingerprint_digest()});
   table.print();
-  std::printf("%d workers, %lld jobs queued, %lld in flight\n", list.workers_size(),
-              static_cast<long long>(list.queue_depth()), static_cast<long long>(list.in_flight_jobs()));
+  say("%d workers, %lld jobs queued, %lld in flight\n", list.workers_size(), static_cast<long long>(list.queue_depth()),
+      static_cast<long long>(list.in_flight_jobs()));
 }
 
 void print_events(const status::EventList& list) {
-  for (const google::protobuf::Struct& event : list.events())
-    std::printf("%s\n", describe_event(event_view(event)).c_str());
+  for (const google::protobuf::Struct& event : list.events()) say("%s\n", describe_event(event_view(event)).c_str());
   if (list.more())
-    std::printf("(more: poetctl events --since %lld)\n", static_cast<long long>(list.next()));
+    say("(more: poetctl events --since %lld)\n", static_cast<long long>(list.next()));
   else
-    std::printf("(%d events; next: --since %lld)\n", list.events_size(), static_cast<long long>(list.next()));
+    say("(%d events; next: --since %lld)\n", list.events_size(), static_cast<long long>(list.next()));
 }
 
 }  // namespace poet

@@ -1,6 +1,7 @@
 #pragma once
 // The status socket's answers printed for people on stdout, as poetctl shows them: tables with columns sized
-// to their widest cell and numbers right-aligned, one line per event.
+// to their widest cell and numbers right-aligned, one line per event. The server's strings are printed with their
+// control characters written out (common/utf8.h's printable_text): they cannot drive the terminal.
 
 #include <google/protobuf/struct.pb.h>
 

@@ -202,9 +202,10 @@ class VectorWalkerEnv(_Episodes):
 
     reset(seed=None) -> (obs (num_envs, 24) float32, info); step(actions (num_envs, 4)) -> (obs, rewards,
     terminated, truncated, info), each an array of num_envs. Walker i runs courses[i % len(courses)]; a seed gives
-    walker i seed + i. Gymnasium's next-step autoreset: the step after a walker's episode ends resets it (its action
-    is ignored) and reports its first observation with reward 0, neither terminated nor truncated. info holds
-    arrays seed, steps, finished and fell.
+    walker i seed + i, so it is at most 999999 - (num_envs - 1). Gymnasium's next-step autoreset: the step after a
+    walker's episode ends resets it (its action is ignored) and reports its first observation with reward 0, neither
+    terminated nor truncated. info holds arrays seed, steps, finished and fell. num_envs is at most 4096 (each
+    walker holds some 220 KB) and threads at most 4096; integers out of range, of any size, are ValueError.
     """
 
     metadata = {"autoreset_mode": "NextStep", "render_modes": []}  # gymnasium.vector.AutoresetMode.NEXT_STEP

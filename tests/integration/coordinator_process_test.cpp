@@ -413,6 +413,20 @@ TEST_F(CoordinatorProcessTest, HostileConfigsAreRefusedAtOnce) {
   }
 }
 
+// ZeroMQ would listen on port 99999 modulo 65536: a tcp:// port out of range is a bad command line, refused before
+// anything is made or bound.
+TEST_F(CoordinatorProcessTest, AListenPortOutOfRangeIsRefused) {
+  for (const std::string port : {"99999", "0", "65536", "x"}) {
+    const fs::path dir = root_ / ("L" + port);
+    const Outcome outcome = run({"--config", config_.string(), "--run-dir", dir.string(), "--quiet", "--listen",
+                                 "tcp://127.0.0.1:" + port, "--status-address", ""},
+                                "L" + port);
+    EXPECT_EQ(outcome.code, 2) << port << ": " << outcome.err;
+    EXPECT_TRUE(contains(outcome.err, "1 to 65535")) << outcome.err;
+    EXPECT_FALSE(fs::exists(dir)) << port;
+  }
+}
+
 TEST_F(CoordinatorProcessTest, ResumeWithoutARunIsAClearError) {
   const fs::path empty = root_ / "E";
   fs::create_directories(empty);

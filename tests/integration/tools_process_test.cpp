@@ -250,10 +250,27 @@ TEST_F(ToolsProcessTest, CurvesNameTheBadField) {
   }
   const Outcome missing = run(POET_CURVES_BIN, {"a=absent.csv"}, "missing");
   EXPECT_EQ(missing.code, 2);
-  EXPECT_TRUE(contains(missing.err, "absent.csv: cannot be read")) << missing.err;
+  EXPECT_TRUE(contains(missing.err, "poet-curves: absent.csv: does not exist")) << missing.err;
+  // a directory where a file should be: an error naming it, not an uncaught exception
+  fs::create_directories(root_ / "d.csv");
+  const Outcome directory = run(POET_CURVES_BIN, {"a=d.csv"}, "directory");
+  EXPECT_EQ(directory.code, 2) << directory.err;
+  EXPECT_TRUE(contains(directory.err, "poet-curves: d.csv: is a directory")) << directory.err;
+  EXPECT_FALSE(contains(directory.err, "terminate")) << directory.err;
   const Outcome unlabelled = run(POET_CURVES_BIN, {"small.csv"}, "unlabelled");
   EXPECT_EQ(unlabelled.code, 2);
-  EXPECT_TRUE(contains(unlabelled.err, "\"small.csv\" is not LABEL=CURVE.csv")) << unlabelled.err;
+  EXPECT_TRUE(contains(unlabelled.err, "poet-curves: \"small.csv\" is not LABEL=CURVE.csv")) << unlabelled.err;
+}
+
+TEST_F(ToolsProcessTest, CurvesSavedByASpreadsheetAreRead) {
+  // a byte-order mark and "\r\n" line ends, as spreadsheet programs save CSV on Windows
+  write_text(root_ / "saved.csv",
+             "\xEF\xBB\xBF"
+             "es_step,score,finished,env_steps,rollouts,wall_s\r\n1,-30.5,false,100000,64,2.0\r\n"
+             "2,231.5,true,250000,128,4.5\r\n");
+  const Outcome o = run(POET_CURVES_BIN, {"saved=saved.csv"}, "saved");
+  ASSERT_EQ(o.code, 0) << o.err;
+  EXPECT_TRUE(contains(o.out, "solved at ES step 2: score 231.5")) << o.out;
 }
 
 }  // namespace

@@ -110,6 +110,13 @@ def test_evaluate_refuses_bad_arguments(walker_path):
         poet.evaluate(policy, "flat", [-3])
     with pytest.raises(ValueError):
         poet.evaluate(policy, "flat", [0], threads=0)
+    # integers past what C++ holds: the module's ValueError with the range, not pybind11's TypeError
+    with pytest.raises(ValueError, match=r"seed must be in \[0, 999999\], got 1180591620717411303424"):
+        poet.evaluate(policy, "flat", [0, 2**70])
+    with pytest.raises(ValueError, match=r"max_steps must be in \[1, 1000000\], got 9223372036854775808"):
+        poet.evaluate(policy, "flat", [0], max_steps=2**63)
+    with pytest.raises(ValueError, match=r"threads must be in \[1, 4096\]"):
+        poet.evaluate_suite(policy, "poet-suite-v1", threads=2**64)
 
 
 def test_the_reference_walkers_files_load():

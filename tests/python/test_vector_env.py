@@ -79,6 +79,31 @@ def test_hostile_actions_and_order():
         poet.VectorWalkerEnv([], 2)
 
 
+def test_num_envs_threads_and_max_steps_are_bounded_at_any_size():
+    for kwargs, message in [
+        ({"num_envs": 10**9}, r"num_envs must be in \[1, 4096\], got 1000000000"),
+        ({"num_envs": 4097}, r"num_envs must be in \[1, 4096\]"),
+        ({"num_envs": -(2**70)}, r"num_envs must be in \[1, 4096\]"),
+        ({"threads": 2**70}, r"threads must be in \[1, 4096\]"),
+        ({"max_steps": 2**63}, r"max_steps must be in \[1, 2147483647\], got 9223372036854775808"),
+    ]:
+        with pytest.raises(ValueError, match=message):
+            poet.VectorWalkerEnv("flat", **{"num_envs": 2, **kwargs})
+
+
+def test_a_seed_is_checked_as_the_user_gave_it():
+    # walker i gets seed + i: the last seed that leaves room for both walkers is 999998, and the message says so
+    env = poet.VectorWalkerEnv("flat", 2)
+    for seed in (999999, -1, 2**63, 2**200):
+        with pytest.raises(ValueError, match=r"seed must be in \[0, 999998\] \(walker i gets seed \+ i") as error:
+            env.reset(seed=seed)
+        assert f"got {seed}" in str(error.value)
+    with pytest.raises(ValueError, match="an integer of 16610 bits"):  # too long to print
+        env.reset(seed=10**5000)
+    _, info = env.reset(seed=999998)
+    assert info["seed"].tolist() == [999998, 999999]
+
+
 def test_autoreset_mode_is_declared_as_gymnasium_names_it():
     assert poet.VectorWalkerEnv.metadata["autoreset_mode"] == "NextStep"  # gymnasium.vector.AutoresetMode.NEXT_STEP
 

@@ -205,6 +205,29 @@ def test_bad_settings_are_refused(kwargs, error):
         poet.WalkerEnv("flat", **kwargs)
 
 
+@pytest.mark.parametrize(
+    "kwargs, message",
+    [
+        ({"seed": 2**200}, r"seed must be in \[0, 999999\], got 16069380442589902755419620923411626025"),
+        ({"max_steps": 2**63}, r"max_steps must be in \[1, 2147483647\], got 9223372036854775808"),
+        ({"width": 2**64}, r"width must be in \[16, 4096\]"),
+        ({"height": -(2**64)}, r"height must be in \[16, 4096\]"),
+    ],
+)
+def test_integers_past_what_cpp_holds_are_value_errors_with_the_range(kwargs, message):
+    with pytest.raises(ValueError, match=message):
+        poet.WalkerEnv("flat", **kwargs)
+
+
+def test_a_seed_of_any_size_at_reset_is_a_value_error():
+    env = poet.WalkerEnv("flat")
+    for seed in (2**63, 2**200, -(2**64)):
+        with pytest.raises(ValueError, match=r"seed must be in \[0, 999999\]"):
+            env.reset(seed=seed)
+    env.reset(seed=999999)
+    assert env.seed == 999999
+
+
 def test_render_draws_the_current_frame_in_the_mode_chosen_when_made():
     env = poet.WalkerEnv("hardcore-like", seed=3, render_mode="rgb_array", width=240, height=160)
     assert env.render_mode == "rgb_array" and env.render_mode in env.metadata["render_modes"]

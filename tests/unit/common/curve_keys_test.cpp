@@ -1,5 +1,5 @@
-// Tests common/curve_keys.cpp: Z85 keys checked, pairs written with the secret private and never replaced, and
-// every kind of bad key file refused with its name.
+// Tests common/curve_keys.cpp: Z85 keys checked, pairs written with the secret private and never replaced (nor
+// half of one completed), and every kind of bad key file refused with its name.
 
 #include "common/curve_keys.h"
 
@@ -50,6 +50,23 @@ TEST_F(CurveKeysTest, APairIsWrittenReadBackAndNeverReplaced) {
   EXPECT_TRUE(contains(*again, "worker.key_secret")) << *again;
   EXPECT_EQ(read_key_pair(dir_, "worker")->secret_key, kSecret) << "the existing key stays";
   EXPECT_TRUE(write_key_pair(dir_, "other", {"short", kSecret}));
+}
+
+TEST_F(CurveKeysTest, HalfAPairLeftIsNotCompletedWithAKeyThatDoesNotMatch) {
+  // only the public half (or only the secret, or a dangling link) is there: nothing is written, the error names it
+  fs::create_directories(dir_);
+  for (const std::string present : {"worker.key", "worker.key_secret"}) {
+    std::ofstream(dir_ / present) << kPublic << "\n";
+    const std::optional<std::string> error = write_key_pair(dir_, "worker", {kPublic, kSecret});
+    ASSERT_TRUE(error) << present;
+    EXPECT_TRUE(contains(*error, present)) << *error;
+    EXPECT_TRUE(contains(*error, "exists")) << *error;
+    EXPECT_EQ(std::distance(fs::directory_iterator(dir_), fs::directory_iterator()), 1) << "only " << present;
+    fs::remove(dir_ / present);
+  }
+  fs::create_symlink(dir_ / "nowhere", dir_ / "worker.key");
+  ASSERT_TRUE(write_key_pair(dir_, "worker", {kPublic, kSecret}));
+  EXPECT_FALSE(fs::exists(fs::symlink_status(dir_ / "worker.key_secret")));
 }
 
 TEST_F(CurveKeysTest, BadKeyFilesAreRefusedWithTheirName) {
