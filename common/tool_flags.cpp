@@ -27,6 +27,7 @@ int output_checked(const char* tool, int code) {
   const bool failed = !std::cout.good() || std::fflush(stdout) != 0 || std::ferror(stdout);
   if (!failed) return code;
   const int error = errno;
+  if (error == EPIPE) return code;  // the reader stopped reading (`| head`): what it wanted, it had
   std::fprintf(stderr, "%s: cannot write standard output%s%s\n", tool, error ? ": " : "",
                error ? std::strerror(error) : "");
   return code == 0 ? kExitError : code;

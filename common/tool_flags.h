@@ -37,8 +37,9 @@ void add_fingerprint_flag(CLI::App& app);
 std::optional<int> parse_command_line(CLI::App& app, int argc, char** argv);
 
 // A tool's exit code once its standard output is flushed: `code`, or kExitError (with a line on stderr prefixed
-// `tool:`) when what it wrote did not all get there (a full disk, a failing device), so that a truncated table or
-// config never passes for a whole one. Use: int main(...) { return output_checked("poet-x", run(argc, argv)); }
+// `tool:`) when what it wrote did not all get there (a full disk, a failing device; not a pipe whose reader left),
+// so that a truncated table or config never passes for a whole one.
+// Use: int main(...) { return output_checked("poet-x", run(argc, argv)); }
 int output_checked(const char* tool, int code);
 
 }  // namespace poet

@@ -70,4 +70,4 @@ int run(int argc, char** argv) {
 }  // namespace
 }  // namespace poet
 
-int main(int argc, char** argv) { return poet::run(argc, argv); }
+int main(int argc, char** argv) { return poet::output_checked("poet-curves", poet::run(argc, argv)); }

@@ -208,8 +208,7 @@ std::string status_address(const std::string& address) {
 }  // namespace
 }  // namespace poet
 
-int main(int argc, char** argv) {
-  std::signal(SIGPIPE, SIG_IGN);  // a server that hangs up is an error to report, not a reason to die
+int run_tool(int argc, char** argv) {
   using namespace poet;
 
   Options o;
@@ -232,4 +231,9 @@ int main(int argc, char** argv) {
     return save_picture(o.picture_out, answer, command.path, request->encoding);
   };
   return run(status_address(o.address), command, o.json);
+}
+
+int main(int argc, char** argv) {
+  std::signal(SIGPIPE, SIG_IGN);  // a server that hangs up is an error to report, not a reason to die
+  return poet::output_checked("poetctl", run_tool(argc, argv));
 }
