@@ -59,6 +59,13 @@ int fsync_retrying(int fd) {
   return 0;
 }
 
+Expected<bool> path_exists(const std::filesystem::path& path) {
+  std::error_code ec;
+  const bool exists = std::filesystem::exists(path, ec);
+  if (ec) return Unexpected{"cannot access: " + ec.message()};
+  return exists;
+}
+
 Expected<std::string> read_text_file(const std::filesystem::path& path, std::uintmax_t max_bytes) {
   // refuse what is not a regular file before opening it: opening a FIFO for reading waits for a writer
   struct stat before {};

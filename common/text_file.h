@@ -26,6 +26,10 @@ Expected<std::string> read_text_file(const std::filesystem::path& path, std::uin
 // is left behind either way.
 std::optional<std::string> write_file_atomically(const std::filesystem::path& path, std::string_view text);
 
+// Whether path names anything, following symbolic links. An error other than absence (a symbolic-link loop, a
+// directory that cannot be searched) is returned as "cannot access: ..." rather than taken for "does not exist".
+Expected<bool> path_exists(const std::filesystem::path& path);
+
 // Whether path is dir or lies inside it (both made absolute, symbolic links resolved where they exist).
 bool is_inside(const std::filesystem::path& path, const std::filesystem::path& dir);
 

@@ -14,24 +14,11 @@
 # finished), and whether it solved it (finished and ≥ the solved score); for the direct path, the stage reached.
 set -euo pipefail
 usage="usage: bash experiments/controls.sh BUILD_DIR RUN_DIR PAIR OUT_DIR [coordinator flags...]"
-build=${1:?$usage}
-run=${2:?$usage}
-pair=${3:?$usage}
-out=${4:?$usage}
-shift 4
-root=$(cd "$(dirname "$0")/.." && pwd)
-coordinator=$build/coordinator/poet-coordinator
-lineage=$build/tools/poet-lineage
+third_tool=poet-report
+source "$(dirname "$0")/lineage_controls_args.sh"
 report=$build/tools/poet-report
-for tool in "$coordinator" "$lineage" "$report"; do [[ -x $tool ]] || { echo "no $tool: build first" >&2; exit 2; }; done
-[[ $pair =~ ^[0-9]+$ ]] || { echo "PAIR must be a pair id (a non-negative integer), got '$pair'" >&2; exit 2; }
-walker=$root/data/walkers/flat-walker.json
-mkdir -p "$out"
-
 "$lineage" --run-dir "$run" --pair "$pair" --es-alone-config >"$out/es-alone.textproto"
 "$lineage" --run-dir "$run" --pair "$pair" --direct-path-config >"$out/direct-path.textproto"
-budget=$("$lineage" --run-dir "$run" --pair "$pair" | sed -n 's/^direct-path budget: \([0-9]*\) ES steps$/\1/p')
-[[ -n $budget ]] || { echo "poet-lineage gave no budget for pair $pair of $run" >&2; exit 1; }
 
 control() {  # NAME CONFIG [flags]: runs (or resumes) one control to its end
   local name=$1 config=$2

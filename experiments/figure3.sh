@@ -12,21 +12,9 @@
 # deterministic). Writes OUT_DIR/table.md, OUT_DIR/controls.json and OUT_DIR/rose.png, and prints the table.
 set -euo pipefail
 usage="usage: bash experiments/figure3.sh BUILD_DIR RUN_DIR PAIR OUT_DIR [coordinator flags...]"
-build=${1:?$usage}
-run=${2:?$usage}
-pair=${3:?$usage}
-out=${4:?$usage}
-shift 4
-root=$(cd "$(dirname "$0")/.." && pwd)
-coordinator=$build/coordinator/poet-coordinator
-lineage=$build/tools/poet-lineage
+third_tool=poet-controls
+source "$(dirname "$0")/lineage_controls_args.sh"
 controls=$build/tools/poet-controls
-for tool in "$coordinator" "$lineage" "$controls"; do [[ -x $tool ]] || { echo "no $tool: build first" >&2; exit 2; }; done
-[[ $pair =~ ^[0-9]+$ ]] || { echo "PAIR must be a pair id (a non-negative integer), got '$pair'" >&2; exit 2; }
-walker=$root/data/walkers/flat-walker.json
-mkdir -p "$out"
-budget=$("$lineage" --run-dir "$run" --pair "$pair" | sed -n 's/^direct-path budget: \([0-9]*\) ES steps$/\1/p')
-[[ -n $budget ]] || { echo "poet-lineage gave no budget for pair $pair of $run" >&2; exit 1; }
 
 dirs=()
 for seed in 101 102 103; do

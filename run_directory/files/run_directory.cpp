@@ -180,9 +180,9 @@ Expected<RunDirectory> RunDirectory::create(const fs::path& dir, const pb::RunCo
   if (!fs::is_directory(dir, ec)) return Unexpected{dir.string() + ": not a directory"};
   Expected<RunLock> lock = RunLock::acquire(dir);
   if (!lock) return Unexpected{lock.error()};
-  const bool has_checkpoint = fs::exists(dir / kCheckpointFile, ec);
-  if (ec) return Unexpected{(dir / kCheckpointFile).string() + ": cannot access: " + ec.message()};
-  if (has_checkpoint) return Unexpected{dir.string() + " already holds a run; resume it or choose another directory"};
+  const Expected<bool> has_checkpoint = path_exists(dir / kCheckpointFile);
+  if (!has_checkpoint) return Unexpected{(dir / kCheckpointFile).string() + ": " + has_checkpoint.error()};
+  if (*has_checkpoint) return Unexpected{dir.string() + " already holds a run; resume it or choose another directory"};
   if (const std::vector<std::string> earlier = earlier_run_files(dir); !earlier.empty())
     return Unexpected{dir.string() + " holds files of an earlier run but no " + kCheckpointFile + ": " +
                       joined(earlier) +
@@ -223,7 +223,9 @@ Expected<std::pair<RunDirectory, RunState>> RunDirectory::resume(const fs::path&
   Expected<RunLock> lock = RunLock::acquire(dir);
   if (!lock) return Unexpected{lock.error()};
   const fs::path checkpoint_path = dir / kCheckpointFile;
-  if (!fs::exists(checkpoint_path, ec))
+  const Expected<bool> has_checkpoint = path_exists(checkpoint_path);
+  if (!has_checkpoint) return Unexpected{checkpoint_path.string() + ": " + has_checkpoint.error()};
+  if (!*has_checkpoint)
     return Unexpected{checkpoint_path.string() + ": does not exist (" + dir.string() + " holds no run to resume)"};
 
   // the checkpoint: the file's integrity, the directory's own fields, then the state's checks

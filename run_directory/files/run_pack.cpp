@@ -262,7 +262,9 @@ Expected<PackSummary> write_run_pack(const fs::path& run_dir, const fs::path& pa
   entries.push_back({kStatsFile, std::move(*stats)});
   // the machine's record: a damaged file is refused (its times would be lost on the other machine unsaid)
   const fs::path wall_path = run_dir / kWallTimesFile;
-  if (fs::exists(wall_path, ec)) {
+  const Expected<bool> has_wall = path_exists(wall_path);
+  if (!has_wall) return Unexpected{wall_path.string() + ": " + has_wall.error()};
+  if (*has_wall) {
     Expected<std::vector<WallTime>> lines = read_wall_times(wall_path);
     if (!lines)
       return Unexpected{wall_path.string() + ": " + lines.error() +
@@ -272,7 +274,9 @@ Expected<PackSummary> write_run_pack(const fs::path& run_dir, const fs::path& pa
   }
   // with CURVE, the keys of workers refused for wrong results: they stay refused where the run goes on
   const fs::path keys_path = run_dir / kRefusedKeysFile;
-  if (fs::exists(keys_path, ec)) {
+  const Expected<bool> has_keys = path_exists(keys_path);
+  if (!has_keys) return Unexpected{keys_path.string() + ": " + has_keys.error()};
+  if (*has_keys) {
     Expected<std::string> keys = read_text_file(keys_path, kMaxRefusedKeysBytes);
     if (!keys) return Unexpected{keys_path.string() + ": " + keys.error()};
     entries.push_back({kRefusedKeysFile, refused_keys_text(*keys)});

@@ -2,6 +2,7 @@
 
 #include <optional>
 
+#include "common/text_file.h"
 #include "run_directory/config/run_config.h"
 #include "run_directory/files/checkpoint.h"
 #include "run_directory/files/checkpoint_file.h"
@@ -17,8 +18,12 @@ namespace {
 // wall_times.csv's lines of the iterations the checkpoint has seen.
 void load_wall_times(RunSnapshot& snapshot) {
   const fs::path path = snapshot.dir / kWallTimesFile;
-  std::error_code ec;
-  if (!fs::exists(path, ec)) return;
+  const Expected<bool> exists = path_exists(path);
+  if (!exists) {
+    snapshot.wall_times_problem = path.string() + ": " + exists.error();
+    return;
+  }
+  if (!*exists) return;
   Expected<std::vector<WallTime>> lines = read_wall_times(path);
   if (!lines) {
     snapshot.wall_times_problem = path.string() + ": " + lines.error();
@@ -34,7 +39,9 @@ Expected<RunSnapshot> read_run_snapshot(const fs::path& dir) {
   std::error_code ec;
   if (!fs::is_directory(dir, ec)) return Unexpected{dir.string() + ": no such directory"};
   const fs::path checkpoint_path = dir / kCheckpointFile;
-  if (!fs::exists(checkpoint_path, ec)) {
+  const Expected<bool> has_checkpoint = path_exists(checkpoint_path);
+  if (!has_checkpoint) return Unexpected{checkpoint_path.string() + ": " + has_checkpoint.error()};
+  if (!*has_checkpoint) {
     const bool started = fs::exists(dir / kConfigFile, ec);
     return Unexpected{
         checkpoint_path.string() + ": does not exist (" + dir.string() +

@@ -119,6 +119,20 @@ TEST_F(TextFileTest, RefusesAMissingFile) {
   EXPECT_EQ(read_text_file(dir_ / "dangling.txt", 100).error(), "does not exist");
 }
 
+TEST_F(TextFileTest, PathExistsTellsAbsenceFromAnError) {
+  EXPECT_TRUE(*path_exists(write("file.txt", "x")));
+  EXPECT_TRUE(*path_exists(dir_));
+  EXPECT_FALSE(*path_exists(dir_ / "missing.txt"));
+  fs::create_symlink(dir_ / "nowhere.txt", dir_ / "dangling.txt");
+  EXPECT_FALSE(*path_exists(dir_ / "dangling.txt"));
+  // a symbolic-link loop is not absence: the caller would say "does not exist" of a file that is there
+  fs::create_symlink(dir_ / "loop-b", dir_ / "loop-a");
+  fs::create_symlink(dir_ / "loop-a", dir_ / "loop-b");
+  const Expected<bool> loop = path_exists(dir_ / "loop-a");
+  ASSERT_FALSE(loop);
+  EXPECT_EQ(loop.error().rfind("cannot access: ", 0), 0u) << loop.error();
+}
+
 TEST_F(TextFileTest, RefusesADirectory) {
   const Expected<std::string> read = read_text_file(dir_, 100);
   ASSERT_FALSE(read);

@@ -422,6 +422,15 @@ TEST_F(RunDirectoryTest, DamagedRunsGiveErrorsNotCrashes) {
   error = resume_error();
   EXPECT_TRUE(contains(error, "does not exist")) << error;
 
+  // a symbolic-link loop in its place is named as such, not as a missing checkpoint
+  fs::create_symlink(dir_ / "loop", checkpoint);
+  fs::create_symlink(checkpoint, dir_ / "loop");
+  error = resume_error();
+  EXPECT_TRUE(contains(error, "cannot access")) << error;
+  EXPECT_FALSE(contains(error, "does not exist")) << error;
+  fs::remove(dir_ / "loop");
+  fs::remove(checkpoint);
+
   const auto missing = RunDirectory::resume(root_ / "nowhere");
   ASSERT_FALSE(missing);
   EXPECT_TRUE(contains(missing.error(), "nowhere")) << missing.error();

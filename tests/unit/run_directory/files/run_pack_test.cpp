@@ -238,6 +238,16 @@ TEST_F(RunPackTest, PackingAChangedOrMissingRunIsAClearError) {
   ASSERT_FALSE(changed);
   EXPECT_TRUE(contains(changed.error(), "CRC-32 mismatch")) << changed.error();
   EXPECT_FALSE(fs::exists(pack_)) << "no pack of a run whose history changed";
+
+  // wall times that cannot be read are not left out unsaid: a symbolic-link loop in their place is an error
+  run_to(root_ / "D", 2);
+  fs::remove(root_ / "D" / kWallTimesFile);
+  fs::create_symlink(root_ / "D" / "loop", root_ / "D" / kWallTimesFile);
+  fs::create_symlink(root_ / "D" / kWallTimesFile, root_ / "D" / "loop");
+  const Expected<PackSummary> looped = write_run_pack(root_ / "D", pack_);
+  ASSERT_FALSE(looped);
+  EXPECT_TRUE(contains(looped.error(), std::string(kWallTimesFile) + ": cannot access")) << looped.error();
+  EXPECT_FALSE(fs::exists(pack_));
 }
 
 }  // namespace

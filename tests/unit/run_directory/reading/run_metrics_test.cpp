@@ -105,7 +105,7 @@ TEST(RunMetrics, WhenEachLevelWasFirstReached) {
     row.run_env_steps = 1000 * (t + 1);
     run.stats.push_back(row);
   }
-  for (int t = 0; t < 10; ++t) run.wall_times.push_back({t, 2.5 * t});
+  for (int t = 0; t < 10; ++t) run.wall_times.push_back({t, 2.5 * t, std::nullopt, std::nullopt});
   const RunMetrics m = compute_run_metrics(run);
 
   const LevelFirsts& easy = m.firsts[0];
@@ -131,7 +131,9 @@ TEST(RunMetrics, WhenEachLevelWasFirstReached) {
   EXPECT_FALSE(m.firsts[3].created || m.firsts[3].admitted || m.firsts[3].solved);
 
   // saved every 4 iterations: a milestone takes the time of the first save at or after it
-  run.wall_times = {{3, 7.5}, {7, 17.5}, {11, 27.5}};
+  run.wall_times = {{3, 7.5, std::nullopt, std::nullopt},
+                    {7, 17.5, std::nullopt, std::nullopt},
+                    {11, 27.5, std::nullopt, std::nullopt}};
   const RunMetrics sparse = compute_run_metrics(run);
   ASSERT_TRUE(sparse.firsts[1].solved && sparse.firsts[1].solved->wall_s);
   EXPECT_DOUBLE_EQ(*sparse.firsts[1].solved->wall_s, 27.5);   // solved at 9, saved at 11
@@ -148,10 +150,10 @@ TEST(RunMetrics, WhenEachLevelWasFirstReached) {
 // wall_times.csv's lines cut into blocks: each line's time since the one before, its phases summed; a line of a build
 // that did not time the phases counts in the wall time only; about ten blocks of a round size.
 TEST(RunMetrics, TimePerPhaseInBlocksOfIterations) {
-  const std::vector<WallTime> times = {{0, 1.0, std::nullopt},
-                                       {1, 3.0, PhaseSeconds{0.5, 1.0, 0.1, 0.2}},
-                                       {2, 6.0, PhaseSeconds{0.0, 2.0, 0.2, 0.6}},
-                                       {5, 10.0, PhaseSeconds{1.0, 2.0, 0.5, 0.0}}};
+  const std::vector<WallTime> times = {{0, 1.0, std::nullopt, std::nullopt},
+                                       {1, 3.0, PhaseSeconds{0.5, 1.0, 0.1, 0.2}, std::nullopt},
+                                       {2, 6.0, PhaseSeconds{0.0, 2.0, 0.2, 0.6}, std::nullopt},
+                                       {5, 10.0, PhaseSeconds{1.0, 2.0, 0.5, 0.0}, std::nullopt}};
   const std::vector<PhaseBlock> blocks = phase_blocks(times, 2);
   ASSERT_EQ(blocks.size(), 3u);  // 0–1, 2–3, 4–5
   EXPECT_EQ(blocks[0].first, 0);
