@@ -13,6 +13,7 @@
 #include "engine/annecs.h"
 #include "engine/run_state.h"
 #include "run_directory/files/wall_times.h"
+#include "simulation/envgen/env_distance.h"
 
 namespace poet {
 
@@ -36,6 +37,10 @@ struct PublishedRun {
   Annecs annecs;  // both definitions, as of the last iteration done
   int last_checkpoint_iteration = 0;
   std::vector<PairInfo> pairs;
+  // the obstacle frontier (spec §1.4's measures) over the environments solved so far, and over those admitted
+  ObstacleMeasures frontier_solved{};
+  ObstacleMeasures frontier_admitted{};
+  int highest_level_solved = -1;  // a Difficulty; -1 before any solve
 };
 
 struct BoardView {

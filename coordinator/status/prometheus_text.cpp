@@ -33,6 +33,12 @@ struct Exposition {
   void sample(const std::string& name, T value) {
     text += name + " " + std::to_string(value) + "\n";
   }
+  // a sample of a measure in the environments' own units (one decimal in practice), without trailing zeros
+  void measure(const std::string& name, double value) {
+    char formatted[32];
+    std::snprintf(formatted, sizeof formatted, "%.6g", value);
+    text += name + " " + formatted + "\n";
+  }
   // a sample in seconds, to the millisecond
   void seconds(const std::string& name, double value) {
     char formatted[32];
@@ -72,6 +78,18 @@ void write_run(Exposition& out, const PublishedRun& run) {
              "solved. at_archiving: environments retired that had been solved by then, counted at retirement.");
   out.sample("poet_annecs{definition=\"at_admission\"}", run.annecs.at_admission);
   out.sample("poet_annecs{definition=\"at_archiving\"}", run.annecs.at_archiving);
+  out.family("poet_obstacle_frontier", "gauge",
+             "Table 1's measures (roughness, the top of the gap range, the top of the stump range): the largest value "
+             "among the environments solved so far, and among those admitted.");
+  for (size_t i = 0; i < kObstacleMeasureNames.size(); ++i) {
+    const std::string measure = std::string("measure=\"") + kObstacleMeasureNames[i] + "\"";
+    out.measure("poet_obstacle_frontier{" + measure + ",among=\"solved\"}", run.frontier_solved[i]);
+    out.measure("poet_obstacle_frontier{" + measure + ",among=\"admitted\"}", run.frontier_admitted[i]);
+  }
+  out.family("poet_highest_level_solved", "gauge",
+             "The hardest difficulty level solved so far: 0 easy, 1 challenging, 2 very challenging, 3 extremely "
+             "challenging; -1 before any solve.");
+  out.sample("poet_highest_level_solved", run.highest_level_solved);
 }
 
 // The dispatcher's workers, queue and counts, each a family of one sample.

@@ -75,7 +75,13 @@ void StatusBoard::publish_run(const RunState& state, int last_checkpoint_iterati
     copy.es_steps = p.es_steps;
     copy.transfers = p.transfers;
     copy.transfer_attempts = p.transfer_attempts;
-    info.difficulty_level = static_cast<int>(difficulty(p.env.encoding));
+    const EnvVector e = env_vector(p.env.encoding);
+    info.difficulty_level = static_cast<int>(difficulty(e));
+    raise_frontier(snapshot->frontier_admitted, e);
+    if (p.solved()) {
+      raise_frontier(snapshot->frontier_solved, e);
+      snapshot->highest_level_solved = std::max(snapshot->highest_level_solved, info.difficulty_level);
+    }
     snapshot->pairs.push_back(std::move(info));
   }
   const RateSample sample{clock_(), state.counters.rollouts, state.counters.env_steps};

@@ -38,6 +38,12 @@ status::PairSummary summary(const PairInfo& info) {
   return s;
 }
 
+void copy_measures(const ObstacleMeasures& m, status::ObstacleMeasures& out) {
+  out.set_roughness(m[0]);
+  out.set_gap_hi(m[1]);
+  out.set_stump_hi(m[2]);
+}
+
 template <class Map>
 void copy_dropped_frames(const DispatchView& dispatch, Map& out) {
   for (const auto& [reason, count] : dispatch.dropped_frames) out[valid_utf8(reason)] = count;
@@ -75,6 +81,10 @@ status::Status status_message(const BoardView& v, const std::filesystem::path& r
     s.set_annecs_at_admission(run.annecs.at_admission);
     s.set_annecs_at_archiving(run.annecs.at_archiving);
     s.set_last_checkpoint_iteration(run.last_checkpoint_iteration);
+    copy_measures(run.frontier_solved, *s.mutable_frontier_solved());
+    copy_measures(run.frontier_admitted, *s.mutable_frontier_admitted());
+    if (run.highest_level_solved >= 0)
+      s.set_highest_level_solved(std::string(to_string(static_cast<Difficulty>(run.highest_level_solved))));
   }
   if (v.dispatch) {
     s.set_workers(static_cast<int32_t>(v.dispatch->workers.size()));

@@ -153,6 +153,15 @@ void print_status(const status::Status& s) {
   say("transfers   %lld accepted of %lld attempted\n", static_cast<long long>(s.transfer_successes()),
       static_cast<long long>(s.transfer_attempts()));
   say("ANNECS      %d at admission, %d at archiving\n", s.annecs_at_admission(), s.annecs_at_archiving());
+  if (s.has_frontier_solved() && s.has_frontier_admitted()) {
+    const status::ObstacleMeasures& solved = s.frontier_solved();
+    const status::ObstacleMeasures& admitted = s.frontier_admitted();
+    say("frontier    roughness %s, gap top %s, stump top %s solved (%s, %s, %s admitted); hardest level solved: %s\n",
+        fixed(solved.roughness(), 1).c_str(), fixed(solved.gap_hi(), 1).c_str(), fixed(solved.stump_hi(), 1).c_str(),
+        fixed(admitted.roughness(), 1).c_str(), fixed(admitted.gap_hi(), 1).c_str(),
+        fixed(admitted.stump_hi(), 1).c_str(),
+        s.highest_level_solved().empty() ? "none" : s.highest_level_solved().c_str());
+  }
   say("workers     %d, %lld jobs queued, %lld in flight\n", s.workers(), static_cast<long long>(s.queue_depth()),
       static_cast<long long>(s.in_flight_jobs()));
   say("rollouts    %lld (%s/s)\n", static_cast<long long>(s.rollouts()), fixed(s.rollouts_per_s(), 1).c_str());

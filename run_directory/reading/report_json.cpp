@@ -87,9 +87,9 @@ nlohmann::ordered_json frontier_json(const RunMetrics& m) {
   nlohmann::ordered_json frontier = nlohmann::ordered_json::array();
   for (const FrontierPoint& f : m.frontier_over_time) {
     nlohmann::ordered_json point = {{"iteration", f.iteration}};
-    for (size_t k = 0; k < kFrontierMeasures.size(); ++k) {
-      point["solved"][kFrontierMeasures[k]] = f.solved[k];
-      point["admitted"][kFrontierMeasures[k]] = f.admitted[k];
+    for (size_t k = 0; k < kObstacleMeasureNames.size(); ++k) {
+      point["solved"][kObstacleMeasureNames[k]] = f.solved[k];
+      point["admitted"][kObstacleMeasureNames[k]] = f.admitted[k];
     }
     frontier.push_back(std::move(point));
   }

@@ -102,12 +102,9 @@ std::vector<FrontierPoint> frontier_over_time(const RunState& state) {
   // each pair raises the admitted frontier at its creation and the solved one at its first solve
   std::vector<FrontierPoint> out(static_cast<size_t>(std::max(0, state.next_iteration)));
   for (size_t t = 0; t < out.size(); ++t) out[t].iteration = static_cast<int>(t);
-  const auto raise = [&](std::array<double, 3> FrontierPoint::*which, int from, const EnvVector& e) {
+  const auto raise = [&](ObstacleMeasures FrontierPoint::*which, int from, const EnvVector& e) {
     if (from < 0) return;
-    for (size_t t = static_cast<size_t>(from); t < out.size(); ++t) {
-      std::array<double, 3>& f = out[t].*which;
-      f = {std::max(f[0], e[0]), std::max(f[1], e[2]), std::max(f[2], e[4])};
-    }
+    for (size_t t = static_cast<size_t>(from); t < out.size(); ++t) raise_frontier(out[t].*which, e);
   };
   for (const Pair& p : state.pairs) {
     const EnvVector e = env_vector(p.env.encoding);

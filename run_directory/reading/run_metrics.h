@@ -82,10 +82,9 @@ struct TargetDistance {
 // among those admitted by then. Obstacle courses only (a CPPN course's 5-vector is all zeros).
 struct FrontierPoint {
   int iteration = 0;
-  std::array<double, 3> solved{};    // roughness, gap hi, stump hi
-  std::array<double, 3> admitted{};  // the same
+  ObstacleMeasures solved{};    // roughness, gap hi, stump hi
+  ObstacleMeasures admitted{};  // the same
 };
-inline constexpr std::array<const char*, 3> kFrontierMeasures = {"roughness", "gap_hi", "stump_hi"};
 
 // Where the run's time went in a block of iterations (wall_times.csv): the wall time of its saved iterations and
 // the seconds of each phase of an iteration (poet/phase_observer.h) within it; the rest ("other") is the time

@@ -75,6 +75,13 @@ Difficulty difficulty(const EnvVector& e) {
 
 Difficulty difficulty(const EnvEncoding& e) { return difficulty(env_vector(e)); }
 
+ObstacleMeasures obstacle_measures(const EnvVector& e) { return {e[0], e[2], e[4]}; }
+
+void raise_frontier(ObstacleMeasures& frontier, const EnvVector& e) {
+  const ObstacleMeasures m = obstacle_measures(e);
+  for (size_t i = 0; i < m.size(); ++i) frontier[i] = std::max(frontier[i], m[i]);
+}
+
 std::string_view to_string(Difficulty d) {
   static constexpr std::array<std::string_view, 4> kNames = {"easy", "challenging", "very challenging",
                                                              "extremely challenging"};

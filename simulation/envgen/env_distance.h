@@ -44,6 +44,13 @@ inline constexpr double kChallengingRoughness = 4.5;
 Difficulty difficulty(const EnvEncoding& encoding);
 Difficulty difficulty(const EnvVector& e);  // the same conditions on a 5-vector (an absent type is [0, 0])
 
+// Table 1's three measures of a 5-vector: roughness, the top of the gap range, the top of the stump range.
+using ObstacleMeasures = std::array<double, 3>;
+inline constexpr std::array<const char*, 3> kObstacleMeasureNames = {"roughness", "gap_hi", "stump_hi"};  // as keys
+ObstacleMeasures obstacle_measures(const EnvVector& e);
+// The obstacle frontier of a set of environments: each measure's largest value among them. Raises frontier to e's.
+void raise_frontier(ObstacleMeasures& frontier, const EnvVector& e);
+
 // normalized_distance on 5-vectors.
 double normalized_distance(const EnvVector& a, const EnvVector& b);
 

@@ -224,7 +224,7 @@ const cards = [...document.querySelectorAll('[data-pair-id]')];
 const canvas = document.getElementById('replay-canvas');
 return {
   iteration: text('iteration'), workers: text('workers-count'), runDir: text('run-dir'), state: text('state'),
-  annecs: text('annecs'),
+  annecs: text('annecs'), frontier: text('frontier'), highestLevel: text('highest-level'),
   workerRows: document.querySelectorAll('#workers-table [data-worker-id]').length,
   banner: banner && getComputedStyle(banner).display !== 'none' ? banner.textContent : null,
   cards: cards.map((c) => ({id: c.dataset.pairId, active: c.dataset.active,
@@ -322,6 +322,12 @@ def check_live(args, root, processes):
         log(f"iterations shown: {seen}")
         wait_for("ANNECS in both definitions",
                  lambda: re.fullmatch(r"\d+ / \d+", page(browser)["annecs"] or ""), 30)
+        measures = r"\d+\.\d / \d+\.\d / \d+\.\d"
+        wait_for("the obstacle frontier, solved and admitted",
+                 lambda: re.fullmatch(f"{measures} \\(admitted {measures}\\)", page(browser)["frontier"] or ""), 30)
+        level = page(browser)["highestLevel"]
+        if level not in ("none", "easy", "challenging", "very challenging", "extremely challenging"):
+            raise Failed(f"the hardest level solved reads {level!r}")
 
         wait_for("the tree and score pictures", lambda: page(browser)["tree"] > 0 and page(browser)["scores"] > 0, 60)
         wait_for("a course picture and a score curve on an active card",

@@ -540,6 +540,10 @@ TEST_F(StatusServerTest, PoetctlPrintsTheRun) {
   EXPECT_TRUE(contains(status.out, "state       running")) << status.out;
   EXPECT_TRUE(contains(status.out, "rollouts    1234")) << status.out;
   EXPECT_TRUE(contains(status.out, "ANNECS      1 at admission, 0 at archiving")) << status.out;
+  EXPECT_TRUE(contains(status.out,
+                       "frontier    roughness 1.0, gap top 0.0, stump top 0.0 solved (2.0, 0.0, 0.0 admitted); hardest "
+                       "level solved: easy"))
+      << status.out;
 
   const Outcome pairs = poetctl({"--address", address(), "pairs"}, "pairs");
   EXPECT_EQ(pairs.code, 0) << pairs.err;

@@ -378,7 +378,8 @@ TEST_F(StatusBoardTest, MetricsAreInPrometheusTextFormat) {
   // every line is a HELP, a TYPE or a sample of the family just announced
   const std::regex help(R"(# HELP (poet_[a-z_]+) \S.*)");
   const std::regex type(R"(# TYPE (poet_[a-z_]+) (gauge|counter))");
-  const std::regex sample(R"((poet_[a-z_]+)(\{(reason|definition|phase)="[a-z_]+"\})? (-?[0-9]+(\.[0-9]+)?))");
+  const std::regex sample(
+      R"((poet_[a-z_]+)(\{(reason|definition|phase|measure)="[a-z_]+"(,among="[a-z]+")?\})? (-?[0-9]+(\.[0-9]+)?))");
   std::istringstream lines(text);
   std::string line, family;
   std::map<std::string, std::string> values;
@@ -394,7 +395,7 @@ TEST_F(StatusBoardTest, MetricsAreInPrometheusTextFormat) {
     } else {
       ASSERT_TRUE(std::regex_match(line, m, sample)) << line;
       EXPECT_EQ(m[1], family) << line;
-      values[m[1].str() + m[2].str()] = m[4];
+      values[m[1].str() + m[2].str()] = m[5];
     }
   }
   EXPECT_EQ(text.back(), '\n');
@@ -440,6 +441,46 @@ TEST_F(StatusBoardTest, AnnecsInBothDefinitions) {
   for (const char* words : {"at_admission: environments admitted by reproduction and solved since",
                             "at_archiving: environments retired that had been solved by then"})
     EXPECT_NE(help_line.find(words), std::string::npos) << help_line;
+}
+
+// The obstacle frontier over the solved pairs and over all admitted ones, and the hardest level solved, in /status
+// and /metrics: pair 1 (roughness 4.6) is solved, pair 3 (gaps to 6.4, stumps to 2.6) only admitted.
+TEST_F(StatusBoardTest, TheObstacleFrontierSolvedAndAdmitted) {
+  StatusBoard board(dir_, clock_.function());
+  RunState state = three_pairs();
+  EnvDef hard = testing::rough(2.0, 44);
+  hard.encoding.pit_gap = Interval{1.2, 6.4};
+  hard.encoding.stump_width = Interval{1, 2};
+  hard.encoding.stump_height = Interval{0.4, 2.6};
+  hard.encoding.stump_float = Interval{0, 1};
+  testing::add_pair(state, hard, 80.0).created_iteration = 11;
+  board.publish_run(state, 12);
+  json s = parse(board.status());
+  EXPECT_EQ(s["frontier_solved"], json({{"roughness", 4.6}, {"gap_hi", 0.0}, {"stump_hi", 0.0}})) << s.dump();
+  EXPECT_EQ(s["frontier_admitted"], json({{"roughness", 4.6}, {"gap_hi", 6.4}, {"stump_hi", 2.6}})) << s.dump();
+  EXPECT_EQ(s["highest_level_solved"], "challenging");
+  std::string text = board.metrics_text();
+  for (const char* line :
+       {"\npoet_obstacle_frontier{measure=\"roughness\",among=\"solved\"} 4.6",
+        "\npoet_obstacle_frontier{measure=\"gap_hi\",among=\"solved\"} 0",
+        "\npoet_obstacle_frontier{measure=\"stump_hi\",among=\"admitted\"} 2.6", "\npoet_highest_level_solved 1\n"})
+    EXPECT_NE(text.find(line), std::string::npos) << line << "\n" << text;
+
+  // the hard pair solved: very challenging (gaps and stumps), the solved frontier at the admitted one
+  state.pairs.back().first_solved_iteration = 12;
+  board.publish_run(state, 13);
+  s = parse(board.status());
+  EXPECT_EQ(s["frontier_solved"], s["frontier_admitted"]);
+  EXPECT_EQ(s["highest_level_solved"], "very challenging");
+  EXPECT_NE(board.metrics_text().find("\npoet_highest_level_solved 2\n"), std::string::npos);
+
+  // nothing solved yet: no level, and -1 in /metrics
+  for (Pair& p : state.pairs) p.first_solved_iteration = kNone;
+  board.publish_run(state, 13);
+  s = parse(board.status());
+  EXPECT_EQ(s["highest_level_solved"], "");
+  EXPECT_EQ(s["frontier_solved"], json({{"roughness", 0.0}, {"gap_hi", 0.0}, {"stump_hi", 0.0}})) << s.dump();
+  EXPECT_NE(board.metrics_text().find("\npoet_highest_level_solved -1\n"), std::string::npos);
 }
 
 TEST_F(StatusBoardTest, InvalidUtf8InNamesStillGivesValidJson) {

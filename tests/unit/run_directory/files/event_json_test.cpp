@@ -43,10 +43,10 @@ TEST(EventJson, EveryKindWritesItsFieldsInTheLogsOrder) {
   EXPECT_EQ(line(25, TransferEvent{3, 1, false, 250, 100.5}),
             R"({"iteration":25,"event":"transfer","target":3,"source":1,"proposal":false,"score":250.0,)"
             R"("previous_score":100.5})");
-  EXPECT_EQ(line(25, TransferRoundEvent{true, 3, 6, 6, 1, 204}),
+  EXPECT_EQ(line(25, TransferRoundEvent{true, 3, 6, 6, 1, 204, std::nullopt}),
             R"({"iteration":25,"event":"transfer_round","test":"full","pairs":3,"candidates":6,"proposals":6,)"
             R"("accepted":1,"rollouts":204})");
-  EXPECT_EQ(line(25, TransferRoundEvent{false, 3, 6, 2, 0, 72}),
+  EXPECT_EQ(line(25, TransferRoundEvent{false, 3, 6, 2, 0, 72, std::nullopt}),
             R"({"iteration":25,"event":"transfer_round","test":"threshold","pairs":3,"candidates":6,)"
             R"("proposals":2,"accepted":0,"rollouts":72})");
 
