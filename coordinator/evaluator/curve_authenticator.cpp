@@ -32,7 +32,12 @@ CurveAuthenticator::CurveAuthenticator(zmq::context_t& context, std::filesystem:
       key_dir_(std::move(key_dir)),
       skipped_key_file_(std::move(skipped_key_file)),
       refused_keys_file_(std::move(refused_keys_file)) {
-  if (!refused_keys_file_.empty() && std::filesystem::exists(refused_keys_file_)) {
+  const Expected<bool> has_refused_keys =
+      refused_keys_file_.empty() ? Expected<bool>(false) : path_exists(refused_keys_file_);
+  if (!has_refused_keys) {
+    spdlog::warn("CURVE: {}: {}; no worker key is refused from it", refused_keys_file_.string(),
+                 has_refused_keys.error());
+  } else if (*has_refused_keys) {
     const Expected<std::string> text = read_text_file(refused_keys_file_, kMaxRefusedKeysBytes);
     if (!text) {
       spdlog::warn("CURVE: {}: {}; no worker key is refused from it", refused_keys_file_.string(), text.error());

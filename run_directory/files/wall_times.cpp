@@ -120,8 +120,13 @@ Expected<std::vector<WallTime>> read_wall_times(const std::filesystem::path& pat
 WallTimes WallTimes::open(const std::filesystem::path& dir, int next_iteration, std::string* warning) {
   const std::filesystem::path path = dir / kWallTimesFile;
   std::vector<WallTime> kept;
-  std::error_code ec;
-  if (std::filesystem::exists(path, ec)) {
+  const Expected<bool> exists = path_exists(path);
+  if (!exists) {
+    // what is there may hold the run's times: neither read nor replaced
+    if (warning) *warning = path.string() + ": " + exists.error() + "; wall times are not recorded";
+    return WallTimes({}, 0.0);
+  }
+  if (*exists) {
     std::vector<WallTime> valid;  // on a damaged file, the lines before the damage
     Expected<std::vector<WallTime>> lines = read_wall_times(path, &valid);
     if (lines) valid = std::move(*lines);

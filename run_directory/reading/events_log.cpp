@@ -1,8 +1,8 @@
 #include "run_directory/reading/events_log.h"
 
 #include <fstream>
-#include <system_error>
 
+#include "common/text_file.h"
 #include "run_directory/reading/log_lines.h"
 
 namespace poet {
@@ -27,8 +27,9 @@ Expected<EventLinesPage> read_event_lines(const std::filesystem::path& path, int
   EventLinesPage page;
   std::ifstream in(path, std::ios::binary);
   if (!in) {
-    std::error_code ec;
-    if (!std::filesystem::exists(path, ec)) return page;  // no events yet
+    const Expected<bool> exists = path_exists(path);
+    if (!exists) return Unexpected{path.string() + ": " + exists.error()};
+    if (!*exists) return page;  // no events yet
     return Unexpected{path.string() + ": cannot read"};
   }
   std::string line;

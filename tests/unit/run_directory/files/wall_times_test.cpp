@@ -113,6 +113,19 @@ TEST_F(WallTimesTest, ADamagedHeaderIsNamedAndTheClockRestarts) {
   EXPECT_EQ(text(), kWallTimesHeader);
 }
 
+// A file that cannot be reached (a symbolic-link loop) is neither read as absent nor replaced: nothing is recorded.
+TEST_F(WallTimesTest, AFileThatCannotBeReachedIsNamedAndLeftAlone) {
+  const fs::path path = dir_ / kWallTimesFile;
+  fs::create_symlink(dir_ / "loop", path);
+  fs::create_symlink(path, dir_ / "loop");
+  std::string warning;
+  WallTimes w = WallTimes::open(dir_, 5, &warning);
+  EXPECT_NE(warning.find("cannot access"), std::string::npos) << warning;
+  EXPECT_NE(warning.find("wall times are not recorded"), std::string::npos) << warning;
+  EXPECT_FALSE(w.record(5, 1.0, {}, 0));
+  EXPECT_TRUE(fs::is_symlink(path)) << "the link was replaced";
+}
+
 TEST(ParseWallTimes, RefusesWhatTheWriterNeverWrites) {
   const std::pair<const char*, const char*> cases[] = {
       {"", "no header"},
