@@ -61,11 +61,7 @@ TEST_F(PoetctlProcessTest, AnAnswerTrickledAByteAtATimeEndsAtTheDeadline) {
 }
 
 TEST_F(PoetctlProcessTest, ABodyPastTheCapIsRefusedAtOnce) {
-  const ScriptedHttpServer server(
-      HttpScript{{"HTTP/1.1 200 OK\r\nContent-Type: application/json\r\nContent-Length: 100000000000\r\n\r\n",
-                  std::string(65536, ' ')},
-                 0ms,
-                 2000});
+  const ScriptedHttpServer server(poet::testing::huge_declared_answer(2000));
   const auto started = Clock::now();
   const Outcome o = poetctl({"--address", server.address(), "status"}, "huge");
   EXPECT_EQ(o.code, 1) << o.err;

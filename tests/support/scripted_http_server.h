@@ -41,6 +41,15 @@ inline std::string http_answer(const std::string& body, const std::string& conte
          "\r\nContent-Length: " + std::to_string(body.size()) + "\r\nConnection: close\r\n\r\n" + body;
 }
 
+// An answer that declares a body of 100 GB and sends 64 KB of it, then the same again `repeat` more times
+// (while the client takes it): what a client with a size cap refuses at the headers.
+inline HttpScript huge_declared_answer(size_t repeat) {
+  return HttpScript{{"HTTP/1.1 200 OK\r\nContent-Type: application/json\r\nContent-Length: 100000000000\r\n\r\n",
+                     std::string(65536, ' ')},
+                    std::chrono::milliseconds{0},
+                    repeat};
+}
+
 class ScriptedHttpServer {
  public:
   explicit ScriptedHttpServer(HttpScript script)

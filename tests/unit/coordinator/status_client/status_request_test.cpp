@@ -53,11 +53,7 @@ TEST(StatusRequest, AnAnswerTrickledAByteAtATimeIsCutOffAtTheDeadline) {
 
 TEST(StatusRequest, ABodyPastTheCapIsRefused) {
   // declared: refused at the headers, before any of it is read
-  const ScriptedHttpServer declared(
-      HttpScript{{"HTTP/1.1 200 OK\r\nContent-Type: application/json\r\nContent-Length: 100000000000\r\n\r\n",
-                  std::string(65536, ' ')},
-                 0ms,
-                 100});
+  const ScriptedHttpServer declared(poet::testing::huge_declared_answer(100));
   const auto started = Clock::now();
   const Expected<StatusAnswer> big = ask(declared);
   ASSERT_FALSE(big);
