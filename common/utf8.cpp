@@ -1,7 +1,8 @@
 #include "common/utf8.h"
 
-#include <cstdio>
 #include <utility>
+
+#include "common/text_format.h"
 
 namespace poet {
 namespace {
@@ -77,9 +78,7 @@ std::string printable_text(std::string_view text) {
       out += valid[i++];
       continue;
     }
-    char escaped[8];
-    std::snprintf(escaped, sizeof escaped, "\\u%04x", code);
-    out += escaped;
+    out += "\\u" + hex_text(code, 4);
     i += length;
   }
   return out;

@@ -17,7 +17,7 @@ std::string valid_utf8(std::string_view text);
 // The text made safe to print on a terminal: valid_utf8, then every control character but newline and tab — C0,
 // DEL and C1 (U+0080..U+009F) — written as \u00XX, so that text from a peer (a server's answer) cannot move the
 // cursor, retitle the window or hide what came before. Within a JSON string \u00XX means the same character, so
-// JSON stays the same JSON.
+// the strings of a JSON answer keep their values (a CR between tokens, which JSON allows, does not stay valid).
 std::string printable_text(std::string_view text);
 
 }  // namespace poet

@@ -61,9 +61,10 @@ class WallTimes {
  public:
   // Opens dir/wall_times.csv for a run whose state is at next_iteration: keeps the lines of the iterations before
   // it (later lines timed work the checkpoint did not keep) and rewrites the file atomically. A missing file
-  // starts the clock at 0; an unreadable or damaged one too, with a warning that says why (the state is not
-  // affected, only the times before this process are lost). A last line cut by a crash is dropped. When the
-  // file cannot be rewritten, the warning says so and nothing is recorded.
+  // starts the clock at 0. A damaged one keeps the lines before the damage, and one that cannot be read starts
+  // the clock at 0, each with a warning that says why (the state is not affected, only times are lost). A path
+  // that cannot be reached (a symbolic-link loop) is left as it is, and nothing is recorded. A last line cut by a
+  // crash is dropped. When the file cannot be rewritten, the warning says so and nothing is recorded.
   static WallTimes open(const std::filesystem::path& dir, int next_iteration, std::string* warning);
 
   // Appends "iteration,carried + seconds,phases...,waiting", seconds being this process's running time, phases the

@@ -49,7 +49,7 @@ class PoetctlProcessTest : public ::testing::Test {
 };
 
 TEST_F(PoetctlProcessTest, AnAnswerTrickledAByteAtATimeEndsAtTheDeadline) {
-  // each byte comes within any read timeout; the whole answer would take over a minute
+  // each byte comes within any read timeout; the whole answer would take some 53 s
   const ScriptedHttpServer server(HttpScript{poet::testing::byte_by_byte(http_answer(R"({"run_dir": "x"})")), 500ms});
   const auto started = Clock::now();
   const Outcome o = poetctl({"--address", server.address(), "status"}, "trickle");
@@ -105,6 +105,7 @@ TEST_F(PoetctlProcessTest, APictureCommandWritesOnlyThePictureAsked) {
   // a GIF for the walk is not a PNG either, and a PNG is written as it came
   const ScriptedHttpServer gif(HttpScript{{http_answer("GIF89a...", "image/gif")}});
   EXPECT_EQ(poetctl({"--address", gif.address(), "picture", "tree", out.string()}, "gif").code, 1);
+  EXPECT_FALSE(fs::exists(out));
   const std::string png = std::string(kPng) + "rest of the picture";
   const ScriptedHttpServer good(HttpScript{{http_answer(png, "image/png")}});
   const Outcome o = poetctl({"--address", good.address(), "picture", "tree", out.string()}, "png");
@@ -149,12 +150,18 @@ TEST_F(PoetctlProcessTest, TheServersControlCharactersNeverReachTheTerminal) {
 TEST_F(PoetctlProcessTest, KeygenWritesNeitherHalfOfAPairWhenEitherIsThere) {
   const fs::path keys = root_ / "keys";
   fs::create_directories(keys);
-  std::ofstream(keys / "worker.key") << "an old public key\n";
-  const Outcome o = poetctl({"keygen", keys.string(), "worker"}, "keygen");
-  EXPECT_EQ(o.code, 1) << o.err;
-  EXPECT_TRUE(contains(o.err, "worker.key")) << o.err;
-  EXPECT_TRUE(contains(o.err, "exists")) << o.err;
-  EXPECT_FALSE(fs::exists(keys / "worker.key_secret")) << "a secret that does not match the public key";
+  // either half there: neither is written, and the one there is left as it was
+  for (const auto& [there, other] :
+       {std::pair{"worker.key", "worker.key_secret"}, {"worker.key_secret", "worker.key"}}) {
+    std::ofstream(keys / there) << "an old half\n";
+    const Outcome o = poetctl({"keygen", keys.string(), "worker"}, "keygen");
+    EXPECT_EQ(o.code, 1) << o.err;
+    EXPECT_TRUE(contains(o.err, there)) << o.err;
+    EXPECT_TRUE(contains(o.err, "exists")) << o.err;
+    EXPECT_FALSE(fs::exists(keys / other)) << "half a pair that does not match the other";
+    EXPECT_EQ(poet::testing::read_file(keys / there), "an old half\n");
+    fs::remove(keys / there);
+  }
   // --authorize for the coordinator is refused before anything is written
   const Outcome authorize = poetctl({"keygen", keys.string(), "coordinator", "--authorize"}, "authorize");
   EXPECT_EQ(authorize.code, 2) << authorize.err;

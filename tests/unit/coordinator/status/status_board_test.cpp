@@ -461,9 +461,9 @@ TEST_F(StatusBoardTest, TheObstacleFrontierSolvedAndAdmitted) {
   EXPECT_EQ(s["highest_level_solved"], "challenging");
   std::string text = board.metrics_text();
   for (const char* line :
-       {"\npoet_obstacle_frontier{measure=\"roughness\",among=\"solved\"} 4.6",
-        "\npoet_obstacle_frontier{measure=\"gap_hi\",among=\"solved\"} 0",
-        "\npoet_obstacle_frontier{measure=\"stump_hi\",among=\"admitted\"} 2.6", "\npoet_highest_level_solved 1\n"})
+       {"\npoet_obstacle_frontier{measure=\"roughness\",among=\"solved\"} 4.6\n",
+        "\npoet_obstacle_frontier{measure=\"gap_hi\",among=\"solved\"} 0\n",
+        "\npoet_obstacle_frontier{measure=\"stump_hi\",among=\"admitted\"} 2.6\n", "\npoet_highest_level_solved 1\n"})
     EXPECT_NE(text.find(line), std::string::npos) << line << "\n" << text;
 
   // the hard pair solved: very challenging (gaps and stumps), the solved frontier at the admitted one

@@ -40,7 +40,7 @@ TEST(StatusRequest, AGoodAnswerComesBackWhole) {
 }
 
 TEST(StatusRequest, AnAnswerTrickledAByteAtATimeIsCutOffAtTheDeadline) {
-  // every read is on time (a byte each 100 ms), the whole would take some 7 s
+  // every read is on time (a byte each 100 ms), the whole would take some 10.6 s
   const ScriptedHttpServer server(
       HttpScript{poet::testing::byte_by_byte(poet::testing::http_answer(R"({"run_dir": "x"})")), 100ms});
   const auto started = Clock::now();
