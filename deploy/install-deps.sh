@@ -32,6 +32,8 @@ test_packages=(
   chromium chromium-driver
   # the Python module's tests (pytest) and examples (pandas, matplotlib)
   python3-pytest python3-pandas python3-matplotlib
+  # the documentation site (mkdocs.yml): built with --strict by the tests, so a broken link or anchor fails them
+  mkdocs mkdocs-material
 )
 
 runtime_packages=(

@@ -1,6 +1,6 @@
 #pragma once
 // Distribution statistics of courses and of random initial policies over many terrain seeds: what the walker
-// domain looks like in aggregate, comparable with the reference's figures (docs/FIDELITY.md).
+// domain looks like in aggregate, comparable with the reference's figures (docs/fidelity.md).
 
 #include <cstdint>
 

@@ -1,4 +1,4 @@
-// poet-fidelity: the side-by-side table of docs/FIDELITY.md — the reference walker's figures next to this
+// poet-fidelity: the side-by-side table of docs/fidelity.md — the reference walker's figures next to this
 // project's, every one computed here by the same code the alignment tests use. Reference figures come from the
 // trace files in --reference when present; the sweep and statistics figures of the reference are quoted from its
 // documents (estool-zoo/README.md, STATISTICS.md).

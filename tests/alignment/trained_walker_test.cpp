@@ -1,5 +1,5 @@
 // Trained walkers from estool over terrain seeds 0..49 of this project's courses, against the thresholds derived
-// from their scores on the reference walker (estool-zoo/README.md; docs/FIDELITY.md has the side-by-side table).
+// from their scores on the reference walker (estool-zoo/README.md; docs/fidelity.md has the side-by-side table).
 
 #include <gtest/gtest.h>
 
@@ -46,7 +46,7 @@ TEST(TrainedWalkers, BipedHardV4CrossesHardTerrain) {
 TEST(TrainedWalkers, BipedHard2CrossesHardTerrain) {
   POET_REQUIRE_REFERENCE();
   // hardcore-like mean: 250, not 260 — seeds 0..49 are an unlucky sample of this project's courses for this walker
-  // (259.6 there; 283.9 over seeds 0..199). Measured in docs/FIDELITY.md.
+  // (259.6 there; 283.9 over seeds 0..199). Measured in docs/fidelity.md.
   check("zoo/more/bipedhard/bipedhard.2.json",
         {{"flat", 49, 50, 315}, {"r1", 49, 50, 315}, {"r3", 42, 50, 280}, {"hardcore-like", 40, 50, 250}});
 }
