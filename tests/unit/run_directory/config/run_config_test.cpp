@@ -79,8 +79,8 @@ TEST(RunConfig, BenchWorkloadParsesAndValidates) {
   EXPECT_EQ(config->es().perturbations(), 1024);
 }
 
-// The frontier probe of docs/RESULTS.md (experiments/frontier_es.sh): ES alone on the deep run's pair 28's course,
-// the preset's ES and three wider or larger searches, nothing else different.
+// The frontier probe of docs/results/deep-notebook.md (experiments/frontier_es.sh): ES alone on the deep run's pair
+// 28's course, the preset's ES and three wider or larger searches, nothing else different.
 TEST(RunConfig, FrontierEsConfigsDifferOnlyInTheirPopulationAndSigma) {
   const std::map<std::string, std::pair<int, double>> es = {// perturbations (half the rollouts a step), σ
                                                             {"A", {32, 0.05}},
@@ -103,7 +103,7 @@ TEST(RunConfig, FrontierEsConfigsDifferOnlyInTheirPopulationAndSigma) {
   for (const pb::RunConfig& c : configs) EXPECT_EQ(c.SerializeAsString(), configs[0].SerializeAsString());
 }
 
-// The σ comparison of docs/RESULTS.md: ES alone on one course from one seed, differing only in ES settings.
+// The σ comparison of docs/results/challenging.md: ES alone on one course from one seed, differing only in ES settings.
 TEST(RunConfig, SigmaConfigsDifferOnlyInTheirEs) {
   std::vector<pb::RunConfig> configs;
   for (const auto& entry : fs::directory_iterator(source_dir() / "experiments" / "sigma")) {
@@ -117,8 +117,8 @@ TEST(RunConfig, SigmaConfigsDifferOnlyInTheirEs) {
   for (const pb::RunConfig& c : configs) EXPECT_EQ(c.SerializeAsString(), configs[0].SerializeAsString());
 }
 
-// The learning curves of docs/RESULTS.md (experiments/learning_curve.sh): ES alone on flat from the same θ₀ (seed 11),
-// each with the population and learning rate RESULTS gives it.
+// The learning curves of docs/results/es-flat.md (experiments/learning_curve.sh): ES alone on flat from the same θ₀
+// (seed 11), each with the population and learning rate that page gives it.
 TEST(RunConfig, LearningCurveConfigsParseAndValidate) {
   const std::map<std::string, std::pair<int, double>> mirrored_pairs_and_lr = {
       {"experiments/curves/flat-64.textproto", {32, 0.02}},
@@ -186,8 +186,8 @@ TEST(RunConfig, SmallPresetKeepsThePapersCriteria) {
   EXPECT_LE(c.poet().active_cap(), 5);
 }
 
-// The challenging preset keeps the paper's criteria, obstacle types and ranking; its ES and population are the
-// ones docs/RESULTS.md names.
+// The challenging preset keeps the paper's criteria, obstacle types and ranking; its ES and population are the ones
+// docs/results/challenging.md names.
 TEST(RunConfig, ChallengingPresetKeepsThePapersCriteria) {
   const pb::RunConfig c = load_preset("challenging.textproto");
   EXPECT_EQ(c.mode(), pb::RunConfig::POET);
