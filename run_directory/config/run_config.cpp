@@ -1,11 +1,14 @@
 #include "run_directory/config/run_config.h"
 
+#include "run_directory/config/config_rules.h"
+
 #include <google/protobuf/descriptor.h>
 #include <google/protobuf/io/tokenizer.h>
 #include <google/protobuf/io/zero_copy_stream_impl_lite.h>
 #include <google/protobuf/message.h>
 #include <google/protobuf/text_format.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -74,11 +77,15 @@ constexpr Range kBeta{0, 1, false, true};   // [0, 1): Adam divides by 1 − β�
 constexpr Range kScore{-1e4, 1e4};
 
 // Collects the first problem; later checks are skipped once one is found, so the message names the first bad
-// field in the order the checks run (the schema's order).
+// field in the order the checks run (the schema's order). In recording mode (config_rules()) each check records
+// its rule, in the text its message gives without the value, and none fails.
 class Checks {
  public:
+  Checks() = default;
+  Checks(std::vector<ConfigRule>* rules, pb::RunConfig::Mode mode) : rules_(rules), mode_(mode) {}
+
   void real(std::string_view path, double value, Range range) {
-    if (problem_) return;
+    if (recorded(path, range.describe()) || problem_) return;
     if (!std::isfinite(value)) {
       fail(path, "must be a finite number (got " + number_text(value) + ")");
     } else if (!range.contains(value)) {
@@ -86,40 +93,59 @@ class Checks {
     }
   }
   void integer(std::string_view path, int64_t value, int64_t lo, int64_t hi = std::numeric_limits<int64_t>::max()) {
-    if (problem_ || (value >= lo && value <= hi)) return;
     const std::string rule = hi == std::numeric_limits<int64_t>::max()
                                  ? "must be >= " + number_text(lo)
                                  : "must be in [" + number_text(lo) + ", " + number_text(hi) + "]";
+    if (recorded(path, rule) || problem_ || (value >= lo && value <= hi)) return;
     fail(path, rule + " (got " + number_text(value) + ")");
   }
   // Two fields that must be ordered (a decay's floor and its starting value; mc_low and mc_high): a config that
   // breaks the order contradicts itself, so the message names both fields.
   void at_most(std::string_view path, double value, std::string_view other_path, double other) {
-    if (problem_ || value <= other) return;
+    if (recorded(path, "<= " + std::string(other_path)) || problem_ || value <= other) return;
     fail(path, number_text(value) + " exceeds " + std::string(other_path) + " " + number_text(other));
   }
   template <class IsValid>
   void known_enum(std::string_view path, int value, IsValid is_valid) {
-    if (problem_ || is_valid(value)) return;
+    if (recorded(path, "must be one of the enum's values") || problem_ || is_valid(value)) return;
     fail(path, "unknown value " + number_text(int64_t{value}));
   }
-  void fail(std::string_view path, const std::string& what) { fail_message(std::string(path) + ": " + what); }
-  void fail_message(std::string message) {
-    if (!problem_) problem_ = std::move(message);
+  // A rule between fields or with the mode: `applies` is the part the mode decides (a rule of that mode's
+  // configs), `bad` the part the fields decide; `message` is `rule` with the values when they differ.
+  void refuse_if(bool applies, bool bad, std::string_view path, const std::string& rule) {
+    refuse_if(applies, bad, path, rule, rule);
+  }
+  void refuse_if(bool applies, bool bad, std::string_view path, const std::string& rule, const std::string& message) {
+    if (!applies || recorded(path, rule) || !bad) return;
+    fail(path, message);
+  }
+  // The fields inside an environment target, which env_def_from_proto checks; its message names them.
+  void target(std::string_view path, const pb::EnvDef& def) {
+    if (recorded(path, "must be a valid environment definition (an error names the field inside it)") || problem_)
+      return;
+    const Expected<EnvDef> checked = env_def_from_proto(def);
+    // checked.error() already starts with the field inside the EnvDef ("encoding.pit_gap: ...").
+    if (!checked) fail_message(std::string(path) + "." + checked.error());
   }
   bool failed() const { return problem_.has_value(); }
   std::optional<std::string> result() && { return std::move(problem_); }
 
  private:
-  std::optional<std::string> problem_;
-};
+  void fail(std::string_view path, const std::string& what) { fail_message(std::string(path) + ": " + what); }
+  void fail_message(std::string message) {
+    if (!problem_) problem_ = std::move(message);
+  }
+  // In recording mode, records the rule and says so (the check then does nothing else).
+  bool recorded(std::string_view path, const std::string& rule) {
+    if (!rules_) return false;
+    rules_->push_back({std::string(path), rule, {mode_}});
+    return true;
+  }
 
-void check_target(Checks& checks, std::string_view path, const pb::EnvDef& target) {
-  if (checks.failed()) return;
-  const Expected<EnvDef> def = env_def_from_proto(target);
-  // def.error() already starts with the field inside the EnvDef ("encoding.pit_gap: ...").
-  if (!def) checks.fail_message(std::string(path) + "." + def.error());
-}
+  std::optional<std::string> problem_;
+  std::vector<ConfigRule>* rules_ = nullptr;
+  pb::RunConfig::Mode mode_ = pb::RunConfig::POET;
+};
 
 void check_es(Checks& c, const pb::EsConfig& es) {
   // 400× the reference's 256 mirrored pairs (2n rollouts per ES step); more is a typo, not a bigger run
@@ -168,29 +194,33 @@ void check_poet(Checks& c, const pb::PoetConfig& poet, pb::RunConfig::Mode mode)
   const bool evolves = mode == pb::RunConfig::POET || mode == pb::RunConfig::POET_WITHOUT_TRANSFER;
   // With nothing to mutate every child equals its parent and is dropped: the run could never grow. (A CPPN
   // genome's mutation does not read these switches.)
-  if (evolves && poet.environments() == pb::OBSTACLE_COURSES && !m.roughness() && !m.pits() && !m.stumps() &&
-      !m.stairs())
-    c.fail("poet.mutation", "no gene type enabled (roughness, pits, stumps and stairs are all false) in mode " +
-                                pb::RunConfig::Mode_Name(mode));
+  c.refuse_if(evolves,
+              poet.environments() == pb::OBSTACLE_COURSES && !m.roughness() && !m.pits() && !m.stumps() &&
+                  !m.stairs(),
+              "poet.mutation",
+              "no gene type enabled (roughness, pits, stumps and stairs are all false) in mode " +
+                  pb::RunConfig::Mode_Name(mode));
   c.real("poet.solved_score", poet.solved_score(), kScore);
-  if (poet.keep_admission_selection() && mode != pb::RunConfig::POET_WITHOUT_TRANSFER)
-    c.fail("poet.keep_admission_selection", "true contradicts mode " + pb::RunConfig::Mode_Name(mode) +
-                                                " (it applies to mode POET_WITHOUT_TRANSFER only)");
+  c.refuse_if(mode != pb::RunConfig::POET_WITHOUT_TRANSFER, poet.keep_admission_selection(),
+              "poet.keep_admission_selection",
+              "true contradicts mode " + pb::RunConfig::Mode_Name(mode) +
+                  " (it applies to mode POET_WITHOUT_TRANSFER only)");
   c.known_enum("poet.novelty", poet.novelty(), pb::NoveltyMeasure_IsValid);
   c.known_enum("poet.reproduction_agent", poet.reproduction_agent(), pb::ReproductionAgent_IsValid);
   // a normalisation of the 5-vectors means nothing to PATA-EC; taking it silently would hide a mistaken config
   // A CPPN course's 5-vector is all zeros: the encoding distance would give every child novelty 0.
-  if (poet.environments() == pb::CPPN_TERRAIN && poet.novelty() == pb::ENCODING_DISTANCE &&
-      poet.child_ranking() == pb::NOVELTY)
-    c.fail("poet.environments",
-           "CPPN_TERRAIN with novelty ENCODING_DISTANCE ranks every child alike (a CPPN "
-           "course has no obstacle genes); set poet.novelty: PATA_EC or poet.child_ranking: "
-           "LOWEST_SCORE_FIRST");
+  c.refuse_if(true,
+              poet.environments() == pb::CPPN_TERRAIN && poet.novelty() == pb::ENCODING_DISTANCE &&
+                  poet.child_ranking() == pb::NOVELTY,
+              "poet.environments",
+              "CPPN_TERRAIN with novelty ENCODING_DISTANCE ranks every child alike (a CPPN "
+              "course has no obstacle genes); set poet.novelty: PATA_EC or poet.child_ranking: "
+              "LOWEST_SCORE_FIRST");
   // PATA-EC evaluates every θ on every archived environment at each reproduction, for a ranking by novelty only
-  if (poet.novelty() == pb::PATA_EC && poet.child_ranking() == pb::LOWEST_SCORE_FIRST)
-    c.fail("poet.novelty", "PATA_EC pays for evaluations that poet.child_ranking LOWEST_SCORE_FIRST never reads");
-  if (poet.novelty_normalized() && poet.novelty() == pb::PATA_EC)
-    c.fail("poet.novelty_normalized", "true contradicts poet.novelty PATA_EC (it applies to ENCODING_DISTANCE only)");
+  c.refuse_if(true, poet.novelty() == pb::PATA_EC && poet.child_ranking() == pb::LOWEST_SCORE_FIRST, "poet.novelty",
+              "PATA_EC pays for evaluations that poet.child_ranking LOWEST_SCORE_FIRST never reads");
+  c.refuse_if(true, poet.novelty_normalized() && poet.novelty() == pb::PATA_EC, "poet.novelty_normalized",
+              "true contradicts poet.novelty PATA_EC (it applies to ENCODING_DISTANCE only)");
 }
 
 // The tasks of one batch are held in memory together (poet/rollout_batch.h), so the largest batch an iteration
@@ -200,28 +230,27 @@ constexpr int64_t kMaxBatchRollouts = 10'000'000;
 // Only the POET modes run several pairs at once; ES alone and the direct path run one.
 void check_batch_size(Checks& c, const pb::RunConfig& config) {
   const pb::RunConfig::Mode mode = config.mode();
-  if (c.failed() || (mode != pb::RunConfig::POET && mode != pb::RunConfig::POET_WITHOUT_TRANSFER)) return;
+  if (c.failed()) return;
   const int64_t n = config.es().perturbations();  // both within their bounds here, so no product overflows
   const int64_t pairs = config.poet().active_cap();
   const std::string too_many = " rollouts in one batch, more than " + number_text(kMaxBatchRollouts);
   // step 2: one ES step of 2n rollouts for every active pair
+  const std::string es_batch_rule = "2 · es.perturbations · poet.active_cap";
   const int64_t es_batch = 2 * n * pairs;
-  if (es_batch > kMaxBatchRollouts) {
-    c.fail("es.perturbations", "2 · es.perturbations · poet.active_cap = 2 · " + number_text(n) + " · " +
-                                   number_text(pairs) + " = " + number_text(es_batch) + too_many);
-    return;
-  }
+  c.refuse_if(mode == pb::RunConfig::POET || mode == pb::RunConfig::POET_WITHOUT_TRANSFER,
+              es_batch > kMaxBatchRollouts, "es.perturbations", es_batch_rule + too_many,
+              es_batch_rule + " = 2 · " + number_text(n) + " · " + number_text(pairs) + " = " +
+                  number_text(es_batch) + too_many);
   // step 3 (mode POET only): every ordered pair of active pairs gets a proposal's ES step and a direct
   // evaluation, all in the round's first batch (spec §3: N(N−1) ES steps and N(N−1) evaluations)
-  if (mode != pb::RunConfig::POET) return;
   const int64_t episodes = config.walker().stochastic_envs() ? config.walker().eval_episodes() : 1;
   const int64_t transfer_batch = pairs * (pairs - 1) * (2 * n + episodes);
-  if (transfer_batch > kMaxBatchRollouts)
-    c.fail("poet.active_cap",
-           "a transfer round of poet.active_cap · (poet.active_cap − 1) · (2 · es.perturbations + evaluation "
-           "episodes) = " +
-               number_text(pairs) + " · " + number_text(pairs - 1) + " · (2 · " + number_text(n) + " + " +
-               number_text(episodes) + ") = " + number_text(transfer_batch) + too_many);
+  const std::string transfer_rule =
+      "a transfer round of poet.active_cap · (poet.active_cap − 1) · (2 · es.perturbations + evaluation episodes)";
+  c.refuse_if(mode == pb::RunConfig::POET, transfer_batch > kMaxBatchRollouts, "poet.active_cap",
+              transfer_rule + too_many,
+              transfer_rule + " = " + number_text(pairs) + " · " + number_text(pairs - 1) + " · (2 · " +
+                  number_text(n) + " + " + number_text(episodes) + ") = " + number_text(transfer_batch) + too_many);
 }
 
 void check_walker(Checks& c, const pb::WalkerConfig& walker) {
@@ -237,30 +266,31 @@ void check_walker(Checks& c, const pb::WalkerConfig& walker) {
 void check_mode(Checks& c, const pb::RunConfig& config) {
   const pb::RunConfig::Mode mode = config.mode();
   const std::string mode_name = pb::RunConfig::Mode_Name(mode);
-  if (config.has_es_alone() && mode != pb::RunConfig::ES_ALONE)
-    c.fail("es_alone", "given, but mode is " + mode_name + " (es_alone applies to mode ES_ALONE only)");
-  if (config.has_direct_path() && mode != pb::RunConfig::DIRECT_PATH)
-    c.fail("direct_path", "given, but mode is " + mode_name + " (direct_path applies to mode DIRECT_PATH only)");
+  c.refuse_if(mode != pb::RunConfig::ES_ALONE, config.has_es_alone(), "es_alone",
+              "given, but mode is " + mode_name + " (es_alone applies to mode ES_ALONE only)");
+  c.refuse_if(mode != pb::RunConfig::DIRECT_PATH, config.has_direct_path(), "direct_path",
+              "given, but mode is " + mode_name + " (direct_path applies to mode DIRECT_PATH only)");
   if (mode == pb::RunConfig::ES_ALONE) {
-    if (!config.es_alone().has_target()) c.fail("es_alone.target", "required in mode ES_ALONE");
-    check_target(c, "es_alone.target", config.es_alone().target());
+    c.refuse_if(true, !config.es_alone().has_target(), "es_alone.target", "required in mode ES_ALONE");
+    c.target("es_alone.target", config.es_alone().target());
     c.known_enum("es_alone.random_courses", config.es_alone().random_courses(),
                  pb::EsAloneConfig::RandomCourses_IsValid);
-    if (config.es_alone().stop_when_solved() &&
-        config.es_alone().random_courses() != pb::EsAloneConfig::NO_RANDOM_COURSES)
-      c.fail("es_alone.stop_when_solved", "not with random_courses: the run has no course of its own to solve");
+    c.refuse_if(true,
+                config.es_alone().stop_when_solved() &&
+                    config.es_alone().random_courses() != pb::EsAloneConfig::NO_RANDOM_COURSES,
+                "es_alone.stop_when_solved", "not with random_courses: the run has no course of its own to solve");
   }
   // a budget beyond any machine's reach is a typing error: 10^15 steps are some 500 years of this walker on a core
   c.integer("env_step_budget", config.env_step_budget(), 0, 1'000'000'000'000'000);
   if (mode == pb::RunConfig::DIRECT_PATH) {
     const pb::DirectPathConfig& direct = config.direct_path();
-    if (!direct.has_target()) c.fail("direct_path.target", "required in mode DIRECT_PATH");
-    check_target(c, "direct_path.target", direct.target());
+    c.refuse_if(true, !direct.has_target(), "direct_path.target", "required in mode DIRECT_PATH");
+    c.target("direct_path.target", direct.target());
     // the curriculum moves obstacle genes one step at a time; a CPPN genome has no such path from flat
-    if (direct.target().encoding().has_cppn())
-      c.fail("direct_path.target", "a CPPN course has no direct path from flat (use an obstacle encoding)");
+    c.refuse_if(true, direct.target().encoding().has_cppn(), "direct_path.target",
+                "a CPPN course has no direct path from flat (use an obstacle encoding)");
     c.real("direct_path.advance_threshold", direct.advance_threshold(), kScore);
-    if (!direct.has_budget_es_steps()) c.fail("direct_path.budget_es_steps", "required in mode DIRECT_PATH");
+    c.refuse_if(true, !direct.has_budget_es_steps(), "direct_path.budget_es_steps", "required in mode DIRECT_PATH");
     // POET's spend along a lineage: at most iterations (10^7) × active pairs (10^3) ES steps
     c.integer("direct_path.budget_es_steps", direct.budget_es_steps(), 1, 10'000'000'000);
   }
@@ -278,12 +308,10 @@ bool sets_any_value(const protobuf::Message& message) {
   return false;
 }
 
-}  // namespace
-
-std::optional<std::string> validate(const pb::RunConfig& config) {
-  Checks c;
+// Every check, in the schema's order: validate() stops at the first problem, config_rules() records each rule.
+void run_checks(Checks& c, const pb::RunConfig& config) {
   c.known_enum("mode", config.mode(), pb::RunConfig::Mode_IsValid);
-  if (c.failed()) return std::move(c).result();  // the mode rules below need a known mode
+  if (c.failed()) return;  // the mode rules below need a known mode
   c.integer("iterations", config.iterations(), 0, kMaxIterations);
   // at least one checkpoint every 10^6 iterations, so a crash never loses more
   c.integer("checkpoint_interval", config.checkpoint_interval(), 1, 1'000'000);
@@ -292,15 +320,46 @@ std::optional<std::string> validate(const pb::RunConfig& config) {
   check_es(c, config.es());
   check_poet(c, config.poet(), config.mode());
   // on a fixed course a second evaluation repeats the first: a confirmation would cost episodes and change nothing
-  if (config.poet().confirm_transfers() && config.mode() != pb::RunConfig::POET)
-    c.fail("poet.confirm_transfers", "true contradicts mode " + pb::RunConfig::Mode_Name(config.mode()) +
-                                         " (it applies to mode POET only, the one with transfer rounds)");
-  else if (config.poet().confirm_transfers() && !config.walker().stochastic_envs())
-    c.fail("poet.confirm_transfers", "true needs walker.stochastic_envs: true (on a fixed course a score is exact)");
+  // (a config refused by the first rule never reaches the second: the second is a rule of mode POET)
+  c.refuse_if(config.mode() != pb::RunConfig::POET, config.poet().confirm_transfers(), "poet.confirm_transfers",
+              "true contradicts mode " + pb::RunConfig::Mode_Name(config.mode()) +
+                  " (it applies to mode POET only, the one with transfer rounds)");
+  c.refuse_if(config.mode() == pb::RunConfig::POET,
+              config.poet().confirm_transfers() && !config.walker().stochastic_envs(), "poet.confirm_transfers",
+              "true needs walker.stochastic_envs: true (on a fixed course a score is exact)");
   check_walker(c, config.walker());
   check_batch_size(c, config);
   check_mode(c, config);
+}
+
+}  // namespace
+
+std::optional<std::string> validate(const pb::RunConfig& config) {
+  Checks c;
+  run_checks(c, config);
   return std::move(c).result();
+}
+
+std::vector<ConfigRule> config_rules() {
+  std::vector<ConfigRule> recorded;
+  for (int m = pb::RunConfig::Mode_MIN; m <= pb::RunConfig::Mode_MAX; ++m) {
+    if (!pb::RunConfig::Mode_IsValid(m)) continue;
+    pb::RunConfig config;
+    config.set_mode(static_cast<pb::RunConfig::Mode>(m));
+    Checks c(&recorded, config.mode());
+    run_checks(c, config);
+  }
+  // one entry per (path, rule), with every mode it was recorded in, in the order first recorded
+  std::vector<ConfigRule> rules;
+  for (ConfigRule& rule : recorded) {
+    auto same = std::find_if(rules.begin(), rules.end(),
+                             [&](const ConfigRule& r) { return r.path == rule.path && r.rule == rule.rule; });
+    if (same == rules.end())
+      rules.push_back(std::move(rule));
+    else if (std::find(same->modes.begin(), same->modes.end(), rule.modes.front()) == same->modes.end())
+      same->modes.push_back(rule.modes.front());
+  }
+  return rules;
 }
 
 Expected<pb::RunConfig> parse_run_config(std::string_view text) {
