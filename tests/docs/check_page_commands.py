@@ -14,11 +14,14 @@ to run it:
     <!-- test: wait -->             first wait for the background command to end, with exit 0
     <!-- test: exit N -->           each command of the block must exit with N instead of 0
 
-Every block without a comment must exit 0 within the time limit. The status socket's default address
-(127.0.0.1:8580, localhost:8580) is replaced by a free loopback port, so that the test runs beside others.
-Every process it starts is killed, and the workspace removed, when it ends, also on failure."""
+Every block without a comment must exit 0 within the time limit. The status socket's default address is replaced by
+a free loopback port, so that the test runs beside others: in the commands and scripts (127.0.0.1:8580,
+localhost:8580), for poetctl ($POET_STATUS), and for a poet-coordinator that names none (--status-address).
+Every process it starts is killed, and the workspace removed, when it ends, also on failure or SIGTERM; a process
+it started dies with it even when it is killed outright (the parent-death signal)."""
 
 import argparse
+import ctypes
 import os
 import re
 import shutil
@@ -32,6 +35,11 @@ import time
 COMMAND_TIMEOUT_S = 300
 BLOCK = re.compile(r"(?:<!--\s*test:\s*(?P<directive>[^>]*?)\s*-->\s*\n)?```(?P<lang>[a-z]*)[^\n]*\n(?P<body>.*?)\n```",
                    re.S)
+
+
+def _die_with_parent():
+    # PR_SET_PDEATHSIG (1): SIGKILL when this test dies; kept across exec, so bash -c's single command has it too
+    ctypes.CDLL("libc.so.6", use_errno=True).prctl(1, signal.SIGKILL, 0, 0, 0)
 
 
 def free_port():
@@ -79,16 +87,38 @@ class Workspace:
     def localise(self, text):
         return re.sub(r"(127\.0\.0\.1|localhost):8580\b", f"127.0.0.1:{self.port}", text)
 
+    def localise_command(self, command):
+        command = self.localise(command)
+        if re.match(r"\S*poet-coordinator\b", command) and "--status-address" not in command:
+            command += f" --status-address 127.0.0.1:{self.port}"
+        return command
+
     def start(self, argv, **kwargs):
         # a session of its own, so the whole group (a coordinator and its workers) can be killed
         return subprocess.Popen(argv, cwd=self.dir, env=self.env, start_new_session=True, stdout=subprocess.PIPE,
-                                stderr=subprocess.STDOUT, text=True, **kwargs)
+                                stderr=subprocess.STDOUT, text=True, preexec_fn=_die_with_parent, **kwargs)
 
     def close(self):
         if self.background and self.background.poll() is None:
             os.killpg(self.background.pid, signal.SIGKILL)
             self.background.wait()
+        self.kill_strays()
         shutil.rmtree(self.dir, ignore_errors=True)
+
+    def kill_strays(self):
+        """Coordinators that Python's poet.start left running (a session of their own, by design) name the
+        workspace in their command line."""
+        for pid in filter(str.isdigit, os.listdir("/proc")):
+            try:
+                with open(f"/proc/{pid}/cmdline", "rb") as f:
+                    cmdline = f.read().decode(errors="replace")
+            except OSError:
+                continue
+            if self.dir in cmdline and int(pid) != os.getpid():
+                try:
+                    os.kill(int(pid), signal.SIGKILL)
+                except OSError:
+                    pass
 
 
 def run(ws, argv, label, expected_exit):
@@ -156,7 +186,7 @@ def check_page(ws, page):
                 problems.append(problem)
             continue
         for command in commands_of(body):
-            command = ws.localise(command)
+            command = ws.localise_command(command)
             print(f"{where}: {command}", flush=True)
             if directive == "background":
                 if ws.background:
@@ -183,6 +213,8 @@ def main():
     parser.add_argument("--build", required=True)
     parser.add_argument("pages", nargs="+")
     args = parser.parse_args()
+    # SIGTERM (ctest's timeout, a user) ends the test through its cleanup
+    signal.signal(signal.SIGTERM, lambda *_: sys.exit(143))
     ws = Workspace(os.path.abspath(args.repo), os.path.abspath(args.build))
     problems = []
     try:
