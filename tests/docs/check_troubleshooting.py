@@ -1,0 +1,371 @@
+#!/usr/bin/python3
+"""docs/troubleshooting.md against the binaries: the messages the page shows are what they print now.
+
+Each block of the page marked `<!-- check: NAME -->` is a message copied from a run; this script provokes the same
+situation with the built poet-coordinator and compares. The page writes the parts that differ from run to run as
+placeholders (TIME, RUN_DIR, CONFIG, PID, PORT, WORKER, DIGEST, WORKER_DIGEST): each is replaced by what this run has, TIME
+by a pattern of spdlog's time stamp. Every line of a block must be a whole line of the process's output, in the
+block's order. A block named here that the page lacks, or a marked block no case provokes, is a failure too.
+
+Usage: check_troubleshooting.py --page docs/troubleshooting.md --source SRC --coordinator BIN
+
+Bounded in time (each process at most 20 s, the whole well under a minute), on ephemeral loopback ports; every
+process started is killed and the scratch directory removed, also on failure. Debian's python3, stdlib only.
+"""
+
+import argparse
+import os
+import re
+import shutil
+import signal
+import socket
+import struct
+import subprocess
+import sys
+import tempfile
+import time
+
+PLACEHOLDERS = ("WORKER_DIGEST", "WORKER", "RUN_DIR", "CONFIG", "DIGEST", "TIME", "PID", "PORT")
+TIME_PATTERN = r"\d{4}-\d\d-\d\d \d\d:\d\d:\d\d\.\d{3}"  # spdlog's [%Y-%m-%d %H:%M:%S.%e]
+MARK = re.compile(r"^<!-- check: ([a-z0-9-]+) -->$")
+PROCESS_SECONDS = 20
+
+
+def page_blocks(path):
+    """{name: [lines]} of the page's marked code blocks (the first fenced block after each mark)."""
+    blocks = {}
+    lines = open(path, encoding="utf-8").read().split("\n")
+    i = 0
+    while i < len(lines):
+        mark = MARK.match(lines[i].strip())
+        i += 1
+        if not mark:
+            continue
+        while i < len(lines) and not lines[i].strip():
+            i += 1
+        if i >= len(lines) or not lines[i].startswith("```"):
+            raise SystemExit(f"{path}: the mark '{mark.group(1)}' is not followed by a code block")
+        body = []
+        i += 1
+        while i < len(lines) and not lines[i].startswith("```"):
+            body.append(lines[i])
+            i += 1
+        if mark.group(1) in blocks:
+            raise SystemExit(f"{path}: the mark '{mark.group(1)}' comes twice")
+        blocks[mark.group(1)] = body
+    return blocks
+
+
+def line_pattern(line, values):
+    """A page line as a regular expression: its placeholders replaced by this run's values."""
+    tokens = re.split(r"\b(" + "|".join(PLACEHOLDERS) + r")\b", line)
+    out = []
+    for k, token in enumerate(tokens):
+        if k % 2 == 0:
+            out.append(re.escape(token))
+        elif token == "TIME":
+            out.append(TIME_PATTERN)
+        elif token in values:
+            out.append(re.escape(str(values[token])))
+        else:
+            out.append(re.escape(token))  # a word of the message itself, not a placeholder of this case
+    return re.compile("".join(out))
+
+
+def missing_lines(block, output, values):
+    """The block's lines not found, in order, among the output's whole lines."""
+    have = output.split("\n")
+    at = 0
+    missing = []
+    for line in block:
+        pattern = line_pattern(line, values)
+        k = at
+        while k < len(have) and not pattern.fullmatch(have[k]):
+            k += 1
+        if k == len(have):
+            missing.append(line)
+        else:
+            at = k + 1
+    return missing
+
+
+class Processes:
+    """Every process started, killed at the end whatever happened."""
+
+    def __init__(self, scratch):
+        self.scratch = scratch
+        self.started = []
+
+    def start(self, argv, name):
+        err = open(os.path.join(self.scratch, name + ".err"), "wb")
+        process = subprocess.Popen(argv, stdin=subprocess.DEVNULL, stdout=err, stderr=err)
+        err.close()
+        process.log = os.path.join(self.scratch, name + ".err")
+        self.started.append(process)
+        return process
+
+    def run(self, argv, name):
+        """Runs to its end (at most PROCESS_SECONDS): (exit code, output)."""
+        process = self.start(argv, name)
+        try:
+            code = process.wait(PROCESS_SECONDS)
+        except subprocess.TimeoutExpired:
+            raise AssertionError(f"{name}: still running after {PROCESS_SECONDS} s: {argv}")
+        return code, read(process.log)
+
+    def kill_all(self):
+        for process in self.started:
+            if process.poll() is None:
+                process.kill()
+            process.wait()
+
+
+def read(path):
+    with open(path, encoding="utf-8", errors="replace") as f:
+        return f.read()
+
+
+def await_line(process, pattern, what):
+    """Waits (at most PROCESS_SECONDS) until the process's output has a line matching pattern; the match."""
+    deadline = time.monotonic() + PROCESS_SECONDS
+    regex = re.compile(pattern, re.MULTILINE)
+    while time.monotonic() < deadline:
+        found = regex.search(read(process.log))
+        if found:
+            return found
+        if process.poll() is not None:
+            raise AssertionError(f"{what}: the process ended ({process.returncode}) first:\n{read(process.log)}")
+        time.sleep(0.05)
+    raise AssertionError(f"{what}: not seen within {PROCESS_SECONDS} s:\n{read(process.log)}")
+
+
+def taken_port():
+    """A loopback TCP socket listening on an ephemeral port: (the socket, its port). Close it when done."""
+    s = socket.socket(socket.AF_INET, socket.SOCK_STREAM)
+    s.bind(("127.0.0.1", 0))
+    s.listen(1)
+    return s, s.getsockname()[1]
+
+
+# --- a peer that speaks ZMTP 3.0 (NULL security) with a Hello of another build: the coordinator's refusal ---
+
+def _varint(n):
+    out = bytearray()
+    while True:
+        byte = n & 0x7F
+        n >>= 7
+        out.append(byte | (0x80 if n else 0))
+        if not n:
+            return bytes(out)
+
+
+def _field(number, wire_type, payload):
+    key = _varint(number << 3 | wire_type)
+    if wire_type == 2:
+        return key + _varint(len(payload)) + payload
+    return key + payload
+
+
+def hello_message(protocol_version, digest, name):
+    """proto/wire.proto's WorkerMessage{hello: Hello{protocol_version, fingerprint_digest, threads, name}}."""
+    hello = (_field(1, 0, _varint(protocol_version)) + _field(2, 1, struct.pack("<Q", digest)) +
+             _field(4, 0, _varint(1)) + _field(5, 2, name.encode()))
+    return _field(1, 2, hello)
+
+
+def _zmtp_frame(body, command=False):
+    flags = 0x04 if command else 0x00
+    if len(body) > 255:
+        return bytes([flags | 0x02]) + struct.pack(">Q", len(body)) + body
+    return bytes([flags, len(body)]) + body
+
+
+def _recv_exactly(conn, n):
+    data = b""
+    while len(data) < n:
+        chunk = conn.recv(n - len(data))
+        if not chunk:
+            raise AssertionError("the coordinator closed the connection")
+        data += chunk
+    return data
+
+
+def _recv_frame(conn):
+    flags = _recv_exactly(conn, 1)[0]
+    size = struct.unpack(">Q", _recv_exactly(conn, 8))[0] if flags & 0x02 else _recv_exactly(conn, 1)[0]
+    return flags, _recv_exactly(conn, size)
+
+
+def send_hello(port, message):
+    """Connects to the job socket as a DEALER, sends one message and returns the first message answered."""
+    with socket.create_connection(("127.0.0.1", port), timeout=PROCESS_SECONDS) as conn:
+        greeting = b"\xff" + b"\x00" * 8 + b"\x7f" + bytes([3, 0]) + b"NULL".ljust(20, b"\x00") + b"\x00" * 32
+        conn.sendall(greeting)
+        _recv_exactly(conn, 64)
+        ready = b"\x05READY" + b"\x0bSocket-Type" + struct.pack(">I", 6) + b"DEALER"
+        conn.sendall(_zmtp_frame(ready, command=True))
+        flags, body = _recv_frame(conn)
+        if not (flags & 0x04 and body.startswith(b"\x05READY")):
+            raise Failure(f"the job socket answered the greeting with {body!r}, not READY")
+        conn.sendall(_zmtp_frame(message))
+        while True:
+            flags, body = _recv_frame(conn)
+            if not flags & 0x04:
+                return body
+
+
+# --- the cases: each returns {block name: (output, placeholder values)} ---
+
+def write(path, text):
+    with open(path, "w", encoding="utf-8") as f:
+        f.write(text)
+    return path
+
+
+def refused_configs(args, procs, scratch):
+    """Configs refused before any file is written: exit 2, the file and the field named."""
+    cases = {
+        "config-syntax": "mode: POET\nes { init_lr: 0.01\n",
+        "config-unknown-field": "mode: POET\nseeds: 7\n",
+        "config-out-of-bounds": "es { l2_coeff: 2 }\n",
+        "config-contradiction": "poet { mc_low: 300 mc_high: 50 }\n",
+        "config-sets-nothing": "# only a comment\n",
+    }
+    seen = {}
+    for name, text in cases.items():
+        config = write(os.path.join(scratch, name + ".textproto"), text)
+        run_dir = os.path.join(scratch, name)
+        code, out = procs.run([args.coordinator, "--config", config, "--run-dir", run_dir], name)
+        expect(code == 2, f"{name}: exit {code}, not 2:\n{out}")
+        expect(not os.path.exists(os.path.join(run_dir, "checkpoint.pb")), f"{name}: a checkpoint was written")
+        seen[name] = (out, {"CONFIG": config, "RUN_DIR": run_dir})
+    missing = os.path.join(scratch, "nowhere.textproto")
+    code, out = procs.run([args.coordinator, "--config", missing, "--run-dir", os.path.join(scratch, "M")],
+                          "config-missing")
+    expect(code == 2, f"config-missing: exit {code}:\n{out}")
+    seen["config-missing"] = (out, {"CONFIG": missing})
+    return seen
+
+
+def bad_command_line(args, procs, scratch):
+    run_dir = os.path.join(scratch, "B")
+    code, out = procs.run([args.coordinator, "--run-dir", run_dir, "--resume", "--iteration", "5"], "bad-option")
+    expect(code == 2, f"bad-option: exit {code}:\n{out}")
+    expect(not os.path.exists(run_dir), "bad-option: the run directory was made")
+    return {"bad-command-line": (out, {})}
+
+
+def job_socket_in_use(args, procs, scratch):
+    held, port = taken_port()
+    try:
+        run_dir = os.path.join(scratch, "P")
+        code, out = procs.run([args.coordinator, "--config", args.quick, "--run-dir", run_dir, "--listen",
+                               f"tcp://127.0.0.1:{port}", "--status-address", ""], "listen-in-use")
+    finally:
+        held.close()
+    expect(code == 2, f"listen-in-use: exit {code}:\n{out}")
+    expect(not os.path.exists(os.path.join(run_dir, "checkpoint.pb")), "listen-in-use: a checkpoint was written")
+    return {"listen-in-use": (out, {"PORT": port})}
+
+
+def owned_run(args, procs, scratch):
+    """One coordinator waiting for workers: its status and health ports were taken (it goes on without them);
+    a second coordinator on its directory is refused with its pid; a Hello of another build is refused."""
+    status, status_port = taken_port()
+    health, health_port = taken_port()
+    seen = {}
+    try:
+        run_dir = os.path.join(scratch, "owned")
+        owner = procs.start([args.coordinator, "--config", args.quick, "--run-dir", run_dir, "--start-from",
+                             args.walker, "--listen", "tcp://127.0.0.1:*", "--status-address",
+                             f"127.0.0.1:{status_port}", "--health-address", f"127.0.0.1:{health_port}",
+                             "--quiet"], "owner")
+        job_port = int(await_line(owner, r"workers connect to tcp://127\.0\.0\.1:(\d+)$", "the job socket")
+                       .group(1))
+        await_line(owner, r"new run in ", "the owner's new run")
+        # the status socket, then the health listener, are tried after the run is opened; each line names its port
+        await_line(owner, rf"127\.0\.0\.1:{health_port}\b", "the health listener's line")
+        seen["status-in-use"] = (read(owner.log), {"PORT": status_port})
+        seen["health-in-use"] = (read(owner.log), {"PORT": health_port})
+
+        code, out = procs.run([args.coordinator, "--config", args.quick, "--run-dir", run_dir, "--start-from",
+                               args.walker, "--status-address", ""], "second")
+        expect(code == 2, f"second coordinator: exit {code}:\n{out}")
+        seen["run-dir-in-use"] = (out, {"RUN_DIR": run_dir, "PID": owner.pid})
+
+        digest = fingerprint_digest(args.coordinator)
+        other = digest ^ 1
+        answer = send_hello(job_port, hello_message(3, other, "other-build"))
+        expect(b"differs from the coordinator's" in answer, f"the Hello of another build was answered {answer!r}")
+        await_line(owner, r"refused worker other-build: ", "the refusal's log line")
+        values = {"DIGEST": f"{digest:016x}", "WORKER_DIGEST": f"{other:016x}", "WORKER": "other-build"}
+        seen["worker-fingerprint"] = (read(owner.log), values)
+        owner.send_signal(signal.SIGTERM)
+        code = owner.wait(PROCESS_SECONDS)
+        expect(code == 143, f"the owner stopped by SIGTERM exited {code}:\n{read(owner.log)}")
+    finally:
+        status.close()
+        health.close()
+    return seen
+
+
+def fingerprint_digest(binary):
+    out = subprocess.run([binary, "--fingerprint"], capture_output=True, text=True, timeout=PROCESS_SECONDS).stdout
+    found = re.search(r"^digest: ([0-9a-f]{16})$", out, re.MULTILINE)
+    expect(found is not None, f"--fingerprint printed no digest line:\n{out}")
+    return int(found.group(1), 16)
+
+
+class Failure(Exception):
+    pass
+
+
+def expect(condition, message):
+    if not condition:
+        raise Failure(message)
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    parser.add_argument("--page", required=True)
+    parser.add_argument("--source", required=True, help="the repository root (for the quick preset and walker)")
+    parser.add_argument("--coordinator", required=True)
+    args = parser.parse_args()
+    args.quick = os.path.join(args.source, "deploy", "configs", "quick.textproto")
+    args.walker = os.path.join(args.source, "data", "walkers", "flat-walker.json")
+    blocks = page_blocks(args.page)
+
+    scratch = tempfile.mkdtemp(prefix="poet-troubleshooting-")
+    procs = Processes(scratch)
+    failures = []
+    seen = {}
+    try:
+        for case in (refused_configs, bad_command_line, job_socket_in_use, owned_run):
+            try:
+                seen.update(case(args, procs, scratch))
+            except Exception as e:  # a case that fails is reported; the others still run
+                failures.append(f"{case.__name__}: {e}")
+    finally:
+        procs.kill_all()
+        shutil.rmtree(scratch, ignore_errors=True)
+
+    for name, (output, values) in sorted(seen.items()):
+        if name not in blocks:
+            failures.append(f"the page has no block marked '{name}'; the binary printed\n  " +
+                            "\n  ".join(output.strip().split("\n")))
+            continue
+        missing = missing_lines(blocks[name], output, values)
+        if missing:
+            failures.append(f"{name}: the page shows\n  " + "\n  ".join(missing) +
+                            f"\nbut the binary printed\n  " + "\n  ".join(output.strip().split("\n")))
+    for name in sorted(set(blocks) - set(seen)):
+        failures.append(f"the page's block '{name}' is marked for checking, but no case provokes it")
+    if failures:
+        print("\n\n".join(failures), file=sys.stderr)
+        return 1
+    print(f"{len(seen)} messages of {args.page} match what the binaries print")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
