@@ -89,6 +89,26 @@ std::string cell(std::string_view text) {
   return out;
 }
 
+// Text of a paragraph: angle brackets would open HTML, asterisks emphasis.
+std::string prose(std::string_view text) {
+  std::string out;
+  for (const char ch : text) {
+    if (ch == '<') out += "&lt;";
+    else if (ch == '>') out += "&gt;";
+    else if (ch == '*') out += "\\*";
+    else out += ch;
+  }
+  return out;
+}
+
+// A sentence as a paragraph ends it: with its own stop, or a full stop.
+std::string sentence(std::string text) {
+  if (!text.empty() && !text.ends_with(".") && !text.ends_with(")") && !text.ends_with(":")) text += ".";
+  if (text.ends_with(")") && !text.ends_with(".)")) text += ".";
+  if (!text.empty()) text[0] = static_cast<char>(std::toupper(static_cast<unsigned char>(text[0])));
+  return text;
+}
+
 std::string code(std::string_view text) { return "`" + std::string(text) + "`"; }
 
 std::string join_path(std::string_view prefix, std::string_view name) {
@@ -269,9 +289,9 @@ std::vector<std::string> target_rules(std::string_view path) {
   const std::string max_interval = number_text(kMaxIntervalValue);
   if (path == "target") return {"an error names the field inside the target: es_alone.target.encoding.pit_gap.hi"};
   if (path == "target.seed") return {"must be < " + std::to_string(kMaxEnvSeed)};
-  if (path == "target.encoding.roughness") return {"must be >= 0", "exceeds " + number_text(kMaxRoughness)};
-  if (path == "target.encoding.<interval>.lo" || path == "target.encoding.<interval>.hi")
-    return {"bounds must be >= 0", "upper bound exceeds " + max_interval, "missing (an interval gives both bounds)"};
+  if (path == "target.encoding.roughness") return {"must be in [0, " + number_text(kMaxRoughness) + "]"};
+  if (path == "target.encoding.<interval>.lo") return {"must be in [0, hi]", "given with hi"};
+  if (path == "target.encoding.<interval>.hi") return {"must be in [lo, " + max_interval + "]", "given with lo"};
   if (path == "target.encoding.cppn.nodes") return {"at most " + std::to_string(kMaxCppnNodes)};
   if (path == "target.encoding.cppn.connections") return {"at most " + std::to_string(kMaxCppnConnections)};
   if (path == "target.encoding.cppn.scale")
@@ -281,7 +301,9 @@ std::vector<std::string> target_rules(std::string_view path) {
   return {};
 }
 
-std::string heading_line(const Section& s) { return std::string(static_cast<size_t>(s.level), '#') + " " + std::string(s.heading); }
+std::string heading_line(const Section& s) {
+  return std::string(static_cast<size_t>(s.level), '#') + " " + std::string(s.heading);
+}
 
 struct Inputs {
   std::vector<ConfigRule> rules;
@@ -294,7 +316,7 @@ Expected<std::string> section_text(const Section& section, const Inputs& in) {
   if (!message) return Unexpected{std::string(section.message) + ": not in the schema's descriptor set"};
   std::string out = heading_line(section) + "\n\n";
   const std::string about = schema_comment(*message);
-  if (!about.empty()) out += cell(about) + "\n\n";
+  if (!about.empty()) out += prose(about) + "\n\n";
   out += "| field | type | default (reference) | paper | bounds | meaning |\n";
   out += "|---|---|---|---|---|---|\n";
   std::string enums;
@@ -315,7 +337,7 @@ Expected<std::string> section_text(const Section& section, const Inputs& in) {
     }
     if (field.cpp_type() == protobuf::FieldDescriptor::CPPTYPE_MESSAGE) {
       const Section* part = section_of(field.message_type()->full_name());
-      if (part) meaning += " See [" + std::string(part->heading) + "](#" + slug(part->heading) + ").";
+      if (part) meaning += "; see [" + std::string(part->heading) + "](#" + slug(part->heading) + ")";
     }
     std::vector<std::string> bounds = path.starts_with("target") ? target_rules(path) : shown_rules(in.rules, path);
     std::string bounds_cell;
@@ -325,15 +347,16 @@ Expected<std::string> section_text(const Section& section, const Inputs& in) {
            bounds_cell + " | " + meaning + " |\n";
     if (field.cpp_type() == protobuf::FieldDescriptor::CPPTYPE_ENUM) {
       const protobuf::EnumDescriptor& e = *field.enum_type();
-      enums += "\n" + code(path) + " takes one of (" + e.name() + ")";
+      enums += "\n" + code(path) + " is a " + e.name() + ".";
       const std::string enum_about = schema_comment(e);
-      enums += enum_about.empty() ? ":\n\n" : " — " + enum_about + ":\n\n";
+      if (!enum_about.empty()) enums += " " + prose(sentence(enum_about));
+      enums += " Its values:\n\n";
       for (int v = 0; v < e.value_count(); ++v) {
         const protobuf::EnumValueDescriptor& value = *e.value(v);
         const std::string what = schema_comment(value);
         if (what.empty())
           return Unexpected{"proto/poet.proto: " + value.full_name() + " has no comment (the page gives its meaning)"};
-        enums += "- " + code(value.name()) + " — " + what + "\n";
+        enums += "- " + code(value.name()) + " — " + prose(what) + "\n";
       }
     }
   }
@@ -356,8 +379,9 @@ lists what each changes.
 
 Each section below is one message of the config. Its table gives, for every field, the type, the default
 (the reference implementation's value), the paper's value (the preset `paper.textproto`, in bold where it differs
-from the default), the bounds the validator applies (in the words of its error message) and the meaning (the
-field's comment in `proto/poet.proto`).
+from the default), the bounds the validator applies (in the words of its error message: a rule worded as a
+refusal, "true contradicts mode ES_ALONE", says what is refused) and the meaning (the field's comment in
+`proto/poet.proto`).
 
 )";
 }
@@ -372,8 +396,10 @@ Expected<std::string> example() {
   if (refused) return Unexpected{"the page's example of a refused config is accepted"};
   return "For example, a short run of POET with fewer perturbations and pairs than the reference's:\n\n"
          "```\n" + good + "```\n\n"
-         "A value out of its bounds is refused with the field's path and the value:\n\n"
-         "```\n" + bad + "```\n\ngives\n\n```\n" + refused.error() + "\n```\n\n";
+         "A value out of its bounds,\n\n"
+         "```\n" + bad + "```\n\n"
+         "is refused with the field's path and the value (`poet-coordinator --config FILE` prints this after the "
+         "file's path, and exits with code 2):\n\n```\n" + refused.error() + "\n```\n\n";
 }
 
 std::string environments_intro() {
@@ -446,12 +472,24 @@ std::string presets_text(const std::vector<Preset>& presets) {
   std::string out =
       "## Presets — what each file changes\n\n"
       "The presets of `deploy/configs/`, each with its own comment and the fields whose value differs from the "
-      "default (a preset may write out more, as `paper.textproto` writes every field).\n\n";
+      "default (a preset may write out more, as `paper.textproto` writes every field), and a target's every gene.\n\n";
   for (const Preset& preset : presets) {
     out += "### " + preset.name + "\n\n";
-    if (!preset.comment.empty()) out += cell(preset.comment) + "\n\n";
+    // the file's own comment, quoted: it speaks of the file ("each difference is named below" means its lines)
+    for (size_t at = 0; at < preset.comment.size();) {
+      size_t end = preset.comment.find("\n\n", at);
+      if (end == std::string::npos) end = preset.comment.size();
+      out += "> " + prose(preset.comment.substr(at, end - at)) + "\n>\n";
+      at = end + 2;
+    }
+    if (!preset.comment.empty()) out.replace(out.size() - 2, 2, "\n");
     std::string rows;
     for (const auto& [path, value] : preset.leaves) {
+      // a target's genes are shown whole: an interval given as [0, 1] is a gene, not a default
+      if (path.find(".target.") != std::string::npos) {
+        rows += "| " + code(path) + " | " + code(value) + " | — |\n";
+        continue;
+      }
       const std::optional<std::string> def = default_at(path);
       if (def && *def == value) continue;
       rows += "| " + code(path) + " | " + code(value) + " | " + (def ? code(*def) : "—") + " |\n";
