@@ -31,7 +31,7 @@ def regenerate_command(page):
 def check_page(tool, source, page):
     """None when the committed page is current, else a message saying how it differs and how to remake it."""
     committed_path = os.path.join(source, "docs", "reference", f"{page}.md")
-    command = [tool, page, *PAGE_ARGS.get(page, [])]
+    command = [os.path.abspath(tool), page, *PAGE_ARGS.get(page, [])]  # run from the source tree
     try:
         made = subprocess.run(command, cwd=source, capture_output=True, timeout=60, check=False)
     except subprocess.TimeoutExpired:
