@@ -80,11 +80,16 @@ const Section* section_of(std::string_view message) {
 std::string cell(std::string_view text) {
   std::string out;
   for (const char ch : text) {
-    if (ch == '|') out += "\\|";
-    else if (ch == '<') out += "&lt;";
-    else if (ch == '>') out += "&gt;";
-    else if (ch == '*') out += "\\*";
-    else out += ch;
+    if (ch == '|')
+      out += "\\|";
+    else if (ch == '<')
+      out += "&lt;";
+    else if (ch == '>')
+      out += "&gt;";
+    else if (ch == '*')
+      out += "\\*";
+    else
+      out += ch;
   }
   return out;
 }
@@ -93,10 +98,14 @@ std::string cell(std::string_view text) {
 std::string prose(std::string_view text) {
   std::string out;
   for (const char ch : text) {
-    if (ch == '<') out += "&lt;";
-    else if (ch == '>') out += "&gt;";
-    else if (ch == '*') out += "\\*";
-    else out += ch;
+    if (ch == '<')
+      out += "&lt;";
+    else if (ch == '>')
+      out += "&gt;";
+    else if (ch == '*')
+      out += "\\*";
+    else
+      out += ch;
   }
   return out;
 }
@@ -395,11 +404,16 @@ Expected<std::string> example() {
   const Expected<pb::RunConfig> refused = parse_run_config(bad);
   if (refused) return Unexpected{"the page's example of a refused config is accepted"};
   return "For example, a short run of POET with fewer perturbations and pairs than the reference's:\n\n"
-         "```\n" + good + "```\n\n"
+         "```\n" +
+         good +
+         "```\n\n"
          "A value out of its bounds,\n\n"
-         "```\n" + bad + "```\n\n"
+         "```\n" +
+         bad +
+         "```\n\n"
          "is refused with the field's path and the value (`poet-coordinator --config FILE` prints this after the "
-         "file's path, and exits with code 2):\n\n```\n" + refused.error() + "\n```\n\n";
+         "file's path, and exits with code 2):\n\n```\n" +
+         refused.error() + "\n```\n\n";
 }
 
 std::string environments_intro() {
@@ -509,8 +523,8 @@ Expected<std::string> config_reference_page(const std::filesystem::path& configs
   // the presets, and among them the paper's
   const Expected<std::vector<Preset>> presets = read_presets(configs_dir);
   if (!presets) return Unexpected{presets.error()};
-  const auto paper = std::find_if(presets->begin(), presets->end(),
-                                  [](const Preset& p) { return p.name == "paper.textproto"; });
+  const auto paper =
+      std::find_if(presets->begin(), presets->end(), [](const Preset& p) { return p.name == "paper.textproto"; });
   if (paper == presets->end()) return Unexpected{(configs_dir / "paper.textproto").string() + ": does not exist"};
   Inputs in{config_rules(), {paper->leaves.begin(), paper->leaves.end()}};
 

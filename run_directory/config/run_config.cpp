@@ -1,7 +1,5 @@
 #include "run_directory/config/run_config.h"
 
-#include "run_directory/config/config_rules.h"
-
 #include <google/protobuf/descriptor.h>
 #include <google/protobuf/io/tokenizer.h>
 #include <google/protobuf/io/zero_copy_stream_impl_lite.h>
@@ -19,6 +17,7 @@
 #include "common/envgen/env_proto.h"
 #include "common/text_file.h"
 #include "common/text_format.h"
+#include "run_directory/config/config_rules.h"
 
 namespace poet {
 namespace {
@@ -195,16 +194,14 @@ void check_poet(Checks& c, const pb::PoetConfig& poet, pb::RunConfig::Mode mode)
   // With nothing to mutate every child equals its parent and is dropped: the run could never grow. (A CPPN
   // genome's mutation does not read these switches.)
   c.refuse_if(evolves,
-              poet.environments() == pb::OBSTACLE_COURSES && !m.roughness() && !m.pits() && !m.stumps() &&
-                  !m.stairs(),
+              poet.environments() == pb::OBSTACLE_COURSES && !m.roughness() && !m.pits() && !m.stumps() && !m.stairs(),
               "poet.mutation",
               "no gene type enabled (roughness, pits, stumps and stairs are all false) in mode " +
                   pb::RunConfig::Mode_Name(mode));
   c.real("poet.solved_score", poet.solved_score(), kScore);
-  c.refuse_if(mode != pb::RunConfig::POET_WITHOUT_TRANSFER, poet.keep_admission_selection(),
-              "poet.keep_admission_selection",
-              "true contradicts mode " + pb::RunConfig::Mode_Name(mode) +
-                  " (it applies to mode POET_WITHOUT_TRANSFER only)");
+  c.refuse_if(
+      mode != pb::RunConfig::POET_WITHOUT_TRANSFER, poet.keep_admission_selection(), "poet.keep_admission_selection",
+      "true contradicts mode " + pb::RunConfig::Mode_Name(mode) + " (it applies to mode POET_WITHOUT_TRANSFER only)");
   c.known_enum("poet.novelty", poet.novelty(), pb::NoveltyMeasure_IsValid);
   c.known_enum("poet.reproduction_agent", poet.reproduction_agent(), pb::ReproductionAgent_IsValid);
   // a normalisation of the 5-vectors means nothing to PATA-EC; taking it silently would hide a mistaken config
@@ -237,10 +234,10 @@ void check_batch_size(Checks& c, const pb::RunConfig& config) {
   // step 2: one ES step of 2n rollouts for every active pair
   const std::string es_batch_rule = "2 · es.perturbations · poet.active_cap";
   const int64_t es_batch = 2 * n * pairs;
-  c.refuse_if(mode == pb::RunConfig::POET || mode == pb::RunConfig::POET_WITHOUT_TRANSFER,
-              es_batch > kMaxBatchRollouts, "es.perturbations", es_batch_rule + too_many,
-              es_batch_rule + " = 2 · " + number_text(n) + " · " + number_text(pairs) + " = " +
-                  number_text(es_batch) + too_many);
+  c.refuse_if(mode == pb::RunConfig::POET || mode == pb::RunConfig::POET_WITHOUT_TRANSFER, es_batch > kMaxBatchRollouts,
+              "es.perturbations", es_batch_rule + too_many,
+              es_batch_rule + " = 2 · " + number_text(n) + " · " + number_text(pairs) + " = " + number_text(es_batch) +
+                  too_many);
   // step 3 (mode POET only): every ordered pair of active pairs gets a proposal's ES step and a direct
   // evaluation, all in the round's first batch (spec §3: N(N−1) ES steps and N(N−1) evaluations)
   const int64_t episodes = config.walker().stochastic_envs() ? config.walker().eval_episodes() : 1;

@@ -279,8 +279,7 @@ TEST(ConfigReferenceTest, ThePaperColumnIsThePaperPresetsValue) {
 TEST(ConfigReferenceTest, EveryPresetHasASectionWithWhatItChanges) {
   for (const auto& entry : fs::directory_iterator(kConfigs)) {
     if (entry.path().extension() != ".textproto") continue;
-    EXPECT_NE(page().find("\n### " + entry.path().filename().string() + "\n"), std::string::npos)
-        << entry.path();
+    EXPECT_NE(page().find("\n### " + entry.path().filename().string() + "\n"), std::string::npos) << entry.path();
   }
   // quick.textproto's iterations are the first row of its table
   const size_t quick = page().find("\n### quick.textproto\n");
