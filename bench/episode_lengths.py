@@ -30,9 +30,7 @@ def main():
     if args.block < 1:
         parser.error("--block must be at least 1")
 
-    print("| run | iterations | rollouts | environment steps | steps per rollout | per block of "
-          f"{args.block} iterations |")
-    print("|---|---|---|---|---|---|")
+    rows = []
     for run in args.runs:
         try:
             totals = totals_by_iteration(run)
@@ -51,8 +49,12 @@ def main():
             if r > 0:
                 blocks.append(f"{s / r:,.0f}")
             before = at_end
-        print(f"| {os.path.basename(os.path.normpath(run))} | {last + 1} | {rollouts:,} | {steps / 1e6:,.1f} M "
-              f"| {steps / rollouts:,.0f} | {' · '.join(blocks)} |")
+        rows.append(f"| {os.path.basename(os.path.normpath(run))} | {last + 1} | {rollouts:,} | {steps / 1e6:,.1f} M "
+                    f"| {steps / rollouts:,.0f} | {' · '.join(blocks)} |")
+    print("| run | iterations | rollouts | environment steps | steps per rollout | per block of "
+          f"{args.block} iterations |")
+    print("|---|---|---|---|---|---|")
+    print("\n".join(rows))
 
 
 if __name__ == "__main__":
