@@ -4,6 +4,7 @@
 #include <map>
 
 #include "coordinator/dispatch/drop_reason.h"
+#include "coordinator/status/metric_families.h"
 
 namespace poet {
 namespace {
@@ -22,12 +23,15 @@ std::string label_value(std::string_view text) {
   return out;
 }
 
-// The exposition text, written a metric family at a time: its HELP and TYPE lines, then its samples.
+// The exposition text, written a metric family at a time: its HELP and TYPE lines (from metric_families.h),
+// then its samples.
 struct Exposition {
   std::string text;
 
-  void family(const char* name, const char* type, const char* help) {
-    text += std::string("# HELP ") + name + " " + help + "\n# TYPE " + name + " " + type + "\n";
+  void family(const MetricFamily& declared) {
+    const std::string name(declared.name);
+    text += "# HELP " + name + " " + std::string(declared.help) + "\n# TYPE " + name + " " +
+            std::string(declared.type) + "\n";
   }
   template <class T>
   void sample(const std::string& name, T value) {
@@ -54,92 +58,66 @@ void write_run(Exposition& out, const PublishedRun& run) {
     active += info.pair.active() ? 1 : 0;
     solved += info.pair.solved() ? 1 : 0;
   }
-  out.family("poet_iteration", "gauge", "The iteration the run does next.");
+  out.family(metric_family("poet_iteration"));
   out.sample("poet_iteration", run.next_iteration);
-  out.family("poet_iterations_limit", "gauge", "The run stops before this iteration.");
+  out.family(metric_family("poet_iterations_limit"));
   out.sample("poet_iterations_limit", run.iterations);
-  out.family("poet_last_checkpoint_iteration", "gauge", "The next iteration of the last checkpoint written.");
+  out.family(metric_family("poet_last_checkpoint_iteration"));
   out.sample("poet_last_checkpoint_iteration", run.last_checkpoint_iteration);
-  out.family("poet_run_finished", "gauge", "1 when the run reached its stopping rule.");
+  out.family(metric_family("poet_run_finished"));
   out.sample("poet_run_finished", run.finished ? 1 : 0);
-  out.family("poet_pairs_created", "gauge", "Pairs ever created (the archive).");
+  out.family(metric_family("poet_pairs_created"));
   out.sample("poet_pairs_created", run.pairs.size());
-  out.family("poet_pairs_active", "gauge", "Active environment-agent pairs.");
+  out.family(metric_family("poet_pairs_active"));
   out.sample("poet_pairs_active", active);
-  out.family("poet_pairs_solved", "gauge", "Pairs whose environment was ever solved.");
+  out.family(metric_family("poet_pairs_solved"));
   out.sample("poet_pairs_solved", solved);
-  out.family("poet_rollouts_total", "counter", "Rollouts since the run began.");
+  out.family(metric_family("poet_rollouts_total"));
   out.sample("poet_rollouts_total", run.counters.rollouts);
-  out.family("poet_env_steps_total", "counter", "Environment steps since the run began.");
+  out.family(metric_family("poet_env_steps_total"));
   out.sample("poet_env_steps_total", run.counters.env_steps);
-  out.family("poet_annecs", "gauge",
-             "ANNECS (accumulated number of novel environments created and solved) as of the last iteration done, "
-             "by definition. at_admission: environments admitted by reproduction and solved since, counted when "
-             "solved. at_archiving: environments retired that had been solved by then, counted at retirement.");
+  out.family(metric_family("poet_annecs"));
   out.sample("poet_annecs{definition=\"at_admission\"}", run.annecs.at_admission);
   out.sample("poet_annecs{definition=\"at_archiving\"}", run.annecs.at_archiving);
-  out.family("poet_obstacle_frontier", "gauge",
-             "Table 1's measures (roughness, the top of the gap range, the top of the stump range): the largest value "
-             "among the environments solved so far, and among those admitted.");
+  out.family(metric_family("poet_obstacle_frontier"));
   for (size_t i = 0; i < kObstacleMeasureNames.size(); ++i) {
     const std::string measure = std::string("measure=\"") + kObstacleMeasureNames[i] + "\"";
     out.measure("poet_obstacle_frontier{" + measure + ",among=\"solved\"}", run.frontier_solved[i]);
     out.measure("poet_obstacle_frontier{" + measure + ",among=\"admitted\"}", run.frontier_admitted[i]);
   }
-  out.family("poet_highest_level_solved", "gauge",
-             "The hardest difficulty level solved so far: 0 easy, 1 challenging, 2 very challenging, 3 extremely "
-             "challenging; -1 before any solve.");
+  out.family(metric_family("poet_highest_level_solved"));
   out.sample("poet_highest_level_solved", run.highest_level_solved);
 }
 
 // The dispatcher's workers, queue and counts, each a family of one sample.
 void write_dispatch(Exposition& out, const DispatchView& dispatch) {
   struct Series {
-    const char* name;
-    const char* type;
-    const char* help;
+    const MetricFamily& family;
     int64_t value;
   };
   const Series series[] = {
-      {"poet_workers", "gauge", "Connected workers.", static_cast<int64_t>(dispatch.workers.size())},
-      {"poet_queue_depth", "gauge", "Jobs waiting for a worker.", dispatch.queue_depth},
-      {"poet_in_flight_jobs", "gauge", "Jobs held by workers.", dispatch.in_flight_jobs},
-      {"poet_workers_joined_total", "counter", "Workers welcomed since the coordinator started.",
-       dispatch.workers_joined},
-      {"poet_workers_lost_total", "counter",
-       "Workers removed for being silent longer than the liveness window, or because a send to them failed.",
-       dispatch.workers_lost},
-      {"poet_backup_jobs_total", "counter",
-       "Jobs also sent to a second worker because their first held them far longer than the batch's jobs take.",
-       dispatch.backup_jobs},
-      {"poet_leases_expired_total", "counter",
-       "Jobs taken back from a worker that had never returned a result, once their lease ran out.",
-       dispatch.leases_expired},
-      {"poet_workers_demoted_total", "counter",
-       "Workers that never returned a result and let a lease expire or returned an error: given no more jobs.",
-       dispatch.workers_demoted},
-      {"poet_verified_jobs_total", "counter",
-       "Answers of workers found right, bit for bit, by a second worker or the coordinator.", dispatch.verified_jobs},
-      {"poet_wrong_workers_total", "counter",
-       "Workers refused because their results differed from two other answers (another worker's or the "
-       "coordinator's own).",
-       dispatch.wrong_workers},
-      {"poet_coordinator_checks_total", "counter",
-       "Jobs the coordinator ran itself to check or decide between answers, no other worker being able to.",
-       dispatch.coordinator_checks},
-      {"poet_rollbacks_total", "counter",
-       "Times the run went back to a checkpoint computed before a worker found wrong had unchecked answers taken.",
-       dispatch.rollbacks},
+      {metric_family("poet_workers"), static_cast<int64_t>(dispatch.workers.size())},
+      {metric_family("poet_queue_depth"), dispatch.queue_depth},
+      {metric_family("poet_in_flight_jobs"), dispatch.in_flight_jobs},
+      {metric_family("poet_workers_joined_total"), dispatch.workers_joined},
+      {metric_family("poet_workers_lost_total"), dispatch.workers_lost},
+      {metric_family("poet_backup_jobs_total"), dispatch.backup_jobs},
+      {metric_family("poet_leases_expired_total"), dispatch.leases_expired},
+      {metric_family("poet_workers_demoted_total"), dispatch.workers_demoted},
+      {metric_family("poet_verified_jobs_total"), dispatch.verified_jobs},
+      {metric_family("poet_wrong_workers_total"), dispatch.wrong_workers},
+      {metric_family("poet_coordinator_checks_total"), dispatch.coordinator_checks},
+      {metric_family("poet_rollbacks_total"), dispatch.rollbacks},
   };
   for (const Series& one : series) {
-    out.family(one.name, one.type, one.help);
-    out.sample(one.name, one.value);
+    out.family(one.family);
+    out.sample(std::string(one.family.name), one.value);
   }
 }
 
 // A sample per drop reason, zero for those that have not happened.
 void write_dropped_frames(Exposition& out, const DispatchView& dispatch) {
-  out.family("poet_dropped_frames_total", "counter", "Frames and Hellos the dispatcher dropped or refused, by reason.");
+  out.family(metric_family("poet_dropped_frames_total"));
   std::map<std::string, int64_t> dropped;
   for (const char* reason : kDropReasonNames) dropped[reason] = 0;
   for (const auto& [reason, count] : dispatch.dropped_frames) dropped[reason] = count;
@@ -149,26 +127,19 @@ void write_dropped_frames(Exposition& out, const DispatchView& dispatch) {
 
 // The coordinator's own: key files skipped, the score cache, and where its time went.
 void write_coordinator(Exposition& out, const BoardView& v) {
-  out.family("poet_skipped_key_files_total", "counter",
-             "Files in the CURVE authorized/ folder skipped because they hold no key, each counted once when found.");
+  out.family(metric_family("poet_skipped_key_files_total"));
   out.sample("poet_skipped_key_files_total", v.skipped_key_files);
-  out.family("poet_cached_episodes_total", "counter",
-             "Episodes the loop asked for again and the score cache answered without running them, since the "
-             "coordinator started (the run's rollout counters include them).");
+  out.family(metric_family("poet_cached_episodes_total"));
   out.sample("poet_cached_episodes_total", v.cached_episodes);
-  out.family("poet_cached_env_steps_total", "counter", "The environment steps of those episodes.");
+  out.family(metric_family("poet_cached_env_steps_total"));
   out.sample("poet_cached_env_steps_total", v.cached_env_steps);
-  out.family("poet_phase_seconds_total", "counter",
-             "Seconds this coordinator spent in each phase of an iteration, as of its last checkpoint (wall_times.csv "
-             "keeps them per iteration; the time between iterations is in none).");
+  out.family(metric_family("poet_phase_seconds_total"));
   for (size_t k = 0; k < kPhaseNames.size(); ++k)
     out.seconds("poet_phase_seconds_total{phase=\"" + std::string(kPhaseNames[k]) + "\"}", v.phase_seconds[k]);
-  out.family("poet_waiting_seconds_total", "counter",
-             "Of those seconds, the ones the run loop spent waiting for rollouts; the rest is the coordinator's own "
-             "serial work.");
+  out.family(metric_family("poet_waiting_seconds_total"));
   out.seconds("poet_waiting_seconds_total", v.waiting_seconds);
 
-  out.family("poet_uptime_seconds", "gauge", "Seconds since the coordinator started.");
+  out.family(metric_family("poet_uptime_seconds"));
   out.seconds("poet_uptime_seconds", v.uptime_s);
 }
 

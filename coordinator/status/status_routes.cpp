@@ -5,6 +5,7 @@
 #include <exception>
 #include <functional>
 #include <optional>
+#include <stdexcept>
 #include <string_view>
 
 #include "common/utf8.h"
@@ -14,58 +15,7 @@
 namespace poet {
 namespace {
 
-constexpr char kEndpoints[] =
-    "/, /status, /pairs, /pairs/{id}, /pairs/{id}/episode, /archive, /workers, /events?since=N, /metrics, /healthz, "
-    "/pictures/{scores,levels,annecs,tree,rose}.{png,svg}, /pictures/pairs/{id}/{course,filmstrip,lineage}.{png,svg}, "
-    "/pictures/pairs/{id}/walk.gif";
-constexpr int64_t kMaxSince = int64_t{1} << 50;  // far beyond any events file; keeps since + limit exact
-
 StatusResponse json(const google::protobuf::Message& message) { return {200, kJsonType, status_json(message), ""}; }
-
-// "/pairs/17" → 17; nullopt for anything else (a sign, a leading zero, letters, more than 9 digits).
-std::optional<int> pair_id(std::string_view path) {
-  constexpr std::string_view kPrefix = "/pairs/";
-  if (!path.starts_with(kPrefix)) return std::nullopt;
-  const std::string_view digits = path.substr(kPrefix.size());
-  if (digits.empty() || digits.size() > 9 || (digits.size() > 1 && digits[0] == '0')) return std::nullopt;
-  if (!std::all_of(digits.begin(), digits.end(), [](char c) { return c >= '0' && c <= '9'; })) return std::nullopt;
-  int id = 0;
-  const auto [end, ec] = std::from_chars(digits.data(), digits.data() + digits.size(), id);
-  if (ec != std::errc() || end != digits.data() + digits.size()) return std::nullopt;
-  return id;
-}
-
-// "/pairs/17/episode" → 17.
-std::optional<int> episode_pair(std::string_view path) {
-  constexpr std::string_view kSuffix = "/episode";
-  if (!path.ends_with(kSuffix)) return std::nullopt;
-  return pair_id(path.substr(0, path.size() - kSuffix.size()));
-}
-
-// "/pictures/tree.svg" or "/pictures/pairs/3/walk.gif" → the request; nullopt for any other path. A known
-// kind in an encoding it has not is still a request (the renderer names the problem).
-std::optional<PictureRequest> picture_path(std::string_view path) {
-  constexpr std::string_view kPrefix = "/pictures/";
-  if (!path.starts_with(kPrefix)) return std::nullopt;
-  std::string_view rest = path.substr(kPrefix.size());
-  PictureRequest request;
-  if (rest.starts_with("pairs/")) {
-    const size_t slash = rest.find('/', 6);
-    if (slash == std::string_view::npos) return std::nullopt;
-    const std::optional<int> id = pair_id(std::string("/pairs/") + std::string(rest.substr(6, slash - 6)));
-    if (!id) return std::nullopt;
-    request.pair = *id;
-    rest = rest.substr(slash + 1);
-  }
-  const size_t dot = rest.rfind('.');
-  if (dot == std::string_view::npos) return std::nullopt;
-  const std::optional<PictureKind> kind = picture_kind(rest.substr(0, dot));
-  const std::optional<PictureEncoding> encoding = picture_encoding(rest.substr(dot + 1));
-  if (!kind || !encoding || needs_pair(*kind) != (request.pair >= 0)) return std::nullopt;
-  request.kind = *kind;
-  request.encoding = *encoding;
-  return request;
-}
 
 // A picture or an episode: 404 for a pair the run does not have, 503 while the run directory has no checkpoint
 // to draw from (or cannot be read).
@@ -77,59 +27,79 @@ StatusResponse rendered(const StatusBoard& board, int pair, const std::function<
   return {200, content_type, std::move(*bytes), ""};
 }
 
-// A query parameter that must be a whole number in [lo, hi] when given: the value, the fallback when absent, or
-// the 400 to answer.
+// A query parameter of the route's table (a whole number in [lo, hi] when given): the value, its fallback when
+// absent, or the 400 to answer.
 struct Number {
   int64_t value = 0;
   std::optional<StatusResponse> error;
 };
-Number query_number(const QueryParams& query, const std::string& key, int64_t fallback, int64_t lo, int64_t hi) {
+Number query_number(const QueryParams& query, const QueryParam& param) {
+  const std::string key(param.name);
   const size_t count = query.count(key);
-  if (count == 0) return {fallback, std::nullopt};
+  if (count == 0) return {param.fallback, std::nullopt};
   if (count > 1) return {0, error_response(400, key + ": given " + std::to_string(count) + " times")};
   const std::string& text = query.find(key)->second;
   int64_t value = 0;
   const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
-  if (text.empty() || ec != std::errc() || end != text.data() + text.size() || value < lo || value > hi)
-    return {0, error_response(400, key + ": expected a whole number in [" + std::to_string(lo) + ", " +
-                                       std::to_string(hi) + "], got \"" + valid_utf8(text.substr(0, 40)) + "\"")};
+  if (text.empty() || ec != std::errc() || end != text.data() + text.size() || value < param.lo || value > param.hi)
+    return {0, error_response(400, key + ": expected a whole number in [" + std::to_string(param.lo) + ", " +
+                                       std::to_string(param.hi) + "], got \"" + valid_utf8(text.substr(0, 40)) + "\"")};
   return {value, std::nullopt};
 }
 
-StatusResponse get(const StatusBoard& board, const std::string& path, const QueryParams& query) {
-  if (path == "/status") return json(board.status());
-  if (path == "/pairs") return json(board.pairs());
-  if (path == "/archive") return json(board.archive());
-  if (path == "/workers") return json(board.workers());
-  if (path == "/metrics") return {200, kMetricsType, board.metrics_text(), ""};
-  if (path == "/healthz") {
-    status::Health health;
-    health.set_ok(true);
-    health.set_state(board.status().state());
-    return json(health);
+// The route's query parameter of this name (the table declares it; a table without it is a 500, not a crash).
+const QueryParam& query_param(const StatusRoute& route, std::string_view name) {
+  for (const QueryParam& param : route.query_params)
+    if (param.name == name) return param;
+  throw std::logic_error("the route table gives " + std::string(route.pattern) + " no parameter " + std::string(name));
+}
+
+StatusResponse get(const StatusBoard& board, const RouteMatch& match, const QueryParams& query) {
+  switch (match.route->kind) {
+    case RouteKind::kStatus:
+      return json(board.status());
+    case RouteKind::kPairs:
+      return json(board.pairs());
+    case RouteKind::kArchive:
+      return json(board.archive());
+    case RouteKind::kWorkers:
+      return json(board.workers());
+    case RouteKind::kMetrics:
+      return {200, kMetricsType, board.metrics_text(), ""};
+    case RouteKind::kHealth: {
+      status::Health health;
+      health.set_ok(true);
+      health.set_state(board.status().state());
+      return json(health);
+    }
+    case RouteKind::kEvents: {
+      const Number since = query_number(query, query_param(*match.route, "since"));
+      if (since.error) return *since.error;
+      const Number limit = query_number(query, query_param(*match.route, "limit"));
+      if (limit.error) return *limit.error;
+      const Expected<status::EventList> events = board.events(since.value, limit.value);
+      if (!events) return error_response(500, events.error());
+      return json(*events);
+    }
+    case RouteKind::kDashboard:
+      return {200, kHtmlType, std::string(dashboard_html()), ""};
+    case RouteKind::kRunPicture:
+    case RouteKind::kPairPicture: {
+      const PictureRequest& picture = match.picture;
+      if (std::optional<std::string> problem = encoding_problem(picture)) return error_response(400, *problem);
+      return rendered(
+          board, picture.pair, [&] { return board.pictures().picture(picture); }, mime_type(picture.encoding));
+    }
+    case RouteKind::kEpisode:
+      return rendered(
+          board, match.pair, [&] { return board.pictures().episode_json(match.pair); }, kJsonType);
+    case RouteKind::kPair: {
+      const std::optional<status::PairDetail> detail = board.pair(match.pair);
+      if (!detail) return error_response(404, "no pair " + std::to_string(match.pair));
+      return json(*detail);
+    }
   }
-  if (path == "/events") {
-    const Number since = query_number(query, "since", 0, 0, kMaxSince);
-    if (since.error) return *since.error;
-    const Number limit = query_number(query, "limit", kMaxEventsPerPage, 1, kMaxEventsPerPage);
-    if (limit.error) return *limit.error;
-    const Expected<status::EventList> events = board.events(since.value, limit.value);
-    if (!events) return error_response(500, events.error());
-    return json(*events);
-  }
-  if (path == "/") return {200, kHtmlType, std::string(dashboard_html()), ""};
-  if (const std::optional<PictureRequest> picture = picture_path(path)) {
-    if (std::optional<std::string> problem = encoding_problem(*picture)) return error_response(400, *problem);
-    return rendered(
-        board, picture->pair, [&] { return board.pictures().picture(*picture); }, mime_type(picture->encoding));
-  }
-  if (const std::optional<int> episode = episode_pair(path))
-    return rendered(
-        board, *episode, [&] { return board.pictures().episode_json(*episode); }, kJsonType);
-  const std::optional<int> id = pair_id(path);
-  const std::optional<status::PairDetail> detail = board.pair(*id);  // the caller checked the path is known
-  if (!detail) return error_response(404, "no pair " + std::to_string(*id));
-  return json(*detail);
+  return error_response(500, "a route without an answer");  // unreachable: every kind is answered above
 }
 
 }  // namespace
@@ -144,14 +114,11 @@ StatusResponse error_response(int status, const std::string& message) {
 
 StatusResponse status_response(const StatusBoard& board, const std::string& method, const std::string& path,
                                const QueryParams& query) {
-  static constexpr std::string_view kPaths[] = {"/status", "/pairs",   "/archive", "/workers",
-                                                "/events", "/metrics", "/healthz"};
-  bool known = path == "/" || pair_id(path) || episode_pair(path) || picture_path(path);
-  for (std::string_view p : kPaths) known = known || path == p;
-  if (!known) {
+  const std::optional<RouteMatch> match = match_route(path);
+  if (!match) {
     // the path is echoed only in part: it is the client's text
-    return error_response(404,
-                          "no such endpoint: " + valid_utf8(path.substr(0, 100)) + " (endpoints: " + kEndpoints + ")");
+    return error_response(
+        404, "no such endpoint: " + valid_utf8(path.substr(0, 100)) + " (endpoints: " + endpoint_list() + ")");
   }
   if (method != "GET" && method != "HEAD") {
     StatusResponse response = error_response(405, valid_utf8(method.substr(0, 20)) + " is not allowed; use GET");
@@ -159,7 +126,7 @@ StatusResponse status_response(const StatusBoard& board, const std::string& meth
     return response;
   }
   try {
-    return get(board, path, query);
+    return get(board, *match, query);
   } catch (const std::exception& e) {
     return error_response(500, e.what());
   }

@@ -1,13 +1,13 @@
 #pragma once
 // The status socket's endpoints as a pure function: a request's method, path and query in, the response out.
 // No sockets here (status_server.h carries it over HTTP), so every route, error and header is tested directly.
+// The routes, their parameters' bounds and the 404's list are status_route_table.h's.
 //
 //   GET /                                                       the dashboard (text/html, every asset inside it)
 //   GET /status /pairs /pairs/{id} /pairs/{id}/episode /archive /workers /events?since=N[&limit=M] /healthz
 //                                                               application/json
 //   GET /metrics                                                Prometheus text format 0.0.4
-//   GET /pictures/{scores,levels,annecs,tree,rose}.{png,svg}    the run's plots (report_plots.h)
-//   GET /pictures/pairs/{id}/{course,filmstrip}.{png,svg}, /pictures/pairs/{id}/walk.gif   a pair's episode
+//   GET /pictures/{picture}.{format}, /pictures/pairs/{id}/{picture}.{format}   the run's and a pair's pictures
 //
 // HEAD is GET without the body. Another method on one of these paths is 405 with Allow: GET, HEAD; any other
 // path is 404; a bad query value is 400. Every error has a JSON body: {"status": 404, "error": "..."}.
@@ -16,13 +16,9 @@
 #include <string>
 
 #include "coordinator/status/status_board.h"
+#include "coordinator/status/status_route_table.h"
 
 namespace poet {
-
-inline constexpr char kJsonType[] = "application/json";
-inline constexpr char kHtmlType[] = "text/html; charset=utf-8";
-inline constexpr char kMetricsType[] = "text/plain; version=0.0.4; charset=utf-8";
-inline constexpr char kAllowedMethods[] = "GET, HEAD";
 
 struct StatusResponse {
   int status = 200;
