@@ -1,6 +1,8 @@
 // poet-reference: the reference pages of the documentation site (docs/reference/), generated from the code so
 // they cannot drift; a subcommand per page, each printing the page to standard output or writing it to --out.
 //   poet-reference config --configs deploy/configs [--out docs/reference/config.md]
+//   poet-reference http --examples docs/reference/examples [--out docs/reference/http.md]
+//   poet-reference metrics [--out docs/reference/metrics.md]
 // tests/docs/check_reference_pages.py regenerates every page and fails when a committed one differs.
 
 #include <CLI/CLI.hpp>
@@ -12,6 +14,7 @@
 #include "common/expected.h"
 #include "common/text_file.h"
 #include "common/tool_flags.h"
+#include "coordinator/status/status_reference.h"
 #include "run_directory/config/config_reference.h"
 
 namespace {
@@ -33,10 +36,25 @@ std::function<Expected<std::string>()> add_config_page(CLI::App& command) {
   return [configs] { return poet::config_reference_page(*configs); };
 }
 
+std::function<Expected<std::string>()> add_http_page(CLI::App& command) {
+  auto examples = std::make_shared<std::string>();
+  command.add_option("--examples", *examples, "Directory of the example answers (docs/reference/examples)")
+      ->required();
+  return [examples] { return poet::http_reference_page(*examples); };
+}
+
+std::function<Expected<std::string>()> add_metrics_page(CLI::App&) {
+  return [] { return Expected<std::string>(poet::metrics_reference_page()); };
+}
+
 const std::vector<Page>& pages() {
   static const std::vector<Page> kPages = {
       {"config", "The run config: every field with its default, the paper's value, bounds and meaning; the presets",
        add_config_page},
+      {"http", "The status socket's routes: parameters, answers with every field of status.proto, errors, examples",
+       add_http_page},
+      {"metrics", "The metrics of /metrics: every family with its type, labels and HELP, and PromQL examples",
+       add_metrics_page},
   };
   return kPages;
 }

@@ -15,10 +15,6 @@
 namespace poet {
 namespace {
 
-// A request URI longer than this is refused (414), before any route sees it.
-constexpr size_t kMaxUriBytes = 8192;
-// A query with more parameters than this is refused (400): the routes read two at most.
-constexpr size_t kMaxQueryParams = 64;
 // Connections held at once, slow ones included: each costs a few kilobytes of buffers, not a thread; one address
 // may hold a quarter of them, so that a flood from one place leaves room for the probes and the people.
 constexpr unsigned kMaxConnections = 1024;

@@ -29,6 +29,10 @@
 namespace poet {
 
 inline constexpr char kDefaultStatusAddress[] = "127.0.0.1:0";  // loopback, an ephemeral port
+// A request URI longer than this is refused (414), before any route sees it.
+inline constexpr size_t kMaxUriBytes = 8192;
+// A query with more parameters than this is refused (400): the routes read two at most.
+inline constexpr size_t kMaxQueryParams = 64;
 
 struct StatusServerOptions {
   int threads = 3;  // the loops answering requests, in [1, 16]: a slow answer (a picture) holds one

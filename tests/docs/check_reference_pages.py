@@ -20,6 +20,7 @@ import sys
 # The options of each page's subcommand, as the regenerating command writes them (run from the source tree).
 PAGE_ARGS = {
     "config": ["--configs", "deploy/configs"],
+    "http": ["--examples", "docs/reference/examples"],
 }
 
 

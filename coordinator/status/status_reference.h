@@ -1,0 +1,49 @@
+#pragma once
+// The status socket's reference pages as Markdown, generated so that they cannot drift: docs/reference/http.md
+// from the route table (status_route_table.h), the answers' messages of proto/status.proto with their comments
+// and the example answers kept in docs/reference/examples/; docs/reference/metrics.md from the metric table
+// (metric_families.h). poet-reference writes them; tests/docs/check_reference_pages.py compares them with the
+// committed pages.
+
+#include <filesystem>
+#include <map>
+#include <optional>
+#include <string>
+#include <string_view>
+
+#include "common/expected.h"
+#include "coordinator/status/status_route_table.h"
+
+namespace poet {
+
+// The example answers, by route title ("Status"), as a client receives them (JSON).
+using RouteExamples = std::map<std::string, std::string>;
+
+// The file a route's example answer is kept in, relative to the examples' folder ("status.json"); "" for a route
+// whose answer is not one of status.proto's messages (the metrics, the dashboard, pictures, an episode).
+std::string example_file(const StatusRoute& route);
+
+// Why this JSON is not an answer of the route: it does not parse strictly (an unknown field, a wrong type) into the
+// route's message; nullopt when it is one.
+std::optional<std::string> example_problem(const StatusRoute& route, const std::string& json);
+
+// docs/reference/http.md: the socket, its JSON and its errors, then each route of kStatusRoutes — method, path,
+// parameters with their bounds, content type, the answer's message with each field's meaning (its comment in
+// proto/status.proto, from the embedded descriptor set: proto/schema_comments.h), an example answer, the errors —
+// then the messages the answers hold. `examples` must have one for each route with a message. Errors: a missing
+// example, or a message or field of status.proto without a comment (the page would leave its meaning out).
+Expected<std::string> http_reference_markdown(const RouteExamples& examples);
+
+// The same page with the examples read from `examples_dir` (docs/reference/examples): each file is checked with
+// example_problem, and one that is missing or off the schema is an error naming it.
+Expected<std::string> http_reference_page(const std::filesystem::path& examples_dir);
+
+// docs/reference/metrics.md: every family of kMetricFamilies by group — name, type, labels with their values,
+// HELP — and PromQL examples over those names.
+std::string metrics_reference_page();
+
+// A heading's anchor as MkDocs makes it: lower case, punctuation dropped, spaces to hyphens ("Pair episode" →
+// "pair-episode").
+std::string heading_slug(std::string_view heading);
+
+}  // namespace poet
