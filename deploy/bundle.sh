@@ -36,7 +36,7 @@ done
 # poet-worker beside it (--local-workers)
 binaries=(
   coordinator/poet-coordinator worker/poet-worker
-  tools/poetctl tools/poet-lineage tools/poet-report tools/poet-curves tools/poet-controls
+  tools/poetctl tools/poet-lineage tools/poet-report tools/poet-curves tools/poet-controls tools/poet-reference
   tools/poet-rollout tools/poet-eval tools/poet-fidelity
 )
 for b in "${binaries[@]}"; do
