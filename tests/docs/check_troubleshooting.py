@@ -2,12 +2,12 @@
 """docs/troubleshooting.md against the binaries: the messages the page shows are what they print now.
 
 Each block of the page marked `<!-- check: NAME -->` is a message copied from a run; this script provokes the same
-situation with the built poet-coordinator and compares. The page writes the parts that differ from run to run as
-placeholders (TIME, RUN_DIR, CONFIG, PID, PORT, WORKER, DIGEST, WORKER_DIGEST): each is replaced by what this run has, TIME
-by a pattern of spdlog's time stamp. Every line of a block must be a whole line of the process's output, in the
+situation with the built poet-coordinator (or poetctl) and compares. The page writes the parts that differ from run
+to run as placeholders (PLACEHOLDERS below): each is replaced by what this run has, TIME by a pattern of spdlog's
+time stamp. Every line of a block must be a whole line of the process's output, in the
 block's order. A block named here that the page lacks, or a marked block no case provokes, is a failure too.
 
-Usage: check_troubleshooting.py --page docs/troubleshooting.md --source SRC --coordinator BIN
+Usage: check_troubleshooting.py --page docs/troubleshooting.md --source SRC --coordinator BIN --poetctl BIN
 
 Bounded in time (each process at most 20 s, the whole well under a minute), on ephemeral loopback ports; every
 process started is killed and the scratch directory removed, also on failure. Debian's python3, stdlib only.
@@ -24,8 +24,10 @@ import subprocess
 import sys
 import tempfile
 import time
+import zlib
 
-PLACEHOLDERS = ("WORKER_DIGEST", "WORKER", "RUN_DIR", "CONFIG", "DIGEST", "TIME", "PID", "PORT")
+PLACEHOLDERS = ("WORKER_DIGEST", "WORKER", "RUN_DIR", "CONFIG", "DIGEST", "TIME", "PID", "PORT", "KEYS", "POLICY",
+                "PACK", "HEADER_CRC", "BODY_CRC", "BODY_BYTES", "FILE_BYTES")
 TIME_PATTERN = r"\d{4}-\d\d-\d\d \d\d:\d\d:\d\d\.\d{3}"  # spdlog's [%Y-%m-%d %H:%M:%S.%e]
 MARK = re.compile(r"^<!-- check: ([a-z0-9-]+) -->$")
 PROCESS_SECONDS = 20
@@ -166,6 +168,15 @@ def _field(number, wire_type, payload):
     return key + payload
 
 
+def wire_protocol_version(source):
+    """The PROTOCOL_VERSION of proto/wire.proto, which the coordinator compares before the fingerprint."""
+    text = read(os.path.join(source, "proto", "wire.proto"))
+    found = re.search(r"^\s*PROTOCOL_VERSION\s*=\s*(\d+)\s*;", text, re.MULTILINE)
+    if found is None:
+        raise Failure("proto/wire.proto: no line `PROTOCOL_VERSION = N;`")
+    return int(found.group(1))
+
+
 def hello_message(protocol_version, digest, name):
     """proto/wire.proto's WorkerMessage{hello: Hello{protocol_version, fingerprint_digest, threads, name}}."""
     hello = (_field(1, 0, _varint(protocol_version)) + _field(2, 1, struct.pack("<Q", digest)) +
@@ -255,6 +266,183 @@ def bad_command_line(args, procs, scratch):
     return {"bad-command-line": (out, {})}
 
 
+def refused_command_lines(args, procs, scratch):
+    """Command lines refused before any file is opened: exit 2, no run directory made."""
+    keys = os.path.join(scratch, "no-keys")
+    cases = {
+        "no-config-no-resume": ([], {}),
+        "from-pack-without-resume": (["--from-pack", os.path.join(scratch, "some.pack")], {}),
+        "listen-port-range": (["--config", args.quick, "--listen", "tcp://127.0.0.1:99999"], {}),
+        "curve-keys-missing": (["--config", args.quick, "--curve-keys", keys], {"KEYS": keys}),
+    }
+    seen = {}
+    for name, (options, values) in cases.items():
+        run_dir = os.path.join(scratch, name)
+        code, out = procs.run([args.coordinator, "--run-dir", run_dir, "--status-address", ""] + options, name)
+        expect(code == 2, f"{name}: exit {code}, not 2:\n{out}")
+        expect(not os.path.exists(run_dir), f"{name}: the run directory was made")
+        seen[name] = (out, values)
+    return seen
+
+
+def refused_first_policies(args, procs, scratch):
+    """--start-from a file that is not there, or not a policy of this network: exit 2, no checkpoint."""
+    missing = os.path.join(scratch, "no-policy.json")
+    small = write(os.path.join(scratch, "small-policy.json"), "[[1, 2, 3], 0]\n")
+    seen = {}
+    for name, policy in (("start-from-missing", missing), ("start-from-wrong-size", small)):
+        run_dir = os.path.join(scratch, name)
+        code, out = procs.run([args.coordinator, "--config", args.quick, "--run-dir", run_dir, "--start-from", policy,
+                               "--status-address", ""], name)
+        expect(code == 2, f"{name}: exit {code}, not 2:\n{out}")
+        expect(not os.path.exists(os.path.join(run_dir, "checkpoint.pb")), f"{name}: a checkpoint was written")
+        seen[name] = (out, {"POLICY": policy})
+    return seen
+
+
+def resume(args, procs, run_dir, name, more=()):
+    """poet-coordinator --run-dir RUN_DIR --resume, without a status socket: (exit code, output)."""
+    return procs.run([args.coordinator, "--run-dir", run_dir, "--resume", "--status-address", ""] + list(more), name)
+
+
+def nothing_to_resume(args, procs, scratch):
+    seen = {}
+    absent = os.path.join(scratch, "absent")
+    empty = os.path.join(scratch, "empty")
+    os.mkdir(empty)
+    for name, run_dir in (("resume-no-directory", absent), ("resume-no-checkpoint", empty)):
+        code, out = resume(args, procs, run_dir, name)
+        expect(code == 2, f"{name}: exit {code}, not 2:\n{out}")
+        seen[name] = (out, {"RUN_DIR": run_dir})
+    expect(not os.path.exists(absent), "resume-no-directory: the directory was made")
+    return seen
+
+
+def finished_run(args, procs, scratch, name):
+    """A run of the quick preset stopped at iteration 0 (a checkpoint and its logs, in a fraction of a second)."""
+    run_dir = os.path.join(scratch, name)
+    code, out = procs.run([args.coordinator, "--config", args.quick, "--run-dir", run_dir, "--iterations", "0",
+                           "--status-address", "", "--quiet"], name + "-made")
+    expect(code == 0, f"{name}: the run of 0 iterations exited {code}:\n{out}")
+    return run_dir
+
+
+CHECKPOINT_HEADER = struct.Struct("<8sIQI")  # run_directory/files/checkpoint_file.h: magic, version, body size, CRC-32
+
+
+def damaged_checkpoints(args, procs, scratch):
+    """A checkpoint cut to 4 bytes, replaced by text, cut in its body, one byte of its body changed, or of a newer
+    format: each resume refused with exit 2, the checkpoint left as it was."""
+    good = open(os.path.join(finished_run(args, procs, scratch, "sound"), "checkpoint.pb"), "rb").read()
+    _, version, body_bytes, header_crc = CHECKPOINT_HEADER.unpack_from(good)
+    flipped = bytearray(good)
+    flipped[CHECKPOINT_HEADER.size + 100] ^= 0xFF
+    newer = bytearray(good)
+    struct.pack_into("<I", newer, 8, version + 1)
+    half = good[:len(good) // 2]
+    cases = {
+        "checkpoint-short": (good[:4], {}),
+        "checkpoint-not-a-checkpoint": (b"not a checkpoint, but text in its place\n", {}),
+        "checkpoint-truncated": (half, {"BODY_BYTES": body_bytes, "FILE_BYTES": len(half) - CHECKPOINT_HEADER.size}),
+        "checkpoint-checksum": (bytes(flipped), {
+            "HEADER_CRC": f"{header_crc:08x}",
+            "BODY_CRC": f"{zlib.crc32(bytes(flipped[CHECKPOINT_HEADER.size:])):08x}"}),
+        "checkpoint-newer-format": (bytes(newer), {}),
+    }
+    seen = {}
+    for name, (data, values) in cases.items():
+        run_dir = os.path.join(scratch, name)
+        os.mkdir(run_dir)
+        with open(os.path.join(run_dir, "checkpoint.pb"), "wb") as f:
+            f.write(data)
+        code, out = resume(args, procs, run_dir, name)
+        expect(code == 2, f"{name}: exit {code}, not 2:\n{out}")
+        expect(open(os.path.join(run_dir, "checkpoint.pb"), "rb").read() == data, f"{name}: the checkpoint changed")
+        seen[name] = (out, dict(values, RUN_DIR=run_dir))
+    return seen
+
+
+def refused_run_dirs(args, procs, scratch):
+    """A new run refused on a directory holding a run of another config, or a run's logs without its checkpoint."""
+    seen = {}
+    other_run = finished_run(args, procs, scratch, "other-run")
+    other = write(os.path.join(scratch, "other.textproto"), "mode: POET\nseed: 2\n")
+    code, out = procs.run([args.coordinator, "--config", other, "--run-dir", other_run, "--status-address", ""],
+                          "another-config")
+    expect(code == 2, f"another-config: exit {code}, not 2:\n{out}")
+    seen["run-dir-another-config"] = (out, {"RUN_DIR": other_run})
+
+    # the page's listing, made up file by file: the message names each with its size
+    logs = os.path.join(scratch, "logs-only")
+    for path, size in (("events.jsonl", 115), ("pair_stats.csv", 542), ("annecs.csv", 62), ("envs/0.json", 0),
+                       ("policies/0.json", 0), ("policies/1.json", 0)):
+        os.makedirs(os.path.dirname(os.path.join(logs, path)), exist_ok=True)
+        write(os.path.join(logs, path), "x" * size)
+    code, out = procs.run([args.coordinator, "--config", args.quick, "--run-dir", logs, "--status-address", ""],
+                          "logs-only")
+    expect(code == 2, f"logs-only: exit {code}, not 2:\n{out}")
+    expect(not os.path.exists(os.path.join(logs, "checkpoint.pb")), "logs-only: a checkpoint was written")
+    seen["run-dir-logs-without-checkpoint"] = (out, {"RUN_DIR": logs})
+    return seen
+
+
+def config_copy_rewritten(args, procs, scratch):
+    """A resume (of a finished run: it ends at once) whose config.textproto was removed, or edited: a warning."""
+    seen = {}
+    for name in ("config-copy-missing", "config-copy-differs"):
+        run_dir = finished_run(args, procs, scratch, name)
+        copy = os.path.join(run_dir, "config.textproto")
+        if name == "config-copy-missing":
+            os.remove(copy)
+        else:
+            with open(copy, "a", encoding="utf-8") as f:
+                f.write("seed: 3\n")
+        code, out = resume(args, procs, run_dir, name)
+        expect(code == 0, f"{name}: exit {code}, not 0:\n{out}")
+        seen[name] = (out, {"RUN_DIR": run_dir})
+    return seen
+
+
+def refused_packs(args, procs, scratch):
+    """--from-pack of no file, of a file that is not a pack, or into a directory that holds a run: exit 2."""
+    absent = os.path.join(scratch, "absent.pack")
+    garbage = write(os.path.join(scratch, "garbage.pack"), "not a pack\n")
+    held = finished_run(args, procs, scratch, "held")
+    cases = {
+        "pack-missing": (os.path.join(scratch, "into-1"), absent),
+        "pack-not-a-pack": (os.path.join(scratch, "into-2"), garbage),
+        "pack-target-not-empty": (held, garbage),
+    }
+    seen = {}
+    for name, (run_dir, pack) in cases.items():
+        code, out = resume(args, procs, run_dir, name, ["--from-pack", pack])
+        expect(code == 2, f"{name}: exit {code}, not 2:\n{out}")
+        seen[name] = (out, {"RUN_DIR": run_dir, "PACK": pack})
+    expect(not os.path.exists(os.path.join(scratch, "into-1", "checkpoint.pb")), "pack-missing: a checkpoint appeared")
+    return seen
+
+
+def bad_status_address(args, procs, scratch):
+    """--status-address that is not HOST:PORT: a warning, and the run (of 0 iterations) goes on to its end."""
+    code, out = procs.run([args.coordinator, "--config", args.quick, "--run-dir", os.path.join(scratch, "S"),
+                           "--iterations", "0", "--status-address", "nonsense", "--quiet"], "status-nonsense")
+    expect(code == 0, f"status-nonsense: exit {code}, not 0:\n{out}")
+    return {"status-address-nonsense": (out, {})}
+
+
+def keygen_refusals(args, procs, scratch):
+    """poetctl keygen over an existing pair (exit 1), and --authorize for a coordinator pair (exit 2)."""
+    keys = os.path.join(scratch, "keys")
+    code, out = procs.run([args.poetctl, "keygen", keys, "worker"], "keygen-first")
+    expect(code == 0, f"keygen: the first pair: exit {code}:\n{out}")
+    code, again = procs.run([args.poetctl, "keygen", keys, "worker"], "keygen-again")
+    expect(code == 1, f"keygen-exists: exit {code}, not 1:\n{again}")
+    code, authorize = procs.run([args.poetctl, "keygen", keys, "coordinator", "--authorize"], "keygen-authorize")
+    expect(code == 2, f"keygen-authorize: exit {code}, not 2:\n{authorize}")
+    expect(not os.path.exists(os.path.join(keys, "coordinator.key")), "keygen-authorize: a key was written")
+    return {"keygen-exists": (again, {"KEYS": keys}), "keygen-authorize": (authorize, {})}
+
+
 def job_socket_in_use(args, procs, scratch):
     held, port = taken_port()
     try:
@@ -295,7 +483,7 @@ def owned_run(args, procs, scratch):
 
         digest = fingerprint_digest(args.coordinator)
         other = digest ^ 1
-        answer = send_hello(job_port, hello_message(3, other, "other-build"))
+        answer = send_hello(job_port, hello_message(wire_protocol_version(args.source), other, "other-build"))
         expect(b"differs from the coordinator's" in answer, f"the Hello of another build was answered {answer!r}")
         await_line(owner, r"refused worker other-build: ", "the refusal's log line")
         values = {"DIGEST": f"{digest:016x}", "WORKER_DIGEST": f"{other:016x}", "WORKER": "other-build"}
@@ -330,6 +518,7 @@ def main():
     parser.add_argument("--page", required=True)
     parser.add_argument("--source", required=True, help="the repository root (for the quick preset and walker)")
     parser.add_argument("--coordinator", required=True)
+    parser.add_argument("--poetctl", required=True)
     args = parser.parse_args()
     args.quick = os.path.join(args.source, "deploy", "configs", "quick.textproto")
     args.walker = os.path.join(args.source, "data", "walkers", "flat-walker.json")
@@ -340,7 +529,9 @@ def main():
     failures = []
     seen = {}
     try:
-        for case in (refused_configs, bad_command_line, job_socket_in_use, owned_run):
+        for case in (refused_configs, bad_command_line, refused_command_lines, refused_first_policies,
+                     nothing_to_resume, damaged_checkpoints, refused_run_dirs, config_copy_rewritten, refused_packs,
+                     bad_status_address, keygen_refusals, job_socket_in_use, owned_run):
             try:
                 seen.update(case(args, procs, scratch))
             except Exception as e:  # a case that fails is reported; the others still run
