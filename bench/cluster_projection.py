@@ -6,6 +6,7 @@ results per CPU-second, θ copies per result, round-trip time), and the loop's b
 
     python3 bench/cluster_projection.py --steps-per-core-s 21000 --episode-steps 1330 \
         --results-per-coordinator-cpu-s 450000 --workers 64 256 1024
+    python3 bench/cluster_projection.py ... --reach-iterations 3380 25200   # also the run cut at 3,380 and 25,200
 
 The model, iteration by iteration (spec §3; the paper's preset deploy/configs/paper.textproto):
 - active pairs N(t) = min(pairs, 1 + t // mutation_interval): one child admitted at every reproduction;
@@ -125,6 +126,9 @@ def main():
                    help="share of transfer candidates that get a proposal ES step: 1 = the full test")
     p.add_argument("--stage-iterations", type=int, nargs="+", default=[837, 1180, 1523],
                    help="iterations to cost at the run's steady state (very challenging: 1,180 ± 343)")
+    p.add_argument("--reach-iterations", type=int, nargs="+", default=[],
+                   help="also cost the run from its start, cut at each of these iterations (a bound on reaching a "
+                        "level: docs/cluster.md derives 2,200 + 1,180 = 3,380 for very challenging)")
     args = p.parse_args()
     if len(args.theta_copies_per_result) not in (1, len(args.workers)):
         p.error("--theta-copies-per-result takes one value or one for each of --workers")
@@ -171,6 +175,24 @@ def main():
         for k in args.stage_iterations:
             core_h = rollouts * args.episode_steps / args.steps_per_core_s / 3600 * k / period
             cells.append(f"{hours(wall * k / period)} ({core_h:,.0f} core-h)")
+        print(f"| {w:,} | " + " | ".join(cells) + " |")
+    if args.reach_iterations:
+        print_reach(args, makespans)
+
+
+def print_reach(args, makespans):
+    """The run from iteration 0 cut at each of --reach-iterations: pairs grow as in the whole run's table."""
+    print()
+    print("From the start of the run, cut at so many iterations")
+    print()
+    print("| workers | " + " | ".join(f"{k:,} iterations" for k in args.reach_iterations) + " |")
+    print("|---|" + "---|" * len(args.reach_iterations))
+    for w in args.workers:
+        cells = []
+        for k in args.reach_iterations:
+            rollouts, wall, _ = project(args, w, 0, k, makespans)
+            core_h = rollouts * args.episode_steps / args.steps_per_core_s / 3600
+            cells.append(f"{hours(wall)} ({core_h:,.0f} core-h)")
         print(f"| {w:,} | " + " | ".join(cells) + " |")
 
 
