@@ -10,12 +10,19 @@
 #include <memory>
 #include <mutex>
 #include <string>
+#include <string_view>
 
 #include "common/expected.h"
 #include "report/picture_request.h"
 #include "run_directory/reading/run_snapshot.h"
 
 namespace poet {
+
+// The keys of the object episode_json writes, each always there (docs/reference/examples/pair-episode.json is checked
+// to have exactly these). A key added to or dropped from episode_json belongs here too.
+inline constexpr std::string_view kEpisodeKeys[] = {"pair",     "env",   "seed",   "iteration", "steps",
+                                                    "finished", "fell",  "reward", "every",     "finish_x",
+                                                    "ground",   "boxes", "shapes", "frames"};
 
 class RunPictureCache {
  public:

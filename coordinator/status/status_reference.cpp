@@ -6,12 +6,15 @@
 #include <algorithm>
 #include <cctype>
 #include <memory>
+#include <nlohmann/json.hpp>
+#include <regex>
 #include <set>
 #include <stdexcept>
 #include <vector>
 
 #include "common/text_file.h"
 #include "coordinator/status/metric_families.h"
+#include "coordinator/status/run_picture_cache.h"
 #include "coordinator/status/status_server.h"
 #include "proto/schema_comments.h"
 #include "status.pb.h"
@@ -136,6 +139,25 @@ void parameters(std::string& out, const StatusRoute& route) {
   }
 }
 
+// The route's example answer from a real run: a JSON body or the /metrics lines as they came, else the status line,
+// content type and size of the answer.
+void example_text(std::string& out, const StatusRoute& route, const RouteExamples& examples) {
+  const auto example = examples.find(str(route.title));
+  if (example == examples.end())
+    throw PageError("no example answer of " + str(route.pattern) + " (" + example_file(route) + ")");
+  const std::string request = "`GET " + str(route.example_path) + "`";
+  const std::string file = "docs/reference/examples/" + example_file(route);
+  std::string text = example->second;
+  if (!text.ends_with('\n')) text += '\n';
+  if (route.content_type == kJsonType || route.kind == RouteKind::kMetrics) {
+    out += "An answer of " + request + (route.kind == RouteKind::kMetrics ? ", some of its lines" : "") + " (" + file +
+           "):\n\n```" + (route.content_type == kJsonType ? "json" : "text") + "\n" + text + "```\n\n";
+  } else {
+    text.pop_back();
+    out += "An answer of " + request + ": " + code(text) + " (" + file + ").\n\n";
+  }
+}
+
 void route_section(std::string& out, const StatusRoute& route, const RouteExamples& examples) {
   out += "## " + str(route.title) + "\n\n";
   out += code("GET " + str(route.pattern)) + " — " + str(route.summary) + "\n\n";
@@ -144,16 +166,8 @@ void route_section(std::string& out, const StatusRoute& route, const RouteExampl
   if (!route.message.empty()) out += " The body is the message " + code(route.message) + ".";
   out += "\n\n";
   if (!route.body.empty()) out += str(route.body) + "\n\n";
-  if (!route.message.empty()) {
-    message_table(out, message_of(route.message));
-    const auto example = examples.find(str(route.title));
-    if (example == examples.end())
-      throw PageError("no example answer of " + str(route.pattern) + " (" + example_file(route) + ")");
-    out += "An answer of `GET " + str(route.example_path) + "` (docs/reference/examples/" + example_file(route) +
-           "):\n\n```json\n" + example->second;
-    if (!example->second.ends_with('\n')) out += '\n';
-    out += "```\n\n";
-  }
+  if (!route.message.empty()) message_table(out, message_of(route.message));
+  example_text(out, route, examples);
   out += "Errors:\n\n";
   errors_table(out, route.errors);
 }
@@ -186,11 +200,15 @@ void http_intro(std::string& out) {
       "even when zero or empty, a nested message absent until the coordinator has one to show. 64-bit integers "
       "(`int64`, `uint64`) are JSON strings (`\"rollouts\": \"123456\"`), since a JSON number loses precision "
       "beyond 2^53; 32-bit integers and doubles are JSON numbers. An absent pair id or iteration is -1.\n\n"
-      "The example answers below are a real run's, `poet-coordinator --config deploy/configs/quick.textproto "
-      "--run-dir /tmp/h2-run --local-workers 2 --start-from data/walkers/flat-walker.json --iterations 6 "
-      "--status-address 127.0.0.1:0`, taken at iteration 5 by `python3 docs/reference/examples/capture.py "
-      "127.0.0.1:PORT --at-iteration 5` (PORT from the log's `status:` line), which indents them and cuts their "
-      "lists to three entries. The tests parse each into its message, refusing any field the schema lacks.\n\n"
+      "The example answers below, one for each route, are a real run's, `poet-coordinator --config "
+      "deploy/configs/quick.textproto --run-dir /tmp/h2-run --local-workers 2 --start-from "
+      "data/walkers/flat-walker.json --iterations 6 --status-address 127.0.0.1:0`, taken at iteration 5 by "
+      "`python3 docs/reference/examples/capture.py 127.0.0.1:PORT --at-iteration 5` (PORT from the log's `status:` "
+      "line), the one way to refresh them: it indents the JSON answers and cuts their lists to three entries, keeps "
+      "a few families' lines of `/metrics`, and of the dashboard and the pictures writes the status, content type "
+      "and size of the answer. The tests parse each JSON answer into its message, refusing any field the schema "
+      "lacks and requiring every scalar, list and map field it has; check the episode's keys, that each line of "
+      "`/metrics` is of a declared family, and each size line the route's content type.\n\n"
       "## Errors\n\n"
       "Every error has a JSON body, the message `Error`:\n\n";
   message_table(out, message_of("Error"));
@@ -298,11 +316,39 @@ std::string heading_slug(std::string_view heading) {
 }
 
 std::string example_file(const StatusRoute& route) {
-  return route.message.empty() ? "" : heading_slug(route.title) + ".json";
+  return heading_slug(route.title) + (route.content_type == kJsonType ? ".json" : ".txt");
 }
 
-std::optional<std::string> example_problem(const StatusRoute& route, const std::string& json) {
-  if (route.message.empty()) return str(route.pattern) + " answers no status.proto message";
+namespace {
+
+// Why the JSON lacks a field protobuf's JSON prints even at zero: every scalar, list and map field of the message
+// without presence (a message field, an `optional` one or a oneof's is printed only when set), and the same of each
+// nested status.proto message it holds. nullopt when none is missing.
+std::optional<std::string> missing_field(const protobuf::Descriptor& message, const nlohmann::json& value,
+                                         const std::string& where) {
+  if (!value.is_object()) return std::nullopt;  // the strict parse checked the types
+  for (int i = 0; i < message.field_count(); ++i) {
+    const protobuf::FieldDescriptor& field = *message.field(i);
+    const std::string at = where + "." + field.name();
+    const auto found = value.find(field.name());
+    const bool nested = field.cpp_type() == protobuf::FieldDescriptor::CPPTYPE_MESSAGE && !field.is_map() &&
+                        in_package(*field.message_type());
+    if (found == value.end()) {
+      if (field.has_presence()) continue;
+      return at + " is missing (every scalar, list and map field is printed; capture the examples again)";
+    }
+    if (!nested) continue;
+    if (field.is_repeated()) {
+      for (const nlohmann::json& entry : *found)
+        if (auto missing = missing_field(*field.message_type(), entry, at + "[]")) return missing;
+    } else if (auto missing = missing_field(*field.message_type(), *found, at)) {
+      return missing;
+    }
+  }
+  return std::nullopt;
+}
+
+std::optional<std::string> message_problem(const StatusRoute& route, const std::string& json) {
   // the generated schema's pool, reached through one of its messages so that status.pb.cc is linked in
   const protobuf::Descriptor* descriptor =
       status::Error::descriptor()->file()->pool()->FindMessageTypeByName(str(kPackage) + str(route.message));
@@ -313,7 +359,75 @@ std::optional<std::string> example_problem(const StatusRoute& route, const std::
   strict.ignore_unknown_fields = false;
   const auto parsed = protobuf::util::JsonStringToMessage(json, message.get(), strict);
   if (!parsed.ok()) return "not a " + str(route.message) + ": " + parsed.ToString();
+  return missing_field(*descriptor, nlohmann::json::parse(json, nullptr, false), str(route.message));
+}
+
+// The episode: a JSON object with exactly the keys episode_json writes.
+std::optional<std::string> episode_problem(const std::string& json) {
+  const nlohmann::json episode = nlohmann::json::parse(json, nullptr, false);
+  if (!episode.is_object()) return "not a JSON object";
+  for (std::string_view key : kEpisodeKeys)
+    if (!episode.contains(key)) return "no key \"" + str(key) + "\" (the episode writer writes it)";
+  for (const auto& [key, value] : episode.items())
+    if (std::find(std::begin(kEpisodeKeys), std::end(kEpisodeKeys), key) == std::end(kEpisodeKeys))
+      return "a key \"" + key + "\" the episode writer does not write";
   return std::nullopt;
+}
+
+const MetricFamily* declared_family(std::string_view name) {
+  for (const MetricFamily& family : kMetricFamilies)
+    if (family.name == name) return &family;
+  return nullptr;
+}
+
+// Lines of the exposition: HELP, TYPE and samples of declared families, HELP and TYPE as declared.
+std::optional<std::string> metrics_problem(const std::string& text) {
+  static const std::regex kHelp(R"(# HELP ([a-z_]+) (.*))");
+  static const std::regex kType(R"(# TYPE ([a-z_]+) ([a-z]+))");
+  static const std::regex kSample(R"(([a-z_]+)(\{[a-z_]+="[a-z_0-9]*"(,[a-z_]+="[a-z_0-9]*")*\})? -?[0-9.e+]+)");
+  int samples = 0;
+  size_t start = 0;
+  for (int line_number = 1; start < text.size(); ++line_number) {
+    const size_t end = std::min(text.find('\n', start), text.size());
+    const std::string line = text.substr(start, end - start);
+    start = end + 1;
+    const std::string where = "line " + std::to_string(line_number) + ": ";
+    std::smatch m;
+    const bool help = std::regex_match(line, m, kHelp), type = !help && std::regex_match(line, m, kType);
+    const bool sample = !help && !type && std::regex_match(line, m, kSample);
+    if (!help && !type && !sample) return where + "not a HELP, TYPE or sample line of the exposition";
+    const MetricFamily* family = declared_family(m.str(1));
+    if (family == nullptr) return where + m.str(1) + " is no family of metric_families.h";
+    if (help && m.str(2) != family->help) return where + "the HELP of " + m.str(1) + " is not as declared";
+    if (type && m.str(2) != family->type) return where + m.str(1) + " is a " + str(family->type);
+    samples += sample;
+  }
+  if (samples == 0) return "no sample line";
+  return std::nullopt;
+}
+
+// "200 image/svg+xml, 65,099 bytes": a 200 of the content type the route answers its example path with.
+std::optional<std::string> size_problem(const StatusRoute& route, const std::string& text) {
+  static const std::regex kSize(R"(200 (.+), [1-9][0-9]{0,2}(,[0-9]{3})* bytes\n?)");
+  std::smatch m;
+  if (!std::regex_match(text, m, kSize)) return "not a line \"200 TYPE, N bytes\"";
+  std::string expected(route.content_type);
+  if (route.kind == RouteKind::kRunPicture || route.kind == RouteKind::kPairPicture) {
+    const std::optional<RouteMatch> match = match_route(route.example_path);
+    if (!match) return str(route.example_path) + " is no path of the route";
+    expected = mime_type(match->picture.encoding);
+  }
+  if (m.str(1) != expected) return "the content type " + m.str(1) + " is not " + expected;
+  return std::nullopt;
+}
+
+}  // namespace
+
+std::optional<std::string> example_problem(const StatusRoute& route, const std::string& text) {
+  if (!route.message.empty()) return message_problem(route, text);
+  if (route.kind == RouteKind::kEpisode) return episode_problem(text);
+  if (route.kind == RouteKind::kMetrics) return metrics_problem(text);
+  return size_problem(route, text);
 }
 
 Expected<std::string> http_reference_markdown(const RouteExamples& examples) {
@@ -341,7 +455,6 @@ Expected<std::string> http_reference_markdown(const RouteExamples& examples) {
 Expected<std::string> http_reference_page(const std::filesystem::path& examples_dir) {
   RouteExamples examples;
   for (const StatusRoute& route : kStatusRoutes) {
-    if (route.message.empty()) continue;
     const std::filesystem::path file = examples_dir / example_file(route);
     Expected<std::string> text = read_text_file(file, 1 << 20);
     if (!text) return Unexpected{file.string() + ": " + text.error()};
@@ -381,9 +494,10 @@ std::string metrics_reference_page() {
   out +=
       "## PromQL examples\n\n"
       "The names above in queries, as a Prometheus that scrapes the coordinator takes them (each sample also "
-      "carries the scrape's `job` and `instance` labels). Each query is evaluated by `promtool test rules "
-      "docs/reference/examples/promql_test.yml` (promtool 2.42, Debian's `prometheus` package) over series named "
-      "and labelled as `/metrics` writes them, and the unit tests check that every query here is in that file.\n\n"
+      "carries the scrape's `job` and `instance` labels). Each query is checked by `promtool test rules "
+      "docs/reference/examples/promql_test.yml`, over series named and labelled as `/metrics` writes them, in the "
+      "test `docs_promql` where Debian's `prometheus` package (which provides promtool) is installed; elsewhere "
+      "that test is skipped. The unit tests check that every query here is in that file.\n\n"
       "| Question | PromQL |\n|---|---|\n";
   for (const PromqlExample& example : promql_examples())
     out += "| " + cell(example.question) + " | " + code(cell(example.query)) + " |\n";

@@ -16,21 +16,26 @@
 
 namespace poet {
 
-// The example answers, by route title ("Status"), as a client receives them (JSON).
+// The example answers, by route title ("Status"): a JSON body as a client receives it, some lines of /metrics, or
+// for the dashboard and the pictures the answer's status, content type and size ("200 image/svg+xml, 65,099 bytes").
 using RouteExamples = std::map<std::string, std::string>;
 
-// The file a route's example answer is kept in, relative to the examples' folder ("status.json"); "" for a route
-// whose answer is not one of status.proto's messages (the metrics, the dashboard, pictures, an episode).
+// The file a route's example answer is kept in, relative to the examples' folder: "<slug>.json" for a JSON answer
+// ("status.json", "pair-episode.json"), "<slug>.txt" for another ("metrics.txt", "run-pictures.txt").
 std::string example_file(const StatusRoute& route);
 
-// Why this JSON is not an answer of the route: it does not parse strictly (an unknown field, a wrong type) into the
-// route's message; nullopt when it is one.
-std::optional<std::string> example_problem(const StatusRoute& route, const std::string& json);
+// Why this text is not an example answer of the route, or nullopt when it is one. A route with a message: the JSON
+// must parse strictly into it (no unknown field, no wrong type) and hold every field protobuf's JSON prints even at
+// zero (scalars, lists, maps), in it and in the nested messages it holds, so a field added to status.proto fails
+// until the examples are captured again. The episode: a JSON object with exactly kEpisodeKeys. /metrics: HELP,
+// TYPE and sample lines of families declared in metric_families.h, HELP and TYPE as declared. The dashboard and the
+// pictures: "200 TYPE, N bytes" with the content type the route answers its example path with.
+std::optional<std::string> example_problem(const StatusRoute& route, const std::string& text);
 
 // docs/reference/http.md: the socket, its JSON and its errors, then each route of kStatusRoutes — method, path,
 // parameters with their bounds, content type, the answer's message with each field's meaning (its comment in
 // proto/status.proto, from the embedded descriptor set: proto/schema_comments.h), an example answer, the errors —
-// then the messages the answers hold. `examples` must have one for each route with a message. Errors: a missing
+// then the messages the answers hold. `examples` must have one for each route. Errors: a missing
 // example, or a message or field of status.proto without a comment (the page would leave its meaning out).
 Expected<std::string> http_reference_markdown(const RouteExamples& examples);
 

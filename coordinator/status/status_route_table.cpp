@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <charconv>
+#include <utility>
 #include <vector>
 
 namespace poet {
@@ -76,12 +77,59 @@ std::optional<RouteMatch> match(const StatusRoute& route, const std::vector<std:
   return match;
 }
 
-// "{a,b,c}" for a placeholder with values, "{id}" for a pair id.
-std::string written_out(const PathParam& param) {
-  if (param.values.empty()) return "{" + std::string(param.name) + "}";
+// "{a,b,c}" for several values, "a" for one.
+std::string alternatives(const std::vector<std::string_view>& values) {
+  if (values.size() == 1) return std::string(values[0]);
   std::string out = "{";
-  for (std::string_view value : param.values) out += (out.size() > 1 ? "," : "") + std::string(value);
+  for (std::string_view value : values) out += (out.size() > 1 ? "," : "") + std::string(value);
   return out + "}";
+}
+
+// The formats a picture is served in: those of the route's table that the picture code's encoding check accepts.
+std::vector<std::string_view> served_formats(std::string_view picture, std::span<const std::string_view> formats) {
+  std::vector<std::string_view> served;
+  const std::optional<PictureKind> kind = picture_kind(picture);
+  for (std::string_view format : formats) {
+    const std::optional<PictureEncoding> encoding = picture_encoding(format);
+    if (kind && encoding && !encoding_problem(PictureRequest{*kind, *encoding, 0})) served.push_back(format);
+  }
+  return served;
+}
+
+// "{picture}.{format}" written out as the pairs served, the pictures grouped by the formats they come in
+// ("{scores,levels}.{png,svg}", "walk.gif"): never a path that answers 400.
+std::vector<std::string> picture_segments(const PathParam& picture, const PathParam& format) {
+  std::vector<std::pair<std::vector<std::string_view>, std::vector<std::string_view>>> groups;  // formats, pictures
+  for (std::string_view name : picture.values) {
+    std::vector<std::string_view> formats = served_formats(name, format.values);
+    if (formats.empty()) continue;
+    auto group = std::find_if(groups.begin(), groups.end(), [&](const auto& g) { return g.first == formats; });
+    if (group == groups.end()) group = groups.insert(groups.end(), {std::move(formats), {}});
+    group->second.push_back(name);
+  }
+  std::vector<std::string> segments;
+  for (const auto& [formats, pictures] : groups)
+    segments.push_back(alternatives(pictures) + "." + alternatives(formats));
+  return segments;
+}
+
+// A route's endpoints: its pattern with {id} kept, {picture}.{format} written out, the query's parameters as "=N".
+std::vector<std::string> endpoints(const StatusRoute& route) {
+  std::string pattern(route.pattern);
+  char separator = '?';
+  for (const QueryParam& param : route.query_params) {
+    pattern += separator + std::string(param.name) + "=N";
+    separator = '&';
+  }
+  constexpr std::string_view kPicture = "{picture}.{format}";
+  const size_t at = pattern.find(kPicture);
+  const PathParam* picture = path_param(route, "picture");
+  const PathParam* format = path_param(route, "format");
+  if (at == std::string::npos || picture == nullptr || format == nullptr) return {pattern};
+  std::vector<std::string> out;
+  for (const std::string& segment : picture_segments(*picture, *format))
+    out.push_back(pattern.substr(0, at) + segment + pattern.substr(at + kPicture.size()));
+  return out;
 }
 
 }  // namespace
@@ -95,20 +143,8 @@ std::optional<RouteMatch> match_route(std::string_view path) {
 
 std::string endpoint_list() {
   std::string list;
-  for (const StatusRoute& route : kStatusRoutes) {
-    std::string endpoint(route.pattern);
-    for (const PathParam& param : route.path_params) {
-      const std::string placeholder = "{" + std::string(param.name) + "}";
-      const size_t at = endpoint.find(placeholder);
-      if (at != std::string::npos) endpoint.replace(at, placeholder.size(), written_out(param));
-    }
-    char separator = '?';
-    for (const QueryParam& param : route.query_params) {
-      endpoint += separator + std::string(param.name) + "=N";
-      separator = '&';
-    }
-    list += (list.empty() ? "" : ", ") + endpoint;
-  }
+  for (const StatusRoute& route : kStatusRoutes)
+    for (const std::string& endpoint : endpoints(route)) list += (list.empty() ? "" : ", ") + endpoint;
   return list;
 }
 

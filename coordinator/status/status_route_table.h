@@ -200,7 +200,7 @@ inline constexpr StatusRoute kStatusRoutes[] = {
              "and end (finished or fell). Its shape is the dashboard's, not a contract of proto/status.proto.",
      .path_params = route_table::kPairId,
      .errors = route_table::kEpisodeErrors,
-     .example_path = "/pairs/0/episode"},
+     .example_path = "/pairs/1/episode"},
     {.kind = RouteKind::kRunPicture,
      .title = "Run pictures",
      .pattern = "/pictures/{picture}.{format}",
@@ -218,7 +218,7 @@ inline constexpr StatusRoute kStatusRoutes[] = {
      .body = "The picture's bytes; kept until the checkpoint changes.",
      .path_params = route_table::kPairPicture,
      .errors = route_table::kPairPictureErrors,
-     .example_path = "/pictures/pairs/0/course.svg"},
+     .example_path = "/pictures/pairs/1/course.svg"},
 };
 
 // The errors any route can answer, whatever its own: a method other than GET or HEAD, and a fault in the
@@ -226,6 +226,16 @@ inline constexpr StatusRoute kStatusRoutes[] = {
 inline constexpr RouteError kEveryRouteErrors[] = {
     {405, "a method other than GET or HEAD (the answer's Allow header says GET, HEAD)"},
     {500, "the coordinator failed to make the answer (the body says why)"}};
+
+// The query parameter `name` of the route of this kind, looked up at compile time: a name the table does not give
+// that route does not compile (a throw in a constant evaluation is an error).
+consteval QueryParam query_param(RouteKind kind, std::string_view name) {
+  for (const StatusRoute& route : kStatusRoutes)
+    if (route.kind == kind)
+      for (const QueryParam& param : route.query_params)
+        if (param.name == name) return param;
+  throw "the route table gives this route no such query parameter";
+}
 
 // A request's path matched to its route, with what its placeholders held.
 struct RouteMatch {
@@ -237,8 +247,9 @@ struct RouteMatch {
 // The route whose pattern the path matches, or nullopt (a 404). Exact: no trailing slash, case as written.
 std::optional<RouteMatch> match_route(std::string_view path);
 
-// The endpoints as the 404's message lists them: the patterns with their placeholders' values written out
-// ("/pictures/{scores,levels,annecs,tree,rose}.{png,svg,gif}") and the query parameters ("/events?since=N&limit=N").
+// The endpoints as the 404's message lists them: the patterns with {id} kept, {picture}.{format} written out as
+// the pairs served, the pictures grouped by their formats ("/pictures/{scores,levels,annecs,tree,rose}.{png,svg}",
+// "/pictures/pairs/{id}/walk.gif": no path that answers 400), and the query parameters ("/events?since=N&limit=N").
 std::string endpoint_list();
 
 }  // namespace poet

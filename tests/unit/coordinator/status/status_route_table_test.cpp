@@ -11,6 +11,8 @@
 #include <regex>
 #include <set>
 #include <sstream>
+#include <string>
+#include <vector>
 
 #include "../../engine/engine_test_support.h"
 #include "coordinator/status/status_routes.h"
@@ -95,13 +97,72 @@ TEST(StatusRouteTableTest, EachExamplePathIsMatchedToItsRoute) {
   EXPECT_FALSE(match_route("//status"));
 }
 
+// The server reads the events' bounds from the table at compile time; a name the table lacks would not compile.
+static_assert(query_param(RouteKind::kEvents, "since").hi == kMaxEventsSince);
+static_assert(query_param(RouteKind::kEvents, "limit").lo == 1);
+static_assert(query_param(RouteKind::kEvents, "limit").fallback == kMaxEventsPerPage);
+
 TEST(StatusRouteTableTest, TheEndpointListWritesOutEachRoute) {
   const std::string list = endpoint_list();
   EXPECT_NE(list.find("/pairs/{id}/episode"), std::string::npos) << list;
   EXPECT_NE(list.find("/events?since=N&limit=N"), std::string::npos) << list;
-  EXPECT_NE(list.find("/pictures/{scores,levels,annecs,tree,rose}.{png,svg,gif}"), std::string::npos) << list;
-  EXPECT_NE(list.find("/pictures/pairs/{id}/{course,filmstrip,lineage,walk}.{png,svg,gif}"), std::string::npos) << list;
-  EXPECT_EQ(std::count(list.begin(), list.end(), ','), std::ptrdiff_t{0} + 11 + 4 + 2 + 3 + 2) << list;
+  EXPECT_NE(list.find("/pictures/{scores,levels,annecs,tree,rose}.{png,svg}, "), std::string::npos) << list;
+  EXPECT_NE(list.find("/pictures/pairs/{id}/{course,filmstrip,lineage}.{png,svg}, "), std::string::npos) << list;
+  EXPECT_NE(list.find("/pictures/pairs/{id}/walk.gif"), std::string::npos) << list;
+  EXPECT_EQ(list.find("gif}"), std::string::npos) << list;
+  // 13 endpoints, then the commas inside braces
+  EXPECT_EQ(std::count(list.begin(), list.end(), ','), std::ptrdiff_t{0} + 12 + 4 + 1 + 2 + 1) << list;
+}
+
+// "/a/{b,c}.{d,e}" → the four paths it stands for, {id} as 7.
+std::vector<std::string> expanded(const std::string& endpoint) {
+  const size_t open = endpoint.find('{');
+  if (open == std::string::npos) return {endpoint};
+  const size_t close = endpoint.find('}', open);
+  const std::string inside = endpoint.substr(open + 1, close - open - 1);
+  std::vector<std::string> out;
+  for (size_t start = 0;;) {
+    const size_t comma = inside.find(',', start);
+    const std::string value = inside == "id" ? "7" : inside.substr(start, comma - start);
+    for (std::string& path : expanded(endpoint.substr(0, open) + value + endpoint.substr(close + 1)))
+      out.push_back(std::move(path));
+    if (comma == std::string::npos) return out;
+    start = comma + 1;
+  }
+}
+
+// Every path the 404 lists is a route that does not answer 400 for its picture's format, and every picture and
+// format served is listed.
+TEST(StatusRouteTableTest, TheEndpointListHoldsExactlyThePathsServed) {
+  std::set<std::string> listed;
+  const std::string list = endpoint_list();
+  for (size_t start = 0; start < list.size();) {
+    size_t end = list.find(", /", start);
+    if (end == std::string::npos) end = list.size();
+    for (std::string& path : expanded(list.substr(start, end - start))) listed.insert(std::move(path));
+    start = end + 2;
+  }
+  for (const std::string& path : listed) {
+    const std::optional<RouteMatch> match = match_route(path.substr(0, path.find('?')));
+    ASSERT_TRUE(match) << path;
+    if (match->route->kind == RouteKind::kRunPicture || match->route->kind == RouteKind::kPairPicture)
+      EXPECT_FALSE(encoding_problem(match->picture)) << path;
+  }
+  int pictures = 0;
+  for (std::string_view format : kPictureFormats) {
+    for (std::string_view name : kRunPictureNames)
+      if (!encoding_problem({*picture_kind(name), *picture_encoding(format), -1})) {
+        ++pictures;
+        EXPECT_TRUE(listed.count("/pictures/" + std::string(name) + "." + std::string(format))) << name << format;
+      }
+    for (std::string_view name : kPairPictureNames)
+      if (!encoding_problem({*picture_kind(name), *picture_encoding(format), 7})) {
+        ++pictures;
+        EXPECT_TRUE(listed.count("/pictures/pairs/7/" + std::string(name) + "." + std::string(format)))
+            << name << format;
+      }
+  }
+  EXPECT_EQ(pictures, 10 + 6 + 1);
 }
 
 // The server against the table: every route answers its example path with its declared content type, or with
