@@ -11,6 +11,7 @@
 #include <string_view>
 #include <vector>
 
+#include "common/envgen/env_proto.h"
 #include "common/text_file.h"
 #include "common/text_format.h"
 #include "proto/schema_comments.h"
@@ -296,7 +297,6 @@ std::vector<std::string> shown_rules(const std::vector<ConfigRule>& rules, std::
 // The rules of the fields inside a target, which env_def_from_proto checks: its limits, which are data.
 std::vector<std::string> target_rules(std::string_view path) {
   const std::string max_interval = number_text(kMaxIntervalValue);
-  if (path == "target") return {"an error names the field inside the target: es_alone.target.encoding.pit_gap.hi"};
   if (path == "target.seed") return {"must be < " + std::to_string(kMaxEnvSeed)};
   if (path == "target.encoding.roughness") return {"must be in [0, " + number_text(kMaxRoughness) + "]"};
   if (path == "target.encoding.<interval>.lo") return {"must be in [0, hi]", "given with hi"};
@@ -305,6 +305,7 @@ std::vector<std::string> target_rules(std::string_view path) {
   if (path == "target.encoding.cppn.connections") return {"at most " + std::to_string(kMaxCppnConnections)};
   if (path == "target.encoding.cppn.scale")
     return {"must be a finite number in (0, " + number_text(kMaxCppnScale) + "]"};
+  if (path == "target.encoding.cppn.nodes[i].id") return {"must be in [0, " + std::to_string(kMaxCppnNodeId) + "]"};
   if (path == "target.encoding.cppn.nodes[i].bias" || path == "target.encoding.cppn.connections[i].weight")
     return {"within ±" + number_text(kCppnParamLimit)};
   return {};
@@ -416,20 +417,38 @@ Expected<std::string> example() {
          refused.error() + "\n```\n\n";
 }
 
-std::string environments_intro() {
+// The interval genes of an encoding, in the schema's order: `pit_gap`, `stump_width`, ...
+std::string interval_genes() {
+  const protobuf::Descriptor* encoding = schema_message("poet.pb.EnvEncoding");
+  std::string out;
+  for (int i = 0; encoding && i < encoding->field_count(); ++i) {
+    const protobuf::FieldDescriptor& field = *encoding->field(i);
+    if (field.message_type() && field.message_type()->full_name() == "poet.pb.Interval")
+      out += (out.empty() ? "" : ", ") + code(field.name());
+  }
+  return out;
+}
+
+// The rules of a target that are no single field's bound, and an error the validator really gives for one.
+Expected<std::string> environments_intro() {
+  pb::EnvDef half_given;
+  half_given.mutable_encoding()->mutable_pit_gap()->set_lo(1);
+  const Expected<EnvDef> refused = env_def_from_proto(half_given);
+  if (refused) return Unexpected{"the page's example of a refused target is accepted"};
   return "## Environments — the targets\n\n"
          "`es_alone.target` and `direct_path.target` are environments (`EnvDef`); below, `target` stands for "
-         "either, and `<interval>` for any interval gene of the encoding (`pit_gap`, `stump_width`, "
-         "`stump_height`, `stump_float`, `stair_height`, `stair_width`, `stair_steps`). `env_def_from_proto` "
+         "either, and `<interval>` for any interval gene of the encoding (" +
+         interval_genes() +
+         "). `env_def_from_proto` "
          "(`common/envgen/env_proto.h`) checks a target as it checks an environment read from a file; the bounds "
          "shown are its limits, which are data (`simulation/envgen/env_encoding.h`, "
          "`simulation/envgen/cppn_genome.h`). Its other rules are the encoding's own, in "
          "`validate()` of `simulation/envgen/env_encoding.h`: counts and widths (`stump_width`, `stump_float`, "
          "`stair_width`, `stair_steps`) are whole numbers with lo < hi; a type's intervals are all given or none; "
-         "a stump or stair is at least 1 terrain step wide and a staircase has at least one step; a CPPN course "
-         "has roughness 0 and no intervals, and its genome is a connected, acyclic network from the input (node "
-         "0) to the output (node 1). An error names the field inside the target: "
-         "`es_alone.target.encoding.pit_gap.hi: missing (an interval gives both bounds)`.\n\n";
+         "a stump or stair is at least 1 terrain step wide and a staircase has at least 1 step; a CPPN course "
+         "has roughness 0 and no intervals, and its genome is a connected, acyclic network from the input (node " +
+         std::to_string(kCppnInputId) + ") to the output (node " + std::to_string(kCppnOutputId) +
+         "). An error names the field inside the target: `es_alone.target." + refused.error() + "`.\n\n";
 }
 
 // The comment block at the head of a preset, without the proto-file and proto-message lines.
@@ -534,7 +553,11 @@ Expected<std::string> config_reference_page(const std::filesystem::path& configs
   if (!shown) return Unexpected{shown.error()};
   page += *shown;
   for (const Section& section : kSections) {
-    if (section.prefix == "target") page += environments_intro();
+    if (section.prefix == "target") {
+      const Expected<std::string> environments = environments_intro();
+      if (!environments) return Unexpected{environments.error()};
+      page += *environments;
+    }
     const Expected<std::string> text = section_text(section, in);
     if (!text) return Unexpected{text.error()};
     page += *text;
