@@ -77,24 +77,6 @@ const Section* section_of(std::string_view message) {
   return nullptr;
 }
 
-// Text inside a table cell: pipes would end the cell, angle brackets open HTML, asterisks emphasis.
-std::string cell(std::string_view text) {
-  std::string out;
-  for (const char ch : text) {
-    if (ch == '|')
-      out += "\\|";
-    else if (ch == '<')
-      out += "&lt;";
-    else if (ch == '>')
-      out += "&gt;";
-    else if (ch == '*')
-      out += "\\*";
-    else
-      out += ch;
-  }
-  return out;
-}
-
 // Text of a paragraph: angle brackets would open HTML, asterisks emphasis.
 std::string prose(std::string_view text) {
   std::string out;
@@ -107,6 +89,16 @@ std::string prose(std::string_view text) {
       out += "\\*";
     else
       out += ch;
+  }
+  return out;
+}
+
+// Text inside a table cell: a paragraph's, and a pipe would end the cell.
+std::string cell(std::string_view text) {
+  std::string out;
+  for (const char ch : prose(text)) {
+    if (ch == '|') out += '\\';
+    out += ch;
   }
   return out;
 }
