@@ -31,28 +31,10 @@ coordinator=$build/coordinator/poet-coordinator
 worker=$build/worker/poet-worker
 [ -x "$coordinator" ] && [ -x "$worker" ] || usage_error "$build has no poet-coordinator and poet-worker (build first)"
 
-scratch=$(mktemp -d /tmp/poet-theta-bytes.XXXXXX)
-pids=()  # everything this script started and has not reaped
-cleanup() {
-  for pid in "${pids[@]}"; do kill -TERM "$pid" 2>/dev/null || true; done
-  for pid in "${pids[@]}"; do wait "$pid" 2>/dev/null || true; done
-  rm -rf "$scratch"
-}
-trap cleanup EXIT
-trap 'exit 130' INT TERM
+source "$root/bench/es_workload.sh"
+make_scratch theta-bytes  # pids: everything this script started and has not reaped
 
-cat >"$scratch/es.textproto" <<EOF
-# proto-file: proto/poet.proto
-# proto-message: poet.pb.RunConfig
-mode: ES_ALONE
-seed: 5
-iterations: $steps
-checkpoint_interval: $steps
-es { perturbations: $perturbations }
-es_alone { target { encoding { name: "flat" } seed: 0 } }
-EOF
-
-free_port() { python3 -c 'import socket; s = socket.socket(); s.bind(("127.0.0.1", 0)); print(s.getsockname()[1])'; }
+write_es_config "$scratch/es.textproto" "$steps" "$perturbations"
 
 # run K: the workload on K one-thread workers through the relay; appends "K DIR DOWN UP" to runs
 run() {
