@@ -1,9 +1,9 @@
 #!/usr/bin/env bash
 # What round-trip time costs a run: one fixed ES workload on W poet-worker processes that connect to the coordinator
-# directly, then through bench/delay_relay.py at each given round-trip time (the kernel here has no netem; the relay
-# delays each direction's bytes by RTT/2 and keeps their order). The workload is ES alone on the flat course from
-# the shipped walker, in small ES steps (PERTURBATIONS mirrored pairs) so that round trips weigh against the
-# episodes: each ES step is two batches, its rollouts and then the evaluation of the new θ. The whole sequence
+# directly, then through tests/support/delay_relay.py at each given round-trip time (the kernel here has no netem;
+# the relay delays each direction's bytes by RTT/2 and keeps their order). The workload is ES alone on the flat
+# course from the shipped walker, in small ES steps (PERTURBATIONS mirrored pairs) so that round trips weigh against
+# the episodes: each ES step is two batches, its rollouts and then the evaluation of the new θ. The whole sequence
 # (direct, then each RTT) runs REPEATS times, interleaved, so that a change in the machine's load falls on every
 # setting. For each setting: the wall times, their median, the slowdown against the direct runs' median, and the
 # wall time added per batch, in milliseconds and in round trips. Every run must end in the same checkpoint, which the
@@ -55,7 +55,7 @@ run() {
   pids=("$coordinator_pid")
   endpoint=tcp://127.0.0.1:$port
   if [ "$rtt" != - ]; then
-    python3 "$root/bench/delay_relay.py" --listen 127.0.0.1:0 --target "127.0.0.1:$port" --rtt-ms "$rtt" \
+    python3 "$root/tests/support/delay_relay.py" --listen 127.0.0.1:0 --target "127.0.0.1:$port" --rtt-ms "$rtt" \
       >"$dir.relay" 2>&1 &
     relay_pid=$!
     pids+=("$relay_pid")

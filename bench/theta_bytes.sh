@@ -2,8 +2,8 @@
 # The bytes a coordinator sends for θ, measured against the arithmetic: every worker that runs tasks of an ES step
 # receives that step's θ once per batch (2,804 doubles: a 22,449-byte Job.thetas field). One ES-alone workload
 # (ES steps of a fixed size from the shipped walker on the flat course) runs twice, on K1 and on K2 workers that
-# connect through bench/delay_relay.py with no delay, which counts the bytes each way. Each ES step goes out
-# cut into at least one job a worker, so every worker takes part, and the evaluation of each step's new θ is one
+# connect through tests/support/delay_relay.py with no delay, which counts the bytes each way. Each ES step goes
+# out cut into at least one job a worker, so every worker takes part, and the evaluation of each step's new θ is one
 # task on one worker: the arithmetic predicts STEPS × (K + 1) θ copies in a run on K workers, and that the second run
 # sends STEPS × (K2 − K1) θ copies more than the first, the rest (tasks, heartbeats) about the same. Both runs must
 # end in the same checkpoint, which the script checks. Prints the prediction beside the measurement.
@@ -44,7 +44,7 @@ run() {
     --status-address "" --run-dir "$dir" --listen "tcp://127.0.0.1:$port" --verify-fraction 0 >"$dir.log" 2>&1 &
   local coordinator_pid=$!
   pids=("$coordinator_pid")
-  python3 "$root/bench/delay_relay.py" --listen 127.0.0.1:0 --target "127.0.0.1:$port" --rtt-ms 0 >"$dir.relay" 2>&1 &
+  python3 "$root/tests/support/delay_relay.py" --listen 127.0.0.1:0 --target "127.0.0.1:$port" --rtt-ms 0 >"$dir.relay" 2>&1 &
   relay_pid=$!
   pids+=("$relay_pid")
   for _ in $(seq 100); do grep -q '^listening' "$dir.relay" && break; sleep 0.1; done

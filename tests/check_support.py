@@ -1,5 +1,5 @@
-"""What the Python checks of tests/ share (tests/deploy, tests/dashboard): their outcomes, the CI rule for a
-missing tool, free loopback ports, and the deploy checks' command line and outcome."""
+"""What the Python checks of tests/ share (tests/deploy, tests/dashboard, tests/cluster): their outcomes, the CI
+rule for a missing tool, free loopback ports, and the deploy checks' command line and outcome."""
 
 import os
 import signal

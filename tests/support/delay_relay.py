@@ -6,7 +6,7 @@ read, so a request and its answer cross the relay in RTT plus the peers' own tim
 nothing is lost, reordered or duplicated. An end of stream is passed on after the same delay (half-close); a
 connection that fails on one side is closed on both.
 
-    python3 bench/delay_relay.py --listen 127.0.0.1:0 --target 127.0.0.1:5555 --rtt-ms 50
+    python3 tests/support/delay_relay.py --listen 127.0.0.1:0 --target 127.0.0.1:5555 --rtt-ms 50
 
 Prints "listening HOST:PORT" on stdout once it accepts connections (port 0: a free port), and on SIGINT or
 SIGTERM closes every connection and prints what it carried: "relayed CONNECTIONS connections, UP bytes to the
