@@ -1,10 +1,17 @@
 #!/usr/bin/env python3
 """Latency of a real poet-coordinator's status socket: requests on one kept-alive connection, and /status on the
 status port and /healthz on the probes' port while CONNECTIONS slowloris clients each send one header line every
-LINE_EVERY seconds to the port(s) HOLD names.
+LINE_EVERY seconds (or, with --silent, nothing) to the port(s) HOLD names.
 
 Usage: python3 bench/status_latency.py BUILD_DIR [--connections 200] [--line-every 1.5] [--seconds 20]
-                                                 [--hold status|health|both]
+                                                 [--hold status|health|both] [--addresses N] [--silent]
+                                                 [--nofile SOFT[:HARD]] [--binary PATH]
+
+With --addresses N the slow connections come from 127.0.0.2 ... 127.0.0.(N+1), spread evenly (Linux routes all
+of 127.0.0.0/8 to the loopback interface), and each port is probed both from 127.0.0.1, an address with no slow
+connection, and from 127.0.0.2, one of the crowd's; without it everything comes from 127.0.0.1. --nofile starts the
+coordinator with that soft RLIMIT_NOFILE (a systemd service's and a login shell's default is 1024), and with :HARD
+that hard one too (else it stays); this script raises its own to its hard limit.
 
 The coordinator runs the quick preset with --listen and no worker, so it waits for workers and uses no CPU; with
 --health-address (when this build has it) the probes' own listener is measured too. Probes open a fresh
@@ -17,6 +24,7 @@ import argparse
 import http.client
 import os
 import re
+import resource
 import shutil
 import signal
 import socket
@@ -29,6 +37,7 @@ import time
 
 PROBE_TIMEOUT = 5.0  # seconds a probe may wait
 KUBELET_TIMEOUT = 1.0  # kubelet's default timeoutSeconds
+PROMPT = 0.1  # seconds: the bound the status server keeps under a crowd
 
 
 def wait_for_log(path, pattern, timeout=30.0):
@@ -43,11 +52,11 @@ def wait_for_log(path, pattern, timeout=30.0):
     sys.exit(f"no log line matching {pattern!r} in {path}")
 
 
-def probe(port, path="/healthz"):
-    """Seconds for one GET on a fresh connection, or None when it failed or took over PROBE_TIMEOUT."""
+def probe(port, path="/healthz", source="127.0.0.1"):
+    """Seconds for one GET on a fresh connection from source, or None when it failed or took over PROBE_TIMEOUT."""
     started = time.monotonic()
     try:
-        conn = http.client.HTTPConnection("127.0.0.1", port, timeout=PROBE_TIMEOUT)
+        conn = http.client.HTTPConnection("127.0.0.1", port, timeout=PROBE_TIMEOUT, source_address=(source, 0))
         conn.request("GET", path)
         response = conn.getresponse()
         response.read()
@@ -64,8 +73,10 @@ def summary(name, times, attempts):
     ms = sorted(t * 1000 for t in answered)
     p95 = ms[min(len(ms) - 1, int(0.95 * len(ms)))]
     late = sum(1 for t in times if t is None or t > KUBELET_TIMEOUT)
-    return (f"{name}: {len(answered)} of {attempts} answered; p50 {statistics.median(ms):.1f} ms, p95 {p95:.1f} ms, "
-            f"max {ms[-1]:.1f} ms; {late} over {KUBELET_TIMEOUT:.0f} s (failed probes)")
+    prompt = sum(1 for t in times if t is not None and t <= PROMPT)
+    return (f"{name}: {len(answered)} of {attempts} answered, {prompt} within {PROMPT * 1000:.0f} ms; p50 "
+            f"{statistics.median(ms):.1f} ms, p95 {p95:.1f} ms, max {ms[-1]:.1f} ms; {late} over "
+            f"{KUBELET_TIMEOUT:.0f} s (failed probes)")
 
 
 def kept_alive(port, requests=20):
@@ -82,21 +93,37 @@ def kept_alive(port, requests=20):
 
 
 class Slowloris:
-    """Connections that each send a request line, then one header line every `every` seconds, never ending it."""
+    """Connections from the sources in turn that each send a request line, then one header line every `every`
+    seconds, never ending it; or, silent, nothing at all."""
 
-    def __init__(self, port, count, every):
+    def __init__(self, port, count, every, sources, silent):
         self.sockets = []
-        for _ in range(count):
-            s = socket.create_connection(("127.0.0.1", port), timeout=5)
-            s.sendall(b"GET /status HTTP/1.1\r\nHost: x\r\n")
+        self.silent = silent
+        for i in range(count):
+            s = socket.create_connection(("127.0.0.1", port), timeout=5, source_address=(sources[i % len(sources)], 0))
+            if not silent:
+                s.sendall(b"GET /status HTTP/1.1\r\nHost: x\r\n")
             self.sockets.append(s)
         self.stop = threading.Event()
         self.thread = threading.Thread(target=self.trickle, args=(every,), daemon=True)
         self.thread.start()
 
+    def closed(self):
+        """How many of the connections the server has closed (or reset)."""
+        n = 0
+        for s in self.sockets:
+            s.setblocking(False)
+            try:
+                n += s.recv(1, socket.MSG_PEEK | socket.MSG_DONTWAIT) == b""
+            except BlockingIOError:
+                pass
+            except OSError:
+                n += 1
+        return n
+
     def trickle(self, every):
         n = 0
-        while not self.stop.wait(every):
+        while not self.silent and not self.stop.wait(every):
             n += 1
             for s in self.sockets:
                 try:
@@ -119,9 +146,18 @@ def main():
     parser.add_argument("--seconds", type=float, default=20)
     parser.add_argument("--hold", choices=["status", "health", "both"], default="status",
                         help="the port(s) the slowloris connections go to (each gets CONNECTIONS)")
+    parser.add_argument("--addresses", type=int, default=0,
+                        help="the slow connections come from this many addresses, 127.0.0.2 on (0: 127.0.0.1)")
+    parser.add_argument("--silent", action="store_true", help="the slow connections send nothing")
+    parser.add_argument("--nofile", help="the coordinator's soft RLIMIT_NOFILE, and :HARD its hard one")
+    parser.add_argument("--binary", help="the poet-coordinator to measure (default: BUILD_DIR's)")
     args = parser.parse_args()
     root = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-    binary = os.path.join(args.build_dir, "coordinator", "poet-coordinator")
+    binary = args.binary or os.path.join(args.build_dir, "coordinator", "poet-coordinator")
+    _, hard = resource.getrlimit(resource.RLIMIT_NOFILE)
+    resource.setrlimit(resource.RLIMIT_NOFILE, (hard, hard))  # the crowd's sockets are this process's
+    sources = [f"127.0.0.{2 + i}" for i in range(args.addresses)] or ["127.0.0.1"]
+    probe_sources = ["127.0.0.1", "127.0.0.2"] if args.addresses else ["127.0.0.1"]
     if not os.access(binary, os.X_OK):
         sys.exit(f"no {binary}: build first")
     has_health = "--health-address" in subprocess.run([binary, "--help"], capture_output=True, text=True).stdout
@@ -136,8 +172,14 @@ def main():
         if has_health:
             command += ["--health-address", "127.0.0.1:0"]
         log = os.path.join(work, "coordinator.err")
+        def limit_descriptors():
+            if args.nofile:
+                soft, _, limit = args.nofile.partition(":")
+                resource.setrlimit(resource.RLIMIT_NOFILE, (int(soft), int(limit or hard)))
+
         with open(log, "w") as err:
-            coordinator = subprocess.Popen(command, stdout=subprocess.DEVNULL, stderr=err)
+            coordinator = subprocess.Popen(command, stdout=subprocess.DEVNULL, stderr=err,
+                                           preexec_fn=limit_descriptors)
         status_port = int(wait_for_log(log, r"status: http://127\.0\.0\.1:(\d+)/status"))
         health_port = int(wait_for_log(log, r"health: http://127\.0\.0\.1:(\d+)/healthz")) if has_health else None
         print(f"load average at start: {' '.join(f'{x:.2f}' for x in os.getloadavg())} ({os.cpu_count()} cores)")
@@ -149,18 +191,22 @@ def main():
         print(summary("idle, status port /healthz", idle, len(idle)))
 
         held = {"status": [status_port], "health": [health_port], "both": [status_port, health_port]}[args.hold]
-        slow = [Slowloris(port, args.connections, args.line_every) for port in held if port]
+        slow = [Slowloris(port, args.connections, args.line_every, sources, args.silent) for port in held if port]
         time.sleep(2)  # the pool is taken
-        targets = {"status port /status": (status_port, "/status")}
-        if health_port:
-            targets["health port /healthz"] = (health_port, "/healthz")
+        targets = {}
+        for source in probe_sources:
+            crowd = "" if len(probe_sources) == 1 else (" from " + source + (", one of the crowd's" if source in
+                                                                              sources else ", no slow connection"))
+            targets["status port /status" + crowd] = (status_port, "/status", source)
+            if health_port:
+                targets["health port /healthz" + crowd] = (health_port, "/healthz", source)
         times = {name: [] for name in targets}
         deadline = time.monotonic() + args.seconds
 
         def probe_until_deadline(name, target):  # one thread per target: a stuck port does not slow the other's
-            port, path = target
+            port, path, source = target
             while time.monotonic() < deadline:
-                times[name].append(probe(port, path))
+                times[name].append(probe(port, path, source))
                 time.sleep(0.5)
 
         probers = [threading.Thread(target=probe_until_deadline, args=item) for item in targets.items()]
@@ -168,10 +214,14 @@ def main():
             t.start()
         for t in probers:
             t.join()
-        print(f"under {args.connections} slowloris connections on the {args.hold} port(s) (a header line every "
-              f"{args.line_every} s), {args.seconds:.0f} s of probes:")
+        kind = "silent connections" if args.silent else f"slowloris connections (a header line every {args.line_every} s)"
+        print(f"under {args.connections} {kind} on the {args.hold} port(s) from {len(sources)} address(es), "
+              f"{args.seconds:.0f} s of probes:")
         for name in targets:
             print("  " + summary(name, times[name], len(times[name])))
+        for port, crowd in zip([p for p in held if p], slow):
+            print(f"  closed by the server: {crowd.closed()} of the {len(crowd.sockets)} slow connections to port "
+                  f"{port}")
         print(f"load average at the end: {' '.join(f'{x:.2f}' for x in os.getloadavg())}")
     finally:
         for s in slow:

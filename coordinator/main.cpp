@@ -26,6 +26,7 @@
 #include "common/stop_signals.h"
 #include "common/tool_flags.h"
 #include "coordinator/daemon/daemon_options.h"
+#include "coordinator/daemon/descriptor_limit.h"
 #include "coordinator/daemon/rollouts.h"
 #include "coordinator/daemon/run_loop.h"
 #include "coordinator/daemon/run_opening.h"
@@ -43,10 +44,19 @@ int run(const DaemonOptions& options, StopSignals& signals) {
   const auto started = std::chrono::steady_clock::now();
   spdlog::debug("build fingerprint {:016x}", build_fingerprint_digest());
   // the status socket and the probes' listener: a snapshot published after each iteration, read by the servers'
-  // own threads
+  // own threads; each holds at most its caps' worth of descriptors, fitted into the process's limit
+  StatusServerOptions status_options;
+  StatusServerOptions health_options = health_listener_options();
+  const uint64_t descriptors = raise_descriptor_limit();
+  if (fit_listeners(descriptors, status_options, health_options))
+    spdlog::warn(
+        "this process may open {} file descriptors (its hard RLIMIT_NOFILE): the status socket holds at most {} "
+        "connections at once and the health listener {}; a limit of {} keeps their defaults",
+        descriptors, status_options.caps.total, health_options.caps.total,
+        2 * (descriptors_needed(StatusServerOptions{}) + descriptors_needed(health_listener_options())));
   StatusBoard board(options.run_dir);
-  StatusServer server(board);
-  StatusServer health(board, health_listener_options());
+  StatusServer server(board, status_options);
+  StatusServer health(board, health_options);
   // declared after the board, so the socket thread that publishes to it stops first; bound before the run is
   // opened, so that a port in use changes no file
   std::optional<Rollouts> rollouts = make_rollouts(options, signals, board);

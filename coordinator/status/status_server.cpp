@@ -1,13 +1,18 @@
 #include "coordinator/status/status_server.h"
 
+#include <arpa/inet.h>
 #include <microhttpd.h>
 #include <netdb.h>
+#include <netinet/in.h>
 #include <sys/socket.h>
 
 #include <algorithm>
 #include <charconv>
+#include <cstdint>
 #include <cstring>
 #include <exception>
+#include <mutex>
+#include <unordered_map>
 
 #include "common/utf8.h"
 #include "coordinator/status/status_routes.h"
@@ -15,10 +20,9 @@
 namespace poet {
 namespace {
 
-// Connections held at once, slow ones included: each costs a few kilobytes of buffers, not a thread; one address
-// may hold a quarter of them, so that a flood from one place leaves room for the probes and the people.
-constexpr unsigned kMaxConnections = 1024;
-constexpr unsigned kMaxConnectionsPerAddress = 256;
+// Connections shed but not yet closed by their loop: libmicrohttpd's own limits are the caps plus these, so that it
+// never refuses the new connection a shedding makes room for.
+constexpr size_t kSheddingInFlight = 64;
 
 // One request's state between libmicrohttpd's calls: what its URI was found to be, how much body has come.
 struct RequestState {
@@ -72,12 +76,30 @@ void request_completed(void*, MHD_Connection*, void** state, MHD_RequestTerminat
   *state = nullptr;
 }
 
+// The client's address without its port (IPv4, or IPv6 as libmicrohttpd gives it), the shedder's key.
+std::string client_address(MHD_Connection* connection) {
+  const MHD_ConnectionInfo* info = MHD_get_connection_info(connection, MHD_CONNECTION_INFO_CLIENT_ADDRESS);
+  if (info == nullptr || info->client_addr == nullptr) return "";
+  char text[INET6_ADDRSTRLEN] = "";
+  const sockaddr* address = info->client_addr;
+  if (address->sa_family == AF_INET) {
+    ::inet_ntop(AF_INET, &reinterpret_cast<const sockaddr_in*>(address)->sin_addr, text, sizeof text);
+  } else if (address->sa_family == AF_INET6) {
+    ::inet_ntop(AF_INET6, &reinterpret_cast<const sockaddr_in6*>(address)->sin6_addr, text, sizeof text);
+  }
+  return text;
+}
+
 }  // namespace
 
 struct StatusServer::Impl {
   StatusBoard& board;
   StatusServerOptions options;
   MHD_Daemon* daemon = nullptr;
+  // the connections held, by the loops' threads: who came when from where, and each one's socket
+  std::mutex connections_lock;
+  ConnectionShedder shedder{options.caps};
+  std::unordered_map<ConnectionShedder::Id, int> sockets;
 
   StatusResponse respond(const std::string& method, const std::string& path, const QueryParams& query) const {
     try {
@@ -125,6 +147,27 @@ struct StatusServer::Impl {
     MHD_get_connection_values(connection, MHD_GET_ARGUMENT_KIND, add_query_param, &query);
     return queue(connection, impl.respond(method, url, query));
   }
+
+  // libmicrohttpd's connection callback, on the loop that took or closes the connection: a new one may shed an old
+  // one. libmicrohttpd 0.9.75 has no call to close a connection from outside its loop, so the shed one's socket is
+  // shut down here and its loop, woken by the end of input, closes it. It is still open: libmicrohttpd calls back
+  // on a close (which takes this lock) before it closes the socket.
+  static void notify(void* self, MHD_Connection* connection, void** context, MHD_ConnectionNotificationCode code) {
+    Impl& impl = *static_cast<Impl*>(self);
+    const std::lock_guard lock(impl.connections_lock);
+    if (code == MHD_CONNECTION_NOTIFY_CLOSED) {
+      const auto id = static_cast<ConnectionShedder::Id>(reinterpret_cast<uintptr_t>(*context));
+      impl.shedder.close(id);
+      impl.sockets.erase(id);
+      return;
+    }
+    const MHD_ConnectionInfo* fd = MHD_get_connection_info(connection, MHD_CONNECTION_INFO_CONNECTION_FD);
+    if (fd == nullptr) return;  // not tracked (its context stays 0)
+    const ConnectionShedder::Admission admission = impl.shedder.open(client_address(connection));
+    impl.sockets.emplace(admission.id, fd->connect_fd);
+    *context = reinterpret_cast<void*>(static_cast<uintptr_t>(admission.id));
+    if (admission.shed) ::shutdown(impl.sockets.at(*admission.shed), SHUT_RDWR);
+  }
 };
 
 StatusServerOptions health_listener_options() {
@@ -132,7 +175,30 @@ StatusServerOptions health_listener_options() {
   options.threads = 2;  // a probe, and one slow answer
   options.idle_timeout = std::chrono::seconds(1);
   options.health_only = true;
+  options.caps = {.total = 256, .per_address = 64};  // probes are few; a crowd here only sheds its own
   return options;
+}
+
+size_t descriptors_needed(const StatusServerOptions& options) {
+  const size_t threads = static_cast<size_t>(std::clamp(options.threads, 1, 16));
+  return options.caps.total + kSheddingInFlight + 1 + 2 * threads;  // each loop: an epoll and an eventfd
+}
+
+bool fit_listeners(uint64_t descriptor_limit, StatusServerOptions& status, StatusServerOptions& health) {
+  const uint64_t share = descriptor_limit / 2;
+  const uint64_t needed = descriptors_needed(status) + descriptors_needed(health);
+  if (needed <= share) return false;
+  // the caps' part of what each needs shrinks; the rest (shedding in flight, sockets of its own) is fixed
+  const uint64_t caps = status.caps.total + health.caps.total;
+  const uint64_t fixed = needed - caps;
+  const uint64_t room = share > fixed ? share - fixed : 0;
+  for (StatusServerOptions* options : {&status, &health}) {
+    ConnectionCaps& c = options->caps;
+    const size_t total = std::max<size_t>(1, static_cast<size_t>(c.total * room / caps));
+    c.per_address = std::max<size_t>(1, c.per_address * total / c.total);
+    c.total = total;
+  }
+  return true;
 }
 
 StatusServer::StatusServer(StatusBoard& board, StatusServerOptions options) : board_(board), options_(options) {}
@@ -159,21 +225,24 @@ Expected<int> StatusServer::start(const std::string& address) {
   const bool ipv6 = found->ai_family == AF_INET6;
   ::freeaddrinfo(found);
 
-  auto impl = std::make_unique<Impl>(Impl{board_, options_, nullptr});
+  auto impl = std::make_unique<Impl>(board_, options_);
   // Event-driven (epoll, a few threads each with its own loop): a connection that trickles its request costs a
   // slot and a buffer, not a thread, so slow clients cannot hold the others' answers; an idle one is closed after
-  // the idle timeout. SO_REUSEADDR (libmicrohttpd's default) but not SO_REUSEPORT, with which a
-  // second coordinator could bind the same port; MSG_NOSIGNAL, so a client that hangs up cannot raise SIGPIPE.
+  // the idle timeout, and the shedder keeps room for new ones. SO_REUSEADDR (libmicrohttpd's default) but not
+  // SO_REUSEPORT, with which a second coordinator could bind the same port; MSG_NOSIGNAL, so a client that hangs up
+  // cannot raise SIGPIPE.
   const auto timeout_s = static_cast<unsigned>(std::max<int64_t>(1, options_.idle_timeout.count()));
   const unsigned threads = static_cast<unsigned>(std::clamp(options_.threads, 1, 16));
+  const auto connection_limit = static_cast<unsigned>(impl->options.caps.total + kSheddingInFlight);
+  const auto address_limit = static_cast<unsigned>(impl->options.caps.per_address + kSheddingInFlight);
   unsigned flags = MHD_USE_INTERNAL_POLLING_THREAD | MHD_USE_EPOLL;
   if (ipv6) flags |= MHD_USE_IPv6;
-  impl->daemon =
-      MHD_start_daemon(flags, static_cast<uint16_t>(where->port), nullptr, nullptr, &Impl::access, impl.get(),
-                       MHD_OPTION_SOCK_ADDR, reinterpret_cast<sockaddr*>(&bind_address), MHD_OPTION_THREAD_POOL_SIZE,
-                       threads, MHD_OPTION_CONNECTION_TIMEOUT, timeout_s, MHD_OPTION_CONNECTION_LIMIT, kMaxConnections,
-                       MHD_OPTION_PER_IP_CONNECTION_LIMIT, kMaxConnectionsPerAddress, MHD_OPTION_URI_LOG_CALLBACK,
-                       &screen_uri, nullptr, MHD_OPTION_NOTIFY_COMPLETED, &request_completed, nullptr, MHD_OPTION_END);
+  impl->daemon = MHD_start_daemon(
+      flags, static_cast<uint16_t>(where->port), nullptr, nullptr, &Impl::access, impl.get(), MHD_OPTION_SOCK_ADDR,
+      reinterpret_cast<sockaddr*>(&bind_address), MHD_OPTION_THREAD_POOL_SIZE, threads, MHD_OPTION_CONNECTION_TIMEOUT,
+      timeout_s, MHD_OPTION_CONNECTION_LIMIT, connection_limit, MHD_OPTION_PER_IP_CONNECTION_LIMIT, address_limit,
+      MHD_OPTION_NOTIFY_CONNECTION, &Impl::notify, impl.get(), MHD_OPTION_URI_LOG_CALLBACK, &screen_uri, nullptr,
+      MHD_OPTION_NOTIFY_COMPLETED, &request_completed, nullptr, MHD_OPTION_END);
   if (impl->daemon == nullptr) return Unexpected{cannot};
   const MHD_DaemonInfo* info = MHD_get_daemon_info(impl->daemon, MHD_DAEMON_INFO_BIND_PORT);
   port_ = info != nullptr ? info->port : where->port;

@@ -16,6 +16,7 @@ process started is killed and the scratch directory removed, also on failure. De
 import argparse
 import os
 import re
+import resource
 import shutil
 import signal
 import socket
@@ -98,17 +99,17 @@ class Processes:
         self.scratch = scratch
         self.started = []
 
-    def start(self, argv, name):
+    def start(self, argv, name, preexec_fn=None):
         err = open(os.path.join(self.scratch, name + ".err"), "wb")
-        process = subprocess.Popen(argv, stdin=subprocess.DEVNULL, stdout=err, stderr=err)
+        process = subprocess.Popen(argv, stdin=subprocess.DEVNULL, stdout=err, stderr=err, preexec_fn=preexec_fn)
         err.close()
         process.log = os.path.join(self.scratch, name + ".err")
         self.started.append(process)
         return process
 
-    def run(self, argv, name):
+    def run(self, argv, name, preexec_fn=None):
         """Runs to its end (at most PROCESS_SECONDS): (exit code, output)."""
-        process = self.start(argv, name)
+        process = self.start(argv, name, preexec_fn)
         try:
             code = process.wait(PROCESS_SECONDS)
         except subprocess.TimeoutExpired:
@@ -430,6 +431,18 @@ def bad_status_address(args, procs, scratch):
     return {"status-address-nonsense": (out, {})}
 
 
+def few_descriptors(args, procs, scratch):
+    """A hard RLIMIT_NOFILE of 1024: the listeners' caps shrink into half of it, with a warning; the run goes on."""
+    def limit():
+        resource.setrlimit(resource.RLIMIT_NOFILE, (1024, 1024))
+
+    code, out = procs.run([args.coordinator, "--config", args.quick, "--run-dir", os.path.join(scratch, "F"),
+                           "--iterations", "0", "--status-address", "127.0.0.1:0", "--quiet"], "few-descriptors",
+                          preexec_fn=limit)
+    expect(code == 0, f"few-descriptors: exit {code}, not 0:\n{out}")
+    return {"few-descriptors": (out, {})}
+
+
 def keygen_refusals(args, procs, scratch):
     """poetctl keygen over an existing pair (exit 1), and --authorize for a coordinator pair (exit 2)."""
     keys = os.path.join(scratch, "keys")
@@ -531,7 +544,7 @@ def main():
     try:
         for case in (refused_configs, bad_command_line, refused_command_lines, refused_first_policies,
                      nothing_to_resume, damaged_checkpoints, refused_run_dirs, config_copy_rewritten, refused_packs,
-                     bad_status_address, keygen_refusals, job_socket_in_use, owned_run):
+                     bad_status_address, few_descriptors, keygen_refusals, job_socket_in_use, owned_run):
             try:
                 seen.update(case(args, procs, scratch))
             except Exception as e:  # a case that fails is reported; the others still run

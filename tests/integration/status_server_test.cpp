@@ -1,22 +1,17 @@
 // Tests coordinator/status/status_server.cpp over real loopback sockets: a StatusServer on an ephemeral port in
 // this process, fed a hand-made run, asked by a real HTTP client (every endpoint, the 404/405/400 rules), by raw
 // TCP (garbage request lines, oversized requests, slow clients that send half a request and sit, 200 slowloris
-// clients on either port while the other clients are answered, requests on a kept-alive connection), and by poetctl run
-// as a real process. Every wait is bounded; TearDown closes every socket, kills every child, stops the server and
-// removes the directory, even when a test fails.
+// clients on either port while the other clients are answered, the oldest connections shed past a cap, requests on
+// a kept-alive connection), and by poetctl run as a real process. Every wait is bounded; TearDown closes every socket,
+// kills every child, stops the server and removes the directory, even when a test fails.
 
 #include "coordinator/status/status_server.h"
 
-#include <arpa/inet.h>
 #include <gtest/gtest.h>
 #include <httplib.h>
-#include <netinet/in.h>
-#include <poll.h>
-#include <sys/socket.h>
 #include <unistd.h>
 
 #include <algorithm>
-#include <cerrno>
 #include <chrono>
 #include <csignal>
 #include <cstring>
@@ -34,6 +29,7 @@
 #include "coordinator/status/status_board.h"
 #include "engine/run_state.h"
 #include "loopback_port.h"
+#include "raw_client.h"
 #include "run_directory/files/run_directory.h"
 #include "scratch_dir.h"
 
@@ -43,8 +39,12 @@ namespace {
 namespace fs = std::filesystem;
 using namespace std::chrono_literals;
 using nlohmann::json;
+using poet::testing::connect_to;
 using poet::testing::contains;
 using poet::testing::read_file;
+using poet::testing::receive;
+using poet::testing::Received;
+using poet::testing::send_all;
 using Clock = std::chrono::steady_clock;
 
 constexpr auto kReadTimeout = 1000ms;  // the server's, in these tests
@@ -77,66 +77,6 @@ RunState demo_state() {
   state.pairs[2].transfers = {{4, 0, true, 150.0}};
   state.next_pair_id = 3;
   return state;
-}
-
-// A TCP connection to 127.0.0.1:port, or -1.
-int connect_to(int port) {
-  const int fd = ::socket(AF_INET, SOCK_STREAM | SOCK_CLOEXEC, 0);
-  if (fd < 0) return -1;
-  sockaddr_in address{};
-  address.sin_family = AF_INET;
-  address.sin_port = htons(static_cast<uint16_t>(port));
-  address.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-  if (::connect(fd, reinterpret_cast<sockaddr*>(&address), sizeof address) != 0) {
-    ::close(fd);
-    return -1;
-  }
-  return fd;
-}
-
-bool send_all(int fd, std::string_view data) {
-  while (!data.empty()) {
-    const ssize_t sent = ::send(fd, data.data(), data.size(), MSG_NOSIGNAL);
-    if (sent < 0 && errno == EINTR) continue;
-    if (sent <= 0) return false;
-    data.remove_prefix(static_cast<size_t>(sent));
-  }
-  return true;
-}
-
-struct Received {
-  std::string data;
-  bool closed = false;  // the peer closed (or reset) the connection within the time
-};
-
-// True when text holds a whole HTTP response: the headers and Content-Length bytes of body.
-bool whole_response(const std::string& text) {
-  const size_t end = text.find("\r\n\r\n");
-  if (end == std::string::npos) return false;
-  const size_t field = text.find("Content-Length: ");
-  if (field == std::string::npos || field > end) return true;
-  return text.size() - (end + 4) >= std::stoul(text.substr(field + 16));
-}
-
-// What the peer sends until it closes the connection (or, with until_response, until one whole response came),
-// for at most `timeout`.
-Received receive(int fd, std::chrono::milliseconds timeout, bool until_response = false) {
-  Received r;
-  const auto deadline = Clock::now() + timeout;
-  while (Clock::now() < deadline && !(until_response && whole_response(r.data))) {
-    pollfd p{fd, POLLIN, 0};
-    const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - Clock::now()).count();
-    if (::poll(&p, 1, static_cast<int>(std::max<int64_t>(left, 1))) <= 0) continue;
-    char buffer[4096];
-    const ssize_t n = ::recv(fd, buffer, sizeof buffer, 0);
-    if (n > 0) {
-      r.data.append(buffer, static_cast<size_t>(n));
-    } else if (n == 0 || errno != EINTR) {
-      r.closed = true;
-      break;
-    }
-  }
-  return r;
 }
 
 using Outcome = poet::testing::ChildOutcome;
@@ -426,50 +366,9 @@ TEST_F(StatusServerTest, MoreSlowClientsThanThreadsDelayNoOneAndAreClosedWhenIdl
     EXPECT_TRUE(receive(fd, std::chrono::duration_cast<std::chrono::milliseconds>(kReadTimeout + kMargin)).closed);
 }
 
-// 200 clients that each send a request line and then a header line every 0.5 s (inside either idle timeout), for as
-// long as they exist: the slowloris attack, which holds a thread-per-connection server's threads as long as it likes.
-class Slowloris {
- public:
-  explicit Slowloris(int port) {
-    for (int i = 0; i < 200; ++i) {
-      fds_.push_back(connect_to(port));
-      if (fds_.back() < 0 || !send_all(fds_.back(), "GET /status HTTP/1.1\r\nHost: x\r\n")) {
-        ADD_FAILURE() << "slow client " << i;
-        break;
-      }
-    }
-    trickle_ = std::jthread([this](std::stop_token stop) {
-      for (int line = 0; !stop.stop_requested(); ++line) {
-        for (int fd : fds_) send_all(fd, "X-Slow-" + std::to_string(line) + ": x\r\n");
-        for (int i = 0; i < 10 && !stop.stop_requested(); ++i) std::this_thread::sleep_for(50ms);
-      }
-    });
-  }
-  // the trickle stops first, then the connections close
-  ~Slowloris() {
-    trickle_.request_stop();
-    trickle_.join();
-    for (int fd : fds_)
-      if (fd >= 0) ::close(fd);
-  }
-  // How many of the connections the server has closed so far (it must not: they keep sending).
-  int closed() const {
-    int n = 0;
-    for (int fd : fds_) {
-      pollfd p{fd, POLLIN, 0};
-      char byte;
-      if (::poll(&p, 1, 0) > 0 && ::recv(fd, &byte, 1, MSG_PEEK | MSG_DONTWAIT) <= 0) n += 1;
-    }
-    return n;
-  }
-
- private:
-  std::vector<int> fds_;
-  std::jthread trickle_;
-};
-
-// The bound: with 200 slowloris clients on either port, /status on the status socket (the coordinator's
-// options) and /healthz on the probes' listener each answer within a second, for longer than the idle timeout.
+// With 200 slowloris clients on either port, /status on the status socket (the coordinator's options) and /healthz
+// on the probes' listener each answer within a second, for longer than the idle timeout; the clients are kept, but
+// for those past the listener's cap for one address, which are shed.
 TEST_F(StatusServerTest, SlowClientsOnEitherPortDelayNoAnswer) {
   StatusServer status(*board_);
   StatusServer health(*board_, health_listener_options());
@@ -478,7 +377,7 @@ TEST_F(StatusServerTest, SlowClientsOnEitherPortDelayNoAnswer) {
   ASSERT_TRUE(status_port) << status_port.error();
   ASSERT_TRUE(health_port) << health_port.error();
   for (const auto& [port, path] : {std::pair{*status_port, "/status"}, std::pair{*health_port, "/healthz"}}) {
-    const Slowloris slow(port);
+    const poet::testing::SlowClients slow(port, 200);
     std::this_thread::sleep_for(500ms);  // so that the server has taken them
     httplib::Client client("127.0.0.1", port);
     client.set_connection_timeout(1, 0);  // kubelet's default probe timeout
@@ -491,13 +390,57 @@ TEST_F(StatusServerTest, SlowClientsOnEitherPortDelayNoAnswer) {
       EXPECT_LT(Clock::now() - started, 1s) << path << " " << i;
       std::this_thread::sleep_for(500ms);
     }
-    EXPECT_EQ(slow.closed(), 0) << "clients that keep sending are kept";
+    // clients that keep sending are kept, up to the listener's cap for one address (the probes' listener's is 64)
+    const ConnectionCaps caps = port == *status_port ? StatusServerOptions{}.caps : health_listener_options().caps;
+    const int kept = slow.size() - slow.closed();
+    EXPECT_LE(kept, std::min<int>(slow.size(), static_cast<int>(caps.per_address))) << path;
+    EXPECT_GE(kept, std::min<int>(slow.size(), static_cast<int>(caps.per_address) - 2)) << path;
   }
   // the listener serves the probes and nothing else
   httplib::Client probe("127.0.0.1", *health_port);
   const httplib::Result other = probe.Get("/status");
   ASSERT_TRUE(other);
   EXPECT_EQ(other->status, 404);
+}
+
+// Past a cap a new connection sheds the oldest: of its own address past the address's cap, else of all; the new one
+// is answered at once, and the connections not shed stay open.
+TEST_F(StatusServerTest, ANewConnectionPastACapShedsTheOldest) {
+  StatusServerOptions small = options();
+  small.caps = {.total = 5, .per_address = 3};
+  small.idle_timeout = 30s;  // whatever closes a connection here is the shedding
+  StatusServer server(*board_, small);
+  const Expected<int> port = server.start("127.0.0.1:0");
+  ASSERT_TRUE(port) << port.error();
+  auto slow = [&](const char* source) {
+    const int fd = connect_to(*port, source);
+    EXPECT_GE(fd, 0) << source;
+    if (fd >= 0) sockets_.push_back(fd);
+    EXPECT_TRUE(send_all(fd, "GET /status HTTP/1.1\r\n"));
+    std::this_thread::sleep_for(20ms);  // taken in this order
+    return fd;
+  };
+  auto shed = [](int fd) { return receive(fd, 1000ms).closed; };
+  const std::vector<int> a = {slow("127.0.0.2"), slow("127.0.0.2"), slow("127.0.0.2")};
+  const int a4 = slow("127.0.0.2");  // past 127.0.0.2's cap: its oldest goes
+  EXPECT_TRUE(shed(a[0]));
+  const std::vector<int> b = {slow("127.0.0.3"), slow("127.0.0.3")};
+  const int c = slow("127.0.0.4");  // past the total: the oldest of all goes
+  EXPECT_TRUE(shed(a[1]));
+  // a probe past the total is answered at once, shedding the next oldest
+  const int probe = connect_to(*port, "127.0.0.5");
+  ASSERT_GE(probe, 0);
+  sockets_.push_back(probe);
+  const auto started = Clock::now();
+  ASSERT_TRUE(send_all(probe, "GET /healthz HTTP/1.1\r\nHost: x\r\n\r\n"));
+  const Received answer = receive(probe, 1000ms, true);
+  EXPECT_TRUE(answer.data.starts_with("HTTP/1.1 200")) << answer.data;
+  EXPECT_LT(Clock::now() - started, 100ms);
+  EXPECT_TRUE(shed(a[2]));
+  for (int fd : {a4, b[0], b[1], c}) EXPECT_FALSE(poet::testing::closed_by_peer(fd)) << "a newer one was shed";
+  for (int fd : sockets_) ::close(fd);  // so that stop need not wait for them
+  sockets_.clear();
+  server.stop();
 }
 
 TEST_F(StatusServerTest, StopIsBoundedAndTheServerStartsAgain) {
