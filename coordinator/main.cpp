@@ -156,6 +156,10 @@ int main(int argc, char** argv) {
   app.add_option("--health-address", options.health_address,
                  "HOST:PORT of a listener that answers /healthz alone, for liveness probes: clients of the status "
                  "socket, however many or slow, cannot delay it (default: none; /healthz is on the status socket too)");
+  app.add_option("--linger", options.linger_seconds,
+                 "A run found finished when opened stays up this long (seconds), telling each worker that connects "
+                 "that the run is finished, so that workers an orchestrator starts beside it exit too (default 0)")
+      ->check(CLI::Range(0, 3600));
   app.add_option("--curve-keys", options.curve_keys,
                  "CURVE authentication: DIR holds coordinator.key(_secret) and authorized/*.key, the workers' public "
                  "keys (made by `poetctl keygen`); workers without an authorised key get no connection")

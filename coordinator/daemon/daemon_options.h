@@ -32,6 +32,9 @@ struct DaemonOptions {
   std::string curve_keys;                                  // CURVE key directory; empty: no authentication
   std::string start_from;                 // a policy file for the first pair's θ; empty: the init stream
   std::optional<double> verify_fraction;  // default: kListenVerifyFraction with --listen and no CURVE
+  // A run found finished when opened stays up this long, telling each worker that connects that the run is finished
+  // (seconds; 0: exit at once). Workers started beside it by an orchestrator would otherwise wait for it for ever.
+  int linger_seconds = 0;
 };
 
 }  // namespace poet

@@ -2,7 +2,9 @@
 
 #include <spdlog/spdlog.h>
 
+#include <condition_variable>
 #include <cstdio>
+#include <mutex>
 #include <optional>
 #include <string>
 #include <variant>
@@ -68,6 +70,7 @@ class RunLoop {
         progress_(!options.quiet),
         phase_timer_([this] { return elapsed(); }),
         saved_iteration_(state().next_iteration),
+        finished_when_opened_(run_complete(state())),
         verified_(rollouts.remote && rollouts.remote->verifies()) {}
 
   // Iterations until the run is complete or a stop is asked for; then the shutdown. The process's exit code.
@@ -150,9 +153,22 @@ class RunLoop {
     if (rollouts_.remote) {
       rollouts_.remote->on_snapshot(nullptr);
       rollouts_.remote->shutdown_workers("the run is finished");
+      if (finished_when_opened_ && options_.linger_seconds > 0) linger();
     }
     print_summary(state(), elapsed());
     return 0;
+  }
+
+  // A run that was finished when opened: the workers an orchestrator starts beside it (Compose starts them once
+  // /healthz answers) would try to reach a coordinator for ever; for --linger seconds each one that connects is told
+  // the run is finished and exits 0. A stop request ends the wait.
+  void linger() {
+    spdlog::info("the run was finished already; workers that connect in the next {} s are told so, then this exits",
+                 options_.linger_seconds);
+    std::mutex mutex;
+    std::condition_variable_any stopped;
+    std::unique_lock lock(mutex);
+    stopped.wait_for(lock, signals_.token(), std::chrono::seconds(options_.linger_seconds), [] { return false; });
   }
 
   // With verification, the checkpoint just written, kept in memory while a rollback may need it.
@@ -252,6 +268,7 @@ class RunLoop {
   PhaseSeconds phase_totals_{};  // this process's, for /metrics
   double waiting_total_ = 0;     // the same
   int saved_iteration_;
+  const bool finished_when_opened_;  // nothing to run: the process only lingers (--linger) for its workers
   CheckpointAnchors anchors_;
   // the run's wall time stays the machine's time after going back: the times of the iterations given up are in it
   double wall_offset_ = 0;

@@ -486,7 +486,8 @@ def check_compose_config(args):
         check.finish("compose_config")
 
     env = {"POET_CONFIG": "es_alone", "POET_ITERATIONS": "7", "POET_JOB_PORT": "6101", "POET_STATUS_PORT": "6102",
-           "POET_HEALTH_PORT": "6103", "POET_WORKER_THREADS": "3", "POET_IMAGE": "example/poet:test", "POET_START_FROM": ""}
+           "POET_HEALTH_PORT": "6103", "POET_WORKER_THREADS": "3", "POET_IMAGE": "example/poet:test", "POET_START_FROM": "",
+           "POET_WORKERS": "5"}
     for files, label in ((base, "docker-compose.yml"), (both, "docker-compose.yml + docker-compose.curve.yml")):
         config = compose_config(files, env)
         services = config.get("services", {})
@@ -508,6 +509,16 @@ def check_compose_config(args):
         check.expect(endpoint_port(health) == 6103,
                      f"{label}: POET_HEALTH_PORT does not set --health-address ({health})")
         check.expect(flag_value(w_argv, "--threads") == "3", f"{label}: POET_WORKER_THREADS does not set --threads")
+        # the scale every `up` keeps (Compose v1 and v2 both read `scale:`; v1 reads deploy.replicas only with
+        # --compatibility)
+        check.expect(str(worker.get("scale")) == "5" and "replicas" not in (worker.get("deploy") or {}),
+                     f"{label}: POET_WORKERS does not set the workers' scale: {worker.get('scale')}")
+        # a run directory per preset: another POET_CONFIG is a run of its own on the same volume, not a refusal
+        check.expect(flag_value(c_argv, "--run-dir") == "/var/lib/poet/runs/es_alone",
+                     f"{label}: the run directory is not /var/lib/poet/runs/POET_CONFIG: {c_argv}")
+        # a finished run opened again tells the workers started beside it, so that `up` on it ends
+        check.expect(int(flag_value(c_argv, "--linger") or 0) > 0,
+                     f"{label}: the coordinator does not linger on a finished run for its workers: {c_argv}")
         check.expect(coordinator.get("image") == worker.get("image") == "example/poet:test",
                      f"{label}: the services do not share the image POET_IMAGE names")
         ports = published_ports(coordinator)
@@ -524,9 +535,10 @@ def check_compose_config(args):
         url = next((a for a in hc if a.startswith("http")), "")
         check.expect(url.endswith("/healthz") and endpoint_port(url) == 6103,
                      f"{label}: the coordinator's healthcheck does not ask /healthz on the health port: {hc}")
-        check.expect(coordinator.get("restart") in ("on-failure", "always", "unless-stopped") or
-                     str(coordinator.get("restart", "")).startswith("on-failure"),
-                     f"{label}: the coordinator has no restart policy")
+        # a crash is resumed; a refusal (exit 2) would fail again at every restart, so the retries are bounded
+        check.expect(re.fullmatch(r"on-failure:[1-9]\d*", str(coordinator.get("restart", ""))) is not None,
+                     f"{label}: the coordinator's restart policy is not a bounded on-failure:N: "
+                     f"{coordinator.get('restart')}")
         check.expect(duration_seconds(coordinator.get("stop_grace_period", "0s")) >= 30,
                      f"{label}: the coordinator's stop_grace_period is under 30 s: "
                      f"{coordinator.get('stop_grace_period')}")
@@ -734,9 +746,14 @@ def check_references(args, binaries):
     users = dockerfile.instructions(final, "USER")
     check.expect(bool(users) and users[-1].split(":")[0] not in ("root", "0"),
                  f"Dockerfile: the runtime stage runs as {users[-1] if users else 'root'}")
+    # no VOLUME: each container of the image (every worker, every tool) would get an anonymous volume; the run
+    # directories' volumes are mounted on directories the image makes and gives to its user
+    check.expect(not dockerfile.instructions(final, "VOLUME"),
+                 "Dockerfile: the runtime stage declares a VOLUME, which gives every container an anonymous volume")
     volumes = []
-    for v in dockerfile.instructions(final, "VOLUME"):
-        volumes += yaml.safe_load(v) if v.startswith("[") else v.split()
+    for run in final_runs:
+        for m in re.finditer(r"chown\s+(?:-R\s+)?\S+\s+((?:/\S+\s*)+)", run):
+            volumes += m.group(1).split()
     exposed = set()
     for e in dockerfile.instructions(final, "EXPOSE"):
         exposed |= {int(p.split("/")[0]) for p in e.split()}
@@ -818,7 +835,7 @@ def check_references(args, binaries):
             for _, target, named in volume_mounts(service):
                 if named:
                     check.expect(target in volumes, f"{label} {service_name}: the named volume at {target} is not a "
-                                                    f"VOLUME of the image ({volumes})")
+                                                    f"directory the image gives its user ({volumes})")
             for _, _, port in published_ports(service):
                 check.expect(port in exposed, f"{label} {service_name}: port {port} is not EXPOSEd by the image")
     for name, docs in load_manifests(os.path.join(args.source, "deploy", "k8s")).items():
@@ -833,7 +850,8 @@ def check_references(args, binaries):
                 for m in c.get("volumeMounts", []) or []:
                     if m["mountPath"].startswith("/var/lib/poet"):
                         check.expect(m["mountPath"] in volumes,
-                                     f"k8s/{name}: {m['mountPath']} is not a VOLUME of the image ({volumes})")
+                                     f"k8s/{name}: {m['mountPath']} is not a directory the image gives its user "
+                                     f"({volumes})")
     check.finish("references")
 
 
