@@ -41,6 +41,7 @@ Expected<std::string> read_key_file(const std::filesystem::path& path) {
   if (!text) return Unexpected{path.string() + ": " + text.error()};
   std::string key = std::move(*text);
   if (key.ends_with('\n')) key.pop_back();
+  if (key.ends_with('\r')) key.pop_back();  // a file written on Windows, or copied through it
   if (!is_z85_key(key))
     return Unexpected{path.string() + ": not a CURVE key (expected 40 characters of Z85 text on one line)"};
   return key;

@@ -34,6 +34,8 @@ test_packages=(
   python3-pytest python3-pandas python3-matplotlib
   # the documentation site (mkdocs.yml): built with --strict by the tests, so a broken link or anchor fails them
   mkdocs mkdocs-material
+  # the cluster tests: hosts as network namespaces on a bridge, links cut and shaped (ip, tc)
+  iproute2
 )
 
 runtime_packages=(

@@ -10,8 +10,9 @@ std::optional<std::string> handshake_failure(uint16_t event, uint32_t value, boo
   switch (event) {
     case ZMQ_EVENT_HANDSHAKE_FAILED_AUTH:
       return fmt::format(
-          "the coordinator at {} refused this worker's CURVE key (ZAP status {}): its public key must be in the "
-          "coordinator's authorized/ folder",
+          "the coordinator at {} refused this worker's CURVE key (ZAP status {}): its public key is not in the "
+          "coordinator's authorized/ folder, or a worker holding it returned wrong results in this run (the "
+          "coordinator's log says which)",
           endpoint, value);
     case ZMQ_EVENT_HANDSHAKE_FAILED_PROTOCOL:
       // a ZeroMQ peer with another security mechanism: CURVE on one side only

@@ -39,16 +39,22 @@ std::vector<BatchResults::Range> BatchResults::withdraw(const WorkerId& from) {
   for (size_t t = 0; t < from_.size(); ++t) {
     if (!redo(t)) continue;
     size_t end = t;
-    while (end < from_.size() && redo(end)) {
-      have_[end] = false;
-      from_[end].clear();
-      remaining_ += 1;
-      ++end;
-    }
+    while (end < from_.size() && redo(end)) unset(end++);
     ranges.emplace_back(t, end);
     t = end - 1;
   }
   return ranges;
+}
+
+void BatchResults::reopen(size_t first, size_t end) {
+  for (size_t t = first; t < end; ++t)
+    if (have_[t] && !final_[t]) unset(t);
+}
+
+void BatchResults::unset(size_t task) {
+  have_[task] = false;
+  from_[task].clear();
+  remaining_ += 1;
 }
 
 std::vector<BatchResults::Range> BatchResults::take_ready_ranges(bool whole) {

@@ -25,6 +25,11 @@ class BatchResults {
   void put(size_t first, std::span<const RolloutResult> results, const WorkerId& from, bool final_now);
   // The results `from` gave that are not final yet are withdrawn: the ranges of tasks to compute again, in order.
   std::vector<Range> withdraw(const WorkerId& from);
+  // Who answered a task (empty: no result), and whether its result is final.
+  const WorkerId& from(size_t task) const { return from_[task]; }
+  bool is_final(size_t task) const { return final_[task]; }
+  // Tasks [first, end), each with a result not final, are without one again: their answer is disputed.
+  void reopen(size_t first, size_t end);
   // The ranges that became final since the last call; with `whole` (the batch is done), every result held back
   // becomes final first.
   std::vector<Range> take_ready_ranges(bool whole);
@@ -40,6 +45,8 @@ class BatchResults {
   std::vector<bool> final_;     // in a ready range already
   size_t remaining_ = 0;
   std::vector<Range> ready_;
+
+  void unset(size_t task);  // no result any more
 };
 
 }  // namespace poet

@@ -31,7 +31,7 @@ wire::CoordinatorMessage Dispatcher::on_hello(const WorkerId& id, const wire::He
   wire::CoordinatorMessage reply;
   if (ledger_.refused(id)) {
     count_drop(DropReason::kWrongWorker);
-    reply.mutable_refused()->set_reason("this worker returned wrong results");
+    reply.mutable_refused()->set_reason("this worker was refused for wrong results");
     return reply;
   }
   if (hello.protocol_version() != wire::PROTOCOL_VERSION) {
@@ -171,6 +171,7 @@ void Dispatcher::on_result(const WorkerId& id, const wire::Result& result, Milli
   }
   workers_.prove(w);  // alive and answering; whether it computes right is its probation's to say
   w.view.jobs_done += 1;
+  if (verification_.on_probation(w.view)) w.view.probation_answers += 1;
   w.view.results_done += static_cast<int64_t>(parsed->size());
   if (holds) jobs_.finished_in(took);  // a result taken back from an expired lease says nothing of job times
   on_answer(w, j, std::move(*parsed));
@@ -178,16 +179,59 @@ void Dispatcher::on_result(const WorkerId& id, const wire::Result& result, Milli
 
 void Dispatcher::on_unexpected_result(RegisteredWorker* worker, const wire::Result& result) {
   // a job its backup finished first; or a stranger, or a job this worker no longer holds (re-queued, or done)
-  const bool late = worker != nullptr && worker->beaten.erase(result.job_id()) > 0;
-  count_drop(late ? DropReason::kLateResult : DropReason::kUnexpectedResult);
+  std::optional<std::pair<size_t, size_t>> beaten;
+  if (worker != nullptr) {
+    if (const auto it = worker->beaten.find(result.job_id()); it != worker->beaten.end()) {
+      beaten = it->second;
+      worker->beaten.erase(it);
+    }
+  }
+  count_drop(beaten ? DropReason::kLateResult : DropReason::kUnexpectedResult);
   // the answer to its trial, come after its batch ended
   const bool trial = worker != nullptr && worker->trial_since && worker->trial_job == result.job_id();
-  if (!late && !trial) return;
+  if (!beaten && !trial) return;
   // a late answer still shows the worker alive and answering when it parses (a new worker beaten at every batch's
   // tail by proven ones would otherwise never be proven, and one whose trial outlived its batch would be demoted)
   worker->trial_since.reset();
   if (!result.has_error() && result.results_size() > 0 && parse_results(result, result.results_size()))
     workers_.prove(*worker);
+  if (beaten) compare_late(worker->view.id, beaten->first, beaten->second, result);  // last: it may refuse the worker
+}
+
+void Dispatcher::compare_late(const WorkerId id, size_t begin, size_t end, const wire::Result& result) {
+  if (!verification_.enabled() || !batch_active_ || batch_done() || result.has_error()) return;
+  // the results taken must still be one answer's, whole: not redone since, in other jobs
+  const WorkerId taken_from = results_.from(begin);
+  const bool taken_final = results_.is_final(begin);
+  for (size_t t = begin; t < end; ++t)
+    if (!results_.has(t) || results_.from(t) != taken_from || results_.is_final(t) != taken_final) return;
+  std::optional<std::vector<RolloutResult>> late = parse_results(result, end - begin);
+  const RegisteredWorker* worker = workers_.find(id);
+  if (!late || worker == nullptr) return;
+  const std::span<const RolloutResult> taken_results = results_.results(begin, end);
+  Answer taken{taken_from, {taken_results.begin(), taken_results.end()}};
+  Answer answer{id, std::move(*late)};
+  // results that are final were checked, or came from a local worker or the coordinator: they decide, as a local
+  // worker's answer does; otherwise the late answer is judged against the one taken, as a second answer is
+  const Verdict verdict = taken_final ? verification_.judge({answer}, taken, /*incoming_local=*/true)
+                                      : verification_.judge({taken}, answer, worker->view.local);
+  switch (verdict.kind) {
+    case Verdict::Kind::kTake:
+      for (const WorkerId& passed : verdict.passed) workers_.pass_check(passed);
+      if (!verdict.wrong) workers_.checked_since(taken_from);
+      // the taken answer found wrong: its results not final are withdrawn and computed again (refuse_wrong)
+      if (verdict.wrong) refuse_wrong(*verdict.wrong);
+      return;
+    case Verdict::Kind::kHold: {  // two answers that differ: the tasks go out again, for a third to decide
+      results_.reopen(begin, end);
+      OpenJob& job = jobs_.add(begin, end, 0, verification_.chosen(batch_id_, begin, end));
+      job.answers = {std::move(taken), std::move(answer)};
+      jobs_.enqueue_front(job);
+      return;
+    }
+    case Verdict::Kind::kThreeWays:  // not with one answer held
+      return;
+  }
 }
 
 bool Dispatcher::refused_by_enough(const OpenJob& job) const {
@@ -223,6 +267,7 @@ void Dispatcher::on_answer(RegisteredWorker& worker, OpenJob& job, std::vector<R
   if (!verification_.needs_check(job.verify, worker.view, !job.answers.empty())) {
     const bool final_now = verification_.final_unchecked(worker.view);
     if (!final_now) ledger_.note_unchecked(worker.view.id, batch_id_);
+    workers_.took_answer(worker.view.id, /*checked=*/false);
     accept(job, results, worker.view.id, final_now);
     return;
   }
@@ -242,6 +287,7 @@ void Dispatcher::on_answer(RegisteredWorker& worker, OpenJob& job, std::vector<R
       for (const WorkerId& id : verdict.passed) workers_.pass_check(id);
       // refused first: its results held back must not become final with this job, which may be the batch's last
       if (verdict.wrong) refuse_wrong(*verdict.wrong);
+      workers_.took_answer(verdict.credited, /*checked=*/true);
       accept(job, answer.results, verdict.credited, true);  // ends the job
       return;
   }
@@ -253,14 +299,21 @@ void Dispatcher::accept(OpenJob& job, const std::vector<RolloutResult>& results,
     RegisteredWorker* holder = workers_.find(other.worker);
     if (holder == nullptr) continue;
     holder->jobs.erase(job.id);
-    holder->beaten.insert(job.id);
+    holder->beaten[job.id] = {job.begin, job.end};
   }
   jobs_.erase(job.id);
 }
 
-void Dispatcher::refuse_wrong(const WorkerId id, const char* why) {  // a copy: the answers it may name are erased
+void Dispatcher::refuse_wrong(const WorkerId id, const std::string& why) {  // a copy: the answers naming it go
   const RegisteredWorker* worker = workers_.find(id);
-  if (!ledger_.refuse(id, worker != nullptr ? worker->view.name : id, batch_id_)) return;
+  if (!ledger_.refuse(id, {worker != nullptr ? worker->view.name : peer_id_text(id), why}, batch_id_)) return;
+  if (worker != nullptr) {
+    WorkerView shown = worker->view;
+    shown.trust = Trust::kRefused;
+    shown.jobs_held = 0;
+    refused_views_.push_back(std::move(shown));
+    if (refused_views_.size() > kMaxRefusedShown) refused_views_.pop_front();
+  }
   // its answers awaiting a check are worth nothing: those jobs wait for answers from others
   for (auto& [job_id, job] : jobs_.open()) {
     const size_t before = job.answers.size();
@@ -269,7 +322,7 @@ void Dispatcher::refuse_wrong(const WorkerId id, const char* why) {  // a copy: 
   }
   if (worker != nullptr) {
     Outgoing refusal{id, {}};
-    refusal.message.mutable_refused()->set_reason(why);
+    refusal.message.mutable_refused()->set_reason("this worker " + why);
     refusals_.push_back(std::move(refusal));
     remove_worker(id, /*died=*/false);
   }
@@ -378,6 +431,8 @@ bool Dispatcher::awaits_coordinator(uint64_t batch_id, uint64_t job_id) const {
   return batch_active_ && batch_id == batch_id_ && jobs_.contains(job_id);
 }
 
+void Dispatcher::refuse(const WorkerId& id, const std::string& why) { refuse_wrong(id, why); }
+
 void Dispatcher::settle_by_coordinator(uint64_t batch_id, uint64_t job_id, const std::vector<RolloutResult>& results) {
   if (!batch_active_ || batch_id != batch_id_) return;
   OpenJob* job = jobs_.find(job_id);
@@ -387,7 +442,7 @@ void Dispatcher::settle_by_coordinator(uint64_t batch_id, uint64_t job_id, const
   for (const WorkerId& id : verdict.passed) workers_.pass_check(id);
   // refused first: their results held back must not become final with this job, which may be the batch's last
   for (const WorkerId& id : verdict.wrong)
-    refuse_wrong(id, "this worker returned results that the coordinator, computing them itself, did not");
+    refuse_wrong(id, "returned results that the coordinator, computing them itself, did not");
   accept(*job, results, kCoordinatorAnswer, true);  // ends the job
 }
 
@@ -424,8 +479,10 @@ void Dispatcher::outgoing(Millis now, const std::function<void(Outgoing&&)>& del
     assigned = false;
     for (RegisteredWorker* held : workers_.in_order()) {
       RegisteredWorker& worker = *held;
-      // a worker not yet proven holds one job at a time; a demoted one none
-      const size_t room = worker.view.proven ? static_cast<size_t>(settings_.jobs_ahead) : 1;
+      // a worker not yet proven holds one job at a time, and so does one on probation (its answers wait for checks:
+      // its probation ends within about probation_checks of its jobs, not twice that); a demoted one none
+      const bool one_at_a_time = !worker.view.proven || verification_.on_probation(worker.view);
+      const size_t room = one_at_a_time ? 1 : static_cast<size_t>(settings_.jobs_ahead);
       if (!worker.ready || worker.view.demoted || worker.jobs.size() >= room) continue;
       if (!worker.view.proven && worker.trial_since) continue;  // a job of an earlier batch still unanswered
       for (size_t places = fill_at_once ? room - worker.jobs.size() : 1; places > 0; --places) {
@@ -503,6 +560,7 @@ std::vector<std::pair<size_t, size_t>> Dispatcher::take_ready_ranges() {
 DispatchView Dispatcher::view(Millis now) const {
   DispatchView v;
   v.workers = workers();
+  v.refused.assign(refused_views_.begin(), refused_views_.end());
   v.at = now;
   v.ready_workers = ready_workers();
   v.queue_depth = queue_depth();
@@ -514,10 +572,23 @@ DispatchView Dispatcher::view(Millis now) const {
   v.leases_expired = leases_expired();
   v.workers_demoted = workers_demoted();
   v.verified_jobs = verified_jobs();
-  v.wrong_workers = static_cast<int64_t>(ledger_.names().size());
+  v.wrong_workers = static_cast<int64_t>(ledger_.refusals().size());
   v.coordinator_checks = coordinator_checks();
   v.rollbacks = ledger_.rollbacks();
   return v;
+}
+
+std::vector<WorkerView> Dispatcher::workers() const {
+  std::vector<WorkerView> views = workers_.views();
+  for (WorkerView& view : views) {
+    if (view.demoted)
+      view.trust = Trust::kDemoted;
+    else if (!view.proven)
+      view.trust = Trust::kTrial;
+    else
+      view.trust = verification_.on_probation(view) ? Trust::kProbation : Trust::kProven;
+  }
+  return views;
 }
 
 std::string Dispatcher::describe_task(size_t index) const {

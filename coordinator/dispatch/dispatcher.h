@@ -26,19 +26,25 @@
 // Verification. With verify_fraction > 0, every answer of a worker on probation (not local, and fewer than
 // probation_checks of its answers checked and found right) and a fraction of the other answers of workers that are
 // not local are also computed by a second, different, proven worker (one that never answered might sit on it), and
-// the results must match bit for bit; on a mismatch a third run decides (a local worker's answer decides at once).
+// the results must match bit for bit; on a mismatch a third run decides (a local worker's answer decides at once). An
+// answer held for a check is compared with the job's next answer, whoever gives it, and the answer of a holder beaten
+// to a job by another comes late and is compared with the results taken: so a worker that joins after the others
+// are past probation is checked on each of its first answers, whether or not a proven worker finishes its job first,
+// and leaves probation after about probation_checks jobs.
 // Which jobs are checked is drawn from verify_secret, the batch and the job's tasks: a worker that does not know
 // the secret cannot tell which of its answers will be checked, so one lying on k answers after probation goes
 // unnoticed with probability (1 - verify_fraction)^k whichever it chooses. An answer that no connected worker can
 // check (or whose check was held past the lease), or two that differ with no third worker to decide, go to the
 // coordinator (take_coordinator_checks), whose own results decide as a local worker's do. The worker found wrong is
 // refused from then on (Refused, and its Hellos), and every result of the batch taken from it and not yet reported
-// final is computed again. Unchecked answers of workers that are not local are reported final (take_ready_ranges) only
-// once the batch is whole, as a wrong one may still be found; once they are, only going back to a state computed before
-// them undoes them: take_rollback names the first batch to compute again when a worker refused had unchecked answers
-// made final.
+// final is computed again; refuse() does the same to a peer the caller finds shares its identity (a CURVE key). Each
+// worker's trust (dispatch_view.h) is shown with the checks it passed and the answers taken from it. Unchecked answers
+// of workers that are not local are reported final (take_ready_ranges) only once the batch is whole, as a wrong one may
+// still be found; once they are, only going back to a state computed before them undoes them: take_rollback names the
+// first batch to compute again when a worker refused had unchecked answers made final.
 
 #include <cstdint>
+#include <deque>
 #include <functional>
 #include <map>
 #include <optional>
@@ -115,6 +121,10 @@ class Dispatcher {
   // third worker is, those that agree pass a check, and the results are final. Ignored when the job was settled
   // meanwhile or its batch is over.
   void settle_by_coordinator(uint64_t batch_id, uint64_t job_id, const std::vector<RolloutResult>& results);
+  // Refuses a worker, or a peer not registered yet, as one found wrong is (told why, its Hellos refused, its results
+  // not final redone, the run sent back when unchecked ones became final): the caller found it shares the identity
+  // of a worker found wrong (its CURVE key).
+  void refuse(const WorkerId& id, const std::string& why);  // why: "holds ...", after "this worker"
 
   // Going back. batch_id() is the batch started last (0: none yet). take_rollback: the first batch whose final
   // results may hold a lie — a worker was refused after unchecked answers of its from that batch on became final —
@@ -155,8 +165,8 @@ class Dispatcher {
   size_t ready_workers() const { return workers_.ready(); }  // those that may be sent jobs
   int64_t queue_depth() const { return static_cast<int64_t>(jobs_.queued().size()); }
   int64_t in_flight() const { return workers_.jobs_held(); }
-  std::vector<WorkerView> workers() const { return workers_.views(); }
-  DispatchView view(Millis now) const;  // the workers and every counter below, for the status socket
+  std::vector<WorkerView> workers() const;  // connected, in the order they said Hello, each with its trust
+  DispatchView view(Millis now) const;      // the workers and every counter below, for the status socket
   // Frames and Hellos refused or dropped, by reason's name (drop_reason.h).
   const std::map<std::string, int64_t>& dropped() const { return dropped_; }
   int64_t workers_joined() const { return workers_.joined(); }       // Welcomes given
@@ -171,8 +181,8 @@ class Dispatcher {
   // jobs settled by the coordinator's own answer
   int64_t coordinator_checks() const { return verification_.coordinator_checks(); }
   int64_t rollbacks() const { return ledger_.rollbacks(); }  // times take_rollback asked to go back
-  // Workers refused for a wrong result, with their names, in order (the log and /metrics read them).
-  const std::vector<std::string>& wrong_workers() const { return ledger_.names(); }
+  // Workers refused for a wrong result, with their names and why, in order (the log and /metrics read them).
+  const std::vector<Refusal>& wrong_workers() const { return ledger_.refusals(); }
   const std::set<WorkerId>& refused_workers() const { return ledger_.refused_ids(); }  // the same, by routing id
   void count_drop(DropReason reason) { dropped_[name(reason)] += 1; }
   const DispatchSettings& settings() const { return settings_; }
@@ -202,9 +212,13 @@ class Dispatcher {
   // A valid answer: taken, held for a check, compared, or deciding between two.
   void on_answer(RegisteredWorker& worker, OpenJob& job, std::vector<RolloutResult> results);
   void accept(OpenJob& job, const std::vector<RolloutResult>& results, const WorkerId& from, bool final_now);
-  // Refuses a worker found wrong: removed, its Hellos refused (told why), and the batch's results taken from it
-  // redone.
-  void refuse_wrong(WorkerId id, const char* why = "this worker returned results that two other workers did not");
+  // Refuses a worker found wrong: removed, its Hellos refused (told why: "this worker " + why), and the batch's
+  // results taken from it redone.
+  void refuse_wrong(WorkerId id, const std::string& why = "returned results that two other workers did not");
+  // The answer of a holder beaten to job [begin, end) by another, come while the batch runs: judged against the
+  // results taken, as a second answer is (so a newcomer whose trial a proven worker finished first is checked all
+  // the same); two that differ send the tasks out again for a third answer to decide.
+  void compare_late(WorkerId id, size_t begin, size_t end, const wire::Result& result);
   // Jobs awaiting an answer to check against that no connected worker can give go to the coordinator
   // (take_coordinator_checks); jobs refused by every proven worker connected stop the run.
   void check_unanswerable(Millis now);
@@ -235,6 +249,7 @@ class Dispatcher {
   int64_t coordinator_checks_waiting_ = 0;
   std::vector<uint64_t> to_coordinator_;  // jobs to hand to the coordinator (take_coordinator_checks)
   std::vector<Outgoing> refusals_;        // Refused messages to send
+  std::deque<WorkerView> refused_views_;  // the workers refused, as they were, the latest kMaxRefusedShown
 };
 
 }  // namespace poet

@@ -4,14 +4,14 @@
 
 namespace poet {
 
-bool RefusalLedger::refuse(const WorkerId& id, const std::string& name, uint64_t current) {
+bool RefusalLedger::refuse(const WorkerId& id, Refusal refusal, uint64_t current) {
   if (!refused_.insert(id).second) return false;
   // unchecked answers of an earlier batch are final: the run must go back to before them
   if (const auto since = unchecked_since_.find(id); since != unchecked_since_.end()) {
     if (since->second < current && (!rollback_from_ || since->second < *rollback_from_)) rollback_from_ = since->second;
     unchecked_since_.erase(since);
   }
-  names_.push_back(name);
+  refusals_.push_back(std::move(refusal));
   return true;
 }
 

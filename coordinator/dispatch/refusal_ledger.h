@@ -1,7 +1,7 @@
 #pragma once
 // What verification remembers across batches: the workers refused for wrong results (by routing id, and their
-// names in order), and for each worker that may still be found wrong the first batch in which an unchecked answer
-// of its became final — so that refusing it says how far back the run must go (a rollback, asked for once).
+// names and why in order), and for each worker that may still be found wrong the first batch in which an unchecked
+// answer of its became final — so that refusing it says how far back the run must go (a rollback, asked for once).
 
 #include <cstdint>
 #include <functional>
@@ -15,12 +15,18 @@
 
 namespace poet {
 
+// A worker refused, for people: its name and why ("returned results that ...", read after its name).
+struct Refusal {
+  std::string name;
+  std::string why;
+};
+
 class RefusalLedger {
  public:
   bool refused(const WorkerId& id) const { return refused_.contains(id); }
   // Refuses a worker found wrong while batch `current` runs; false if it was refused already. Unchecked answers of
   // an earlier batch made final mean the run must go back to before that batch (take_rollback).
-  bool refuse(const WorkerId& id, const std::string& name, uint64_t current);
+  bool refuse(const WorkerId& id, Refusal refusal, uint64_t current);
   // An unchecked answer of this worker became final in `batch` (the first one counts).
   void note_unchecked(const WorkerId& id, uint64_t batch) { unchecked_since_.emplace(id, batch); }
   // Workers that can no longer be found wrong (gone, with nothing held) are forgotten.
@@ -32,12 +38,12 @@ class RefusalLedger {
   std::vector<uint64_t> unchecked_since() const;
 
   const std::set<WorkerId>& refused_ids() const { return refused_; }
-  const std::vector<std::string>& names() const { return names_; }  // of the refused, in order
-  int64_t rollbacks() const { return rollbacks_; }                  // times take_rollback asked to go back
+  const std::vector<Refusal>& refusals() const { return refusals_; }  // in order
+  int64_t rollbacks() const { return rollbacks_; }                    // times take_rollback asked to go back
 
  private:
   std::set<WorkerId> refused_;
-  std::vector<std::string> names_;
+  std::vector<Refusal> refusals_;
   std::map<WorkerId, uint64_t> unchecked_since_;
   std::optional<uint64_t> rollback_from_;
   int64_t rollbacks_ = 0;

@@ -27,7 +27,7 @@ bool Verification::on_probation(const WorkerView& worker) const {
 }
 
 bool Verification::needs_check(bool job_chosen, const WorkerView& worker, bool answers_held) const {
-  return (job_chosen || on_probation(worker)) && (!worker.local || answers_held);
+  return answers_held || ((job_chosen || on_probation(worker)) && !worker.local);
 }
 
 Verdict Verification::judge(const std::vector<Answer>& held, const Answer& incoming, bool incoming_local) {

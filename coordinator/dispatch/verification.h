@@ -53,8 +53,10 @@ class Verification {
   // Whether the job of tasks [begin, end) of `batch` is chosen for a check.
   bool chosen(uint64_t batch, size_t begin, size_t end) const;
   bool on_probation(const WorkerView& worker) const;
-  // Whether this worker's answer to a job needs another worker's: the job was chosen or the worker is on
-  // probation, and the worker is not local (a local worker's answer is checked only against one held already).
+  // Whether this worker's answer to a job is judged against another's rather than taken: an answer is held for the
+  // job already (it is compared with the next, whoever gives it: the only check a newcomer gets when the proven
+  // worker that backs its job up answers second), or the job was chosen or the worker is on probation and the
+  // worker is not local.
   bool needs_check(bool job_chosen, const WorkerView& worker, bool answers_held) const;
   // An answer taken without a check is final at once only from a local worker, or with verification off.
   bool final_unchecked(const WorkerView& worker) const { return !enabled() || worker.local; }

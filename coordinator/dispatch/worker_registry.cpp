@@ -72,6 +72,18 @@ void WorkerRegistry::pass_check(const WorkerId& id) {
   if (RegisteredWorker* worker = find(id)) worker->view.checks_passed += 1;
 }
 
+void WorkerRegistry::took_answer(const WorkerId& id, bool checked) {
+  RegisteredWorker* worker = find(id);
+  if (worker == nullptr) return;
+  worker->view.answers_taken += 1;
+  if (!checked) worker->view.answers_taken_unchecked += 1;
+}
+
+void WorkerRegistry::checked_since(const WorkerId& id) {
+  RegisteredWorker* worker = find(id);
+  if (worker != nullptr && worker->view.answers_taken_unchecked > 0) worker->view.answers_taken_unchecked -= 1;
+}
+
 void WorkerRegistry::sent_job(RegisteredWorker& worker, uint64_t job_id, Millis now) {
   worker.jobs.insert(job_id);
   if (!worker.view.proven && !worker.trial_since) {

@@ -7,9 +7,11 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <map>
 #include <optional>
 #include <set>
 #include <unordered_map>
+#include <utility>
 #include <vector>
 
 #include "coordinator/dispatch/dispatch_view.h"
@@ -18,8 +20,9 @@ namespace poet {
 
 struct RegisteredWorker {
   WorkerView view;
-  std::set<uint64_t> jobs;         // held
-  std::set<uint64_t> beaten;       // held, then finished by another holder first: its result is late
+  std::set<uint64_t> jobs;  // held
+  // held, then finished by another holder first: its result is late, and compared with the one taken (its tasks)
+  std::map<uint64_t, std::pair<size_t, size_t>> beaten;
   std::set<uint64_t> thetas_sent;  // this batch
   Millis last_sent = 0;
   // not proven: when it was sent a job it has not answered since (in this batch or an earlier one); it is sent
@@ -52,6 +55,9 @@ class WorkerRegistry {
   void prove(RegisteredWorker& worker);  // alive and answering: proven, and no longer demoted
   void demote(RegisteredWorker& worker);
   void pass_check(const WorkerId& id);  // an answer of its was found right
+  // An answer of its taken as the job's results, after a check or without one (nothing for an unknown id).
+  void took_answer(const WorkerId& id, bool checked);
+  void checked_since(const WorkerId& id);  // one taken unchecked was compared since, and found right
   // A job sent to it; a worker not proven is on trial from its first one until it answers.
   void sent_job(RegisteredWorker& worker, uint64_t job_id, Millis now);
   // Workers not proven whose trial ran a lease without an answer, holding nothing now (its batch ended): demoted.

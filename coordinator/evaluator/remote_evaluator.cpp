@@ -262,10 +262,8 @@ void RemoteEvaluator::serve(Millis now) {
   start_coordinator_checks();
   // from every path: this thread's answers and the checker's (check_loop)
   for (size_t& i = wrong_logged_; i < dispatcher_.wrong_workers().size(); ++i)
-    spdlog::error(
-        "worker {} returned results that two other answers did not (two workers', or a worker's and the "
-        "coordinator's own): refused, and its results of this batch are computed again",
-        dispatcher_.wrong_workers()[i]);
+    spdlog::error("worker {} {}: refused, and its results of this batch are computed again",
+                  dispatcher_.wrong_workers()[i].name, dispatcher_.wrong_workers()[i].why);
   if (const int64_t backups = dispatcher_.backup_jobs() - backups_before; backups > 0) {
     if (const auto held_back = log_backups_.admit(now))
       spdlog::warn("{} job(s) held far longer than this batch's jobs take: sent to a second worker too{}", backups,
@@ -285,11 +283,23 @@ void RemoteEvaluator::send_shutdowns() {
 }
 
 // A worker found wrong (by an answer or the checker): its key too, before it is told, so that it cannot come back on
-// a new socket.
+// a new socket; and every other connection holding the key at once, rather than when one of its own lies happens to
+// be drawn for a check.
 void RemoteEvaluator::refuse_keys_of_wrong_workers() {
-  for (const WorkerId& id : dispatcher_.refused_workers()) {
-    if (!keys_refused_for_.insert(id).second) continue;
-    if (const auto key = peer_keys_.find(id); key != peer_keys_.end()) authenticator_->refuse(key->second);
+  for (bool refused_more = true; refused_more;) {  // a peer refused for its key joins the refused
+    refused_more = false;
+    const std::set<WorkerId> refused = dispatcher_.refused_workers();
+    for (const WorkerId& id : refused) {
+      if (!keys_refused_for_.insert(id).second) continue;
+      const auto key = peer_keys_.find(id);
+      if (key == peer_keys_.end()) continue;
+      authenticator_->refuse(key->second);
+      for (const auto& [peer, peer_key] : peer_keys_) {
+        if (peer_key != key->second || dispatcher_.refused_workers().contains(peer)) continue;
+        dispatcher_.refuse(peer, "holds the CURVE key of a worker refused for wrong results");
+        refused_more = true;
+      }
+    }
   }
   // bounded: the keys of peers that are gone are forgotten once they outnumber the worker limit
   if (peer_keys_.size() > 2 * dispatcher_.settings().max_workers)

@@ -157,19 +157,30 @@ status::Archive archive_message(const BoardView& v) {
   return archive;
 }
 
+namespace {
+
+void fill_worker(const WorkerView& w, const BoardView& v, status::Worker& worker) {
+  worker.set_id(peer_id_text(w.id));
+  worker.set_address(valid_utf8(w.name));
+  worker.set_threads(w.threads);
+  worker.set_jobs_done(w.jobs_done);
+  worker.set_results_done(w.results_done);
+  worker.set_seconds_since_heartbeat(static_cast<double>(v.dispatch->at - w.last_heard) / 1000 + v.dispatch_age_s);
+  worker.set_fingerprint_digest(hex_text(w.fingerprint_digest));
+  worker.set_trust(name(w.trust));
+  worker.set_checks_passed(w.checks_passed);
+  worker.set_answers_taken(w.answers_taken);
+  worker.set_answers_taken_unchecked(w.answers_taken_unchecked);
+  worker.set_probation_answers(w.probation_answers);
+}
+
+}  // namespace
+
 status::WorkerList worker_list(const BoardView& v) {
   status::WorkerList list;
   if (!v.dispatch) return list;
-  for (const WorkerView& w : v.dispatch->workers) {
-    status::Worker* worker = list.add_workers();
-    worker->set_id(peer_id_text(w.id));
-    worker->set_address(valid_utf8(w.name));
-    worker->set_threads(w.threads);
-    worker->set_jobs_done(w.jobs_done);
-    worker->set_results_done(w.results_done);
-    worker->set_seconds_since_heartbeat(static_cast<double>(v.dispatch->at - w.last_heard) / 1000 + v.dispatch_age_s);
-    worker->set_fingerprint_digest(hex_text(w.fingerprint_digest));
-  }
+  for (const WorkerView& w : v.dispatch->workers) fill_worker(w, v, *list.add_workers());
+  for (const WorkerView& w : v.dispatch->refused) fill_worker(w, v, *list.add_refused());
   list.set_queue_depth(v.dispatch->queue_depth);
   list.set_in_flight_jobs(v.dispatch->in_flight_jobs);
   copy_dropped_frames(*v.dispatch, *list.mutable_dropped_frames());

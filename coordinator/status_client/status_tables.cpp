@@ -240,14 +240,16 @@ void print_archive(const status::Archive& archive) {
 }
 
 void print_workers(const status::WorkerList& list) {
-  Table table({"id", "address", "threads", "jobs", "results", "heard", "fingerprint"});
-  for (const status::Worker& w : list.workers())
-    table.add({w.id(), w.address(), std::to_string(w.threads()), std::to_string(w.jobs_done()),
-               std::to_string(w.results_done()), fixed(w.seconds_since_heartbeat(), 1) + " s ago",
-               w.fingerprint_digest()});
+  Table table({"id", "address", "threads", "trust", "checks", "jobs", "taken", "results", "heard", "fingerprint"});
+  for (const auto* workers : {&list.workers(), &list.refused()})
+    for (const status::Worker& w : *workers)
+      table.add({w.id(), w.address(), std::to_string(w.threads()), w.trust(), std::to_string(w.checks_passed()),
+                 std::to_string(w.jobs_done()), std::to_string(w.answers_taken()), std::to_string(w.results_done()),
+                 fixed(w.seconds_since_heartbeat(), 1) + " s ago", w.fingerprint_digest()});
   table.print();
-  say("%d workers, %lld jobs queued, %lld in flight\n", list.workers_size(), static_cast<long long>(list.queue_depth()),
+  say("%d workers, %lld jobs queued, %lld in flight", list.workers_size(), static_cast<long long>(list.queue_depth()),
       static_cast<long long>(list.in_flight_jobs()));
+  say(list.refused_size() > 0 ? "; %d refused for wrong results\n" : "\n", list.refused_size());
 }
 
 void print_events(const status::EventList& list) {

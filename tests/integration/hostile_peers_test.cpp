@@ -274,6 +274,57 @@ TEST_F(HostilePeersTest, AWorkerRefusedForWrongResultsStaysRefusedByItsKey) {
   EXPECT_EQ(wait(honest), 0);
 }
 
+// Two processes holding one CURVE key, one honest and one that lies: when the liar is found wrong, the honest
+// twin's connection is refused at once, in the same turn of the coordinator (not when one of its own answers is
+// drawn for a check, which for an honest one is never), and every handshake with the key after is refused. The run
+// ends as the undisturbed one.
+TEST_F(HostilePeersTest, ARefusedKeyEndsEveryConnectionThatHoldsItAtOnce) {
+  const fs::path reference = threads_run();
+  const fs::path keys = root_ / "keys";
+  const fs::path shared_keys = root_ / "intruder";  // the twins' key, authorised below
+  make_keys();
+  fs::copy_file(shared_keys / "worker.key", keys / "authorized" / "twins.key");
+  const fs::path dir = root_ / "C";
+  const pid_t pid =
+      coordinator(dir, {"--listen", "tcp://127.0.0.1:*", "--curve-keys", keys.string(), "--verify-fraction", "1"}, "C");
+  const std::string endpoint = await_log("C", "workers connect to (tcp://[0-9.]+:[0-9]+)");
+  ASSERT_FALSE(endpoint.empty());
+  const auto worker = [&](const fs::path& key_dir, const std::string& name, std::vector<std::string> extra = {}) {
+    std::vector<std::string> args = {"--connect", endpoint, "--curve-keys", key_dir.string(),
+                                     "--threads", "1",      "--name",       name};
+    args.insert(args.end(), extra.begin(), extra.end());
+    return spawn(POET_WORKER_BIN, args, name);
+  };
+  const pid_t honest = worker(keys, "honest");
+  await_log("honest", "(welcomed) by the coordinator");
+  const pid_t twin = worker(shared_keys, "twin");
+  await_log("twin", "(welcomed) by the coordinator");
+  const pid_t liar = worker(shared_keys, "the-liar", {"--fault", "wrong-results"});
+
+  EXPECT_EQ(wait(liar), 2) << "refused for wrong results: " << read(root_ / "the-liar.err");
+  EXPECT_EQ(wait(twin), 2) << "refused for its key: " << read(root_ / "twin.err");
+  EXPECT_TRUE(contains(read(root_ / "twin.err"),
+                       "refused by the coordinator: this worker holds the CURVE key of a worker refused for wrong "
+                       "results"))
+      << read(root_ / "twin.err");
+  // the two refusals are consecutive lines of the coordinator's log: one turn of its socket thread
+  const std::string log = read(root_ / "C.err");
+  const std::regex both(R"(worker the-liar returned results that[^\n]*\n[^\n]*worker twin holds the CURVE key of a )"
+                        R"(worker refused for wrong results: refused)");
+  EXPECT_TRUE(std::regex_search(log, both)) << log;
+
+  // a third process with the key is refused at the handshake
+  const pid_t again = worker(shared_keys, "again");
+  await_log("again", "(refused this worker's CURVE key)");
+  ASSERT_EQ(::kill(again, SIGTERM), 0);
+  EXPECT_EQ(wait(again), 0);
+  EXPECT_FALSE(contains(read(root_ / "again.err"), "welcomed")) << "the key got in again";
+
+  EXPECT_EQ(wait(pid), 0) << read(root_ / "C.err");
+  expect_same_run(reference, dir);
+  EXPECT_EQ(wait(honest), 0);
+}
+
 TEST_F(HostilePeersTest, CurveKeyProblemsAreRefusedAtStart) {
   const fs::path keys = root_ / "keys";
   fs::create_directories(keys);

@@ -115,5 +115,14 @@ TEST_F(CurveKeysTest, AScanSetsFilesThatHoldNoKeyAside) {
   EXPECT_TRUE(contains(found->bad_files.at(half), "half.key: not a CURVE key")) << found->bad_files.at(half);
 }
 
+TEST_F(CurveKeysTest, AKeyFileWithCrlfLineEndsHoldsItsKey) {
+  fs::create_directories(dir_ / "authorized");
+  std::ofstream(dir_ / "authorized" / "windows.key") << kPublic << "\r\n";
+  const Expected<AuthorizedKeys> found = scan_authorized_keys(dir_);
+  ASSERT_TRUE(found) << found.error();
+  EXPECT_EQ(found->keys, std::vector<std::string>{kPublic});
+  EXPECT_TRUE(found->bad_files.empty());
+}
+
 }  // namespace
 }  // namespace poet

@@ -7,6 +7,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <optional>
 #include <set>
 #include <span>
@@ -595,7 +596,7 @@ TEST(Dispatcher, AWrongWorkerIsFoundByAThirdRunRefusedAndItsResultsRedone) {
   ASSERT_TRUE(d.batch_done());
   EXPECT_TRUE(refused_sent);
   ASSERT_EQ(d.wrong_workers().size(), 1u);
-  EXPECT_EQ(d.wrong_workers()[0], "liar");
+  EXPECT_EQ(d.wrong_workers()[0].name, "liar");
   EXPECT_GT(d.verified_jobs(), 0);
   EXPECT_TRUE(d.on_hello("liar", stranger_hello("liar"), now).has_refused()) << "refused from then on";
   // every range is reported final once, at the end, with the right numbers
@@ -643,7 +644,7 @@ TEST(Dispatcher, WithNoThirdWorkerTheCoordinatorSettlesAMismatchItself) {
   EXPECT_GE(disputes, 1) << "the liar's answers differ from the honest worker's";
   EXPECT_GE(d.coordinator_checks(), 1);
   ASSERT_EQ(d.wrong_workers().size(), 1u);
-  EXPECT_EQ(d.wrong_workers()[0], "liar");
+  EXPECT_EQ(d.wrong_workers()[0].name, "liar");
   EXPECT_TRUE(d.on_hello("liar", stranger_hello("liar"), now).has_refused());
   expect_task_order(d.take_results());
 }
@@ -746,7 +747,7 @@ TEST(Dispatcher, WhatIsReportedFinalNeverChangesWhateverTheOrderOfAnswersAndALia
     ASSERT_TRUE(d.batch_done()) << "seed " << seed << ": queue " << d.queue_depth() << ", in flight " << d.in_flight()
                                 << ", workers " << d.worker_count() << ", held " << held.size() << ", checks "
                                 << d.coordinator_checks_waiting() << ", wrong " << d.wrong_workers().size() << " "
-                                << (d.wrong_workers().empty() ? "" : d.wrong_workers()[0]);
+                                << (d.wrong_workers().empty() ? "" : d.wrong_workers()[0].name);
     for (const auto& [first, end] : d.take_ready_ranges())
       for (size_t t = first; t < end; ++t) reported[t] = d.results(first, end)[t - first].total_reward;
     const std::vector<RolloutResult> results = d.take_results();
@@ -809,6 +810,150 @@ TEST(Dispatcher, AFailedSendCountsTheWorkerAsLost) {
   EXPECT_EQ(d.worker_count(), 0u);
 }
 
+WorkerView view_of(const Dispatcher& d, const WorkerId& id) {
+  for (const WorkerView& w : d.workers())
+    if (w.id == id) return w;
+  ADD_FAILURE() << "no worker " << id;
+  return WorkerView{};
+}
+
+// Batches of one-task jobs, each driven to its end (drive()), until `until` holds or ten have run.
+template <typename Until>
+void run_batches(Dispatcher& d, Millis& now, Until until) {
+  for (int b = 0; b < 10 && !until(); ++b) {
+    d.start_batch(batch(20));
+    drive(d, d.outgoing(now), now);
+    ASSERT_TRUE(d.batch_done());
+    expect_task_order(d.take_results());
+  }
+}
+
+// A worker that joins once the others are past probation, with almost nothing drawn for a check: each of its
+// answers on probation is compared with another's — the proven worker's that checks the answer held, or the one
+// taken from a proven worker that backed up its trial and answered first — so its probation ends within a few jobs
+// of its own, not after about probation_checks / verify_fraction of them.
+TEST(Dispatcher, AWorkerJoiningAfterTheOthersAreProvenLeavesProbationWithinAFewOfItsJobs) {
+  DispatchSettings s = one_task_jobs();
+  s.verify_fraction = 1e-12;
+  s.probation_checks = 5;
+  Dispatcher d(s);
+  for (const char* id : {"a", "b"}) join(d, id, stranger_hello(id), 0);
+  Millis now = 1;
+  run_batches(d, now,
+              [&] { return view_of(d, "a").trust == Trust::kProven && view_of(d, "b").trust == Trust::kProven; });
+  ASSERT_EQ(view_of(d, "a").trust, Trust::kProven);
+  ASSERT_EQ(view_of(d, "b").trust, Trust::kProven);
+
+  join(d, "late", stranger_hello("late"), now);
+  EXPECT_EQ(view_of(d, "late").trust, Trust::kTrial);
+  run_batches(d, now, [&] { return view_of(d, "late").trust == Trust::kProven; });
+  const WorkerView late = view_of(d, "late");
+  EXPECT_EQ(late.trust, Trust::kProven);
+  EXPECT_GE(late.checks_passed, 5);
+  EXPECT_LE(late.probation_answers, 5 + 1) << "probation took " << late.probation_answers << " of its jobs";
+  EXPECT_LE(late.jobs_done, 5 + 3) << "probation took " << late.jobs_done << " of its jobs";
+  EXPECT_LE(late.answers_taken_unchecked, late.answers_taken);
+  EXPECT_FALSE(d.take_rollback());
+}
+
+// Proven workers p and q, past probation; a newcomer n whose trial p backs up and answers first. n's answer, come
+// late, is compared with the results taken from p: alike, both pass a check; different, the task goes out again and
+// a third answer (q's) decides, refusing n.
+TEST(Dispatcher, ALateAnswerIsComparedWithTheResultsTaken) {
+  for (const bool lies : {false, true}) {
+    DispatchSettings s = one_task_jobs();
+    s.verify_fraction = 1e-12;
+    s.probation_checks = 0;  // p and q are proven by their first answers
+    Dispatcher d(s);
+    for (const char* id : {"p", "q"}) join(d, id, stranger_hello(id), 0);
+    Millis now = 1;
+    run_batches(d, now, [&] { return view_of(d, "p").trust == Trust::kProven; });
+    join(d, "n", stranger_hello("n"), now);
+    d.start_batch(batch(3));
+    std::vector<Outgoing> sent = jobs_in(d.outgoing(now));
+    std::optional<Outgoing> trial;
+    uint64_t backed_up = 0;
+    for (const Outgoing& o : sent) {
+      if (o.worker == "n") trial = o;
+      if (o.worker == "p" && trial && o.message.job().job_id() == trial->message.job().job_id())
+        backed_up = o.message.job().job_id();
+    }
+    ASSERT_TRUE(trial);
+    ASSERT_EQ(backed_up, trial->message.job().job_id()) << "p backs up the newcomer's trial at once";
+    for (const Outgoing& o : sent)  // p first; q's job stays open, so the batch runs on
+      if (o.worker == "p") d.on_result(o.worker, answer(o.message.job()), now);
+    const int64_t p_checks = view_of(d, "p").checks_passed;
+    d.on_result("n", answer_lying_as(*trial, lies ? "n" : ""), now);  // late
+    for (const Outgoing& o : sent)
+      if (o.worker == "q") d.on_result(o.worker, answer(o.message.job()), now);
+    if (!lies) {
+      EXPECT_EQ(view_of(d, "n").checks_passed, 1);
+      EXPECT_EQ(view_of(d, "p").checks_passed, p_checks + 1);
+      ASSERT_TRUE(d.batch_done());
+    } else {
+      EXPECT_FALSE(d.batch_done()) << "the task taken from p is disputed";
+      drive(d, d.outgoing(now), now, {"n"});
+      ASSERT_TRUE(d.batch_done());
+      ASSERT_EQ(d.wrong_workers().size(), 1u);
+      EXPECT_EQ(d.wrong_workers()[0].name, "n");
+      ASSERT_EQ(d.view(now).refused.size(), 1u);
+      EXPECT_EQ(d.view(now).refused[0].trust, Trust::kRefused);
+    }
+    expect_task_order(d.take_results());
+  }
+}
+
+// A liar that joins late and lies from its first answer: its answers are compared with proven workers', and it is
+// refused, whichever comes first.
+TEST(Dispatcher, ALateJoinerThatLiesIsRefused) {
+  DispatchSettings s = one_task_jobs();
+  s.verify_fraction = 1e-12;
+  s.probation_checks = 2;
+  Dispatcher d(s);
+  for (const char* id : {"a", "b", "c"}) join(d, id, stranger_hello(id), 0);
+  Millis now = 1;
+  run_batches(d, now, [&] { return view_of(d, "c").trust == Trust::kProven; });
+  join(d, "liar", stranger_hello("liar"), now);
+  for (int b = 0; b < 5 && d.wrong_workers().empty(); ++b) {
+    d.start_batch(batch(20));
+    std::vector<Outgoing> out = d.outgoing(now);
+    for (int round = 0; round < 1000 && !d.batch_done() && !d.failure(); ++round) {
+      for (const Outgoing& o : jobs_in(out)) d.on_result(o.worker, answer_lying_as(o, "liar"), now);
+      for (const Dispatcher::CoordinatorCheck& check : d.take_coordinator_checks())
+        d.settle_by_coordinator(check.batch_id, check.job_id, coordinators_results(check));
+      now += 10;
+      for (const WorkerView& w : d.workers()) d.heard_from(w.id, now);
+      out = d.outgoing(now);
+    }
+    ASSERT_TRUE(d.batch_done());
+    expect_task_order(d.take_results());
+  }
+  ASSERT_EQ(d.wrong_workers().size(), 1u);
+  EXPECT_EQ(d.wrong_workers()[0].name, "liar");
+  EXPECT_FALSE(d.take_rollback()) << "none of its answers became final unchecked";
+}
+
+// A peer the caller finds shares a refused worker's identity (its CURVE key) is refused at once: told why, its
+// Hellos refused, shown as refused.
+TEST(Dispatcher, APeerRefusedForItsIdentityIsToldAndRefusedFromThenOn) {
+  Dispatcher d(checking_every_job());
+  for (const char* id : {"a", "twin"}) join(d, id, stranger_hello(id), 0);
+  d.refuse("twin", "holds the CURVE key of a worker refused for wrong results");
+  bool told = false;
+  for (const Outgoing& o : d.outgoing(1))
+    told = told ||
+           (o.worker == "twin" && o.message.has_refused() &&
+            o.message.refused().reason() == "this worker holds the CURVE key of a worker refused for wrong results");
+  EXPECT_TRUE(told);
+  EXPECT_FALSE(d.has_worker("twin"));
+  EXPECT_TRUE(d.on_hello("twin", stranger_hello("twin"), 2).has_refused());
+  ASSERT_EQ(d.wrong_workers().size(), 1u);
+  EXPECT_TRUE(contains(d.wrong_workers()[0].why, "CURVE key"));
+  const DispatchView view = d.view(3);
+  ASSERT_EQ(view.refused.size(), 1u);
+  EXPECT_EQ(view.refused[0].id, "twin");
+  EXPECT_EQ(view.workers.size(), 1u);
+}
 }  // namespace
 
 TEST(Dispatcher, AWorkerOnProbationHasEveryAnswerCheckedUntilItPassedEnoughChecks) {
@@ -834,8 +979,9 @@ TEST(Dispatcher, AWorkerOnProbationHasEveryAnswerCheckedUntilItPassedEnoughCheck
 }
 
 TEST(Dispatcher, ALiarPastItsProbationIsCaughtAndTheRunAskedToGoBackToBeforeItsUncheckedAnswers) {
-  // a liar that answers honestly through its probation, then lies on every job; a fifth of the jobs checked: in some
-  // secrets' draws an unchecked lie of an earlier batch became final before the liar was caught
+  // a liar that answers honestly while any worker is on probation, then lies on every job of the next batches; a fifth
+  // of the jobs checked: in some secrets' draws an unchecked lie of an earlier batch became final before the liar was
+  // caught
   int rollbacks = 0;
   for (uint64_t secret = 0; secret < 40; ++secret) {
     DispatchSettings s = settings();
@@ -847,17 +993,15 @@ TEST(Dispatcher, ALiarPastItsProbationIsCaughtAndTheRunAskedToGoBackToBeforeItsU
     Millis now = 1;
     std::optional<uint64_t> first_unchecked_final;  // the first batch in which a lie was reported final
     for (int b = 0; b < 6 && d.wrong_workers().empty(); ++b) {
+      // from the first batch that starts with every worker past probation: none of its answers is held for a check
+      const std::vector<WorkerView> workers = d.workers();
+      const bool lying = std::all_of(workers.begin(), workers.end(),
+                                     [&](const WorkerView& w) { return w.checks_passed >= s.probation_checks; });
       d.start_batch(batch(12));
       std::vector<Outgoing> out = d.outgoing(now);
       for (int round = 0; round < 1000 && !d.batch_done() && !d.failure(); ++round) {
-        for (const Outgoing& o : jobs_in(out)) {
-          const bool past_probation = [&] {
-            for (const WorkerView& w : d.workers())
-              if (w.id == o.worker) return w.checks_passed >= s.probation_checks;
-            return false;
-          }();
-          d.on_result(o.worker, past_probation ? answer_lying_as(o, "liar") : answer(o.message.job()), now);
-        }
+        for (const Outgoing& o : jobs_in(out))
+          d.on_result(o.worker, lying ? answer_lying_as(o, "liar") : answer(o.message.job()), now);
         for (const Dispatcher::CoordinatorCheck& check : d.take_coordinator_checks())
           d.settle_by_coordinator(check.batch_id, check.job_id, coordinators_results(check));
         now += 10;

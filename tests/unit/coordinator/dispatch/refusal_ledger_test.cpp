@@ -13,11 +13,13 @@ TEST(RefusalLedger, RefusingAWorkerWithEarlierUncheckedAnswersAsksOnceToGoBackBe
   ledger.note_unchecked("a", 5);  // the first one counts
   ledger.note_unchecked("b", 4);
   EXPECT_EQ(ledger.unchecked_since(), (std::vector<uint64_t>{3, 4}));
-  EXPECT_TRUE(ledger.refuse("b", "worker-b", 6));
-  EXPECT_FALSE(ledger.refuse("b", "worker-b", 6));  // once
-  EXPECT_TRUE(ledger.refuse("a", "worker-a", 6));
+  EXPECT_TRUE(ledger.refuse("b", {"worker-b", "wrong"}, 6));
+  EXPECT_FALSE(ledger.refuse("b", {"worker-b", "wrong"}, 6));  // once
+  EXPECT_TRUE(ledger.refuse("a", {"worker-a", "wrong"}, 6));
   EXPECT_TRUE(ledger.refused("a"));
-  EXPECT_EQ(ledger.names(), (std::vector<std::string>{"worker-b", "worker-a"}));
+  ASSERT_EQ(ledger.refusals().size(), 2u);
+  EXPECT_EQ(ledger.refusals()[0].name, "worker-b");
+  EXPECT_EQ(ledger.refusals()[1].name, "worker-a");
   EXPECT_EQ(ledger.unchecked_since(), (std::vector<uint64_t>{3}));  // the rollback asked for, not yet taken
   EXPECT_EQ(ledger.take_rollback(), 3u);
   EXPECT_EQ(ledger.take_rollback(), std::nullopt);
@@ -33,7 +35,7 @@ TEST(RefusalLedger, AnswersOfTheBatchUnderWayNeedNoGoingBackAndForgottenOnesNone
   ledger.forget_batches_from(6);                                        // went back to before batch 6
   EXPECT_EQ(ledger.unchecked_since(), (std::vector<uint64_t>{5}));
   ledger.note_unchecked("d", 7);
-  EXPECT_TRUE(ledger.refuse("d", "worker-d", 7));  // its answers are of batch 7, the one under way
+  EXPECT_TRUE(ledger.refuse("d", {"worker-d", "wrong"}, 7));  // its answers are of batch 7, the one under way
   EXPECT_EQ(ledger.take_rollback(), std::nullopt);
 }
 

@@ -34,7 +34,7 @@ TEST(Verification, TheSecretChoosesAboutTheFractionOfJobsAndOnlyItKnowsWhich) {
   EXPECT_EQ(a.chosen(7, 10, 20), Verification(0.25, 1234, 5).chosen(7, 10, 20));  // a function of its inputs
 }
 
-TEST(Verification, ANewWorkersAnswersAreCheckedUntilItsProbationEndsALocalOnesOnlyAgainstOneHeld) {
+TEST(Verification, ANewWorkersAnswersAreCheckedUntilItsProbationEndsAndAnAnswerHeldAgainstTheNextWhoeverGivesIt) {
   Verification v(0.1, 1, 2);
   EXPECT_TRUE(v.needs_check(false, worker(false, 0), false));  // on probation
   EXPECT_TRUE(v.needs_check(false, worker(false, 1), false));
@@ -42,6 +42,9 @@ TEST(Verification, ANewWorkersAnswersAreCheckedUntilItsProbationEndsALocalOnesOn
   EXPECT_TRUE(v.needs_check(true, worker(false, 2), false));    // chosen
   EXPECT_FALSE(v.needs_check(true, worker(true, 0), false));    // a local worker's answer stands alone
   EXPECT_TRUE(v.needs_check(true, worker(true, 0), true));      // but settles one held
+  // an answer held (a newcomer's) is compared with the next, even a proven worker's to a job not chosen
+  EXPECT_TRUE(v.needs_check(false, worker(false, 2), true));
+  EXPECT_TRUE(v.needs_check(false, worker(true, 0), true));
   EXPECT_FALSE(v.final_unchecked(worker(false, 9)));
   EXPECT_TRUE(v.final_unchecked(worker(true, 0)));
   EXPECT_TRUE(Verification(0, 1, 2).final_unchecked(worker(false, 0)));

@@ -509,7 +509,8 @@ TEST_F(StatusBoardTest, PublishersAndReadersRunConcurrently) {
   });
   for (int i = 0; i < 300; ++i) {
     board.publish_run(state, i);
-    board.publish_dispatch(DispatchView{.workers = {}, .queue_depth = i, .in_flight_jobs = 0, .dropped_frames = {}});
+    board.publish_dispatch(
+        DispatchView{.workers = {}, .refused = {}, .queue_depth = i, .in_flight_jobs = 0, .dropped_frames = {}});
     board.set_state(RunPhase::kRunning);
   }
   done = true;
