@@ -12,6 +12,7 @@
 
 #include <chrono>
 #include <csignal>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -70,6 +71,19 @@ TEST_F(DistributedRunTest, AnyNumberOfWorkersGivesTheRunOfThreads) {
     EXPECT_TRUE(contains(read(root_ / (name + ".err")), "started " + std::to_string(workers) + " local workers"));
     expect_same_run(reference, root_ / name);
   }
+}
+
+// Far more workers than tasks in a batch (the tiny config's batches are of 8 to 60 tasks): most hold nothing most
+// of the time, and the run is still the threads' one.
+TEST_F(DistributedRunTest, TwoHundredFiftySixWorkersGiveTheRunOfThreads) {
+  const fs::path reference = threads_run();
+  const auto started = std::chrono::steady_clock::now();
+  const pid_t pid = coordinator(root_ / "w256", {"--local-workers", "256"}, "w256");
+  ASSERT_EQ(wait(pid), 0) << read(root_ / "w256.err");
+  EXPECT_TRUE(contains(read(root_ / "w256.err"), "started 256 local workers"));
+  expect_same_run(reference, root_ / "w256");
+  std::printf("256 local workers: the run took %.1f s\n",
+              std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count());
 }
 
 TEST_F(DistributedRunTest, AWorkerKilledMidRunChangesNothing) {
