@@ -218,9 +218,9 @@ void Dispatcher::compare_late(const WorkerId id, size_t begin, size_t end, const
   switch (verdict.kind) {
     case Verdict::Kind::kTake:
       for (const WorkerId& passed : verdict.passed) workers_.pass_check(passed);
-      if (!verdict.wrong) workers_.checked_since(taken_from);
-      // the taken answer found wrong: its results not final are withdrawn and computed again (refuse_wrong)
-      if (verdict.wrong) refuse_wrong(*verdict.wrong);
+      if (!verdict.wrong && !taken_final) workers_.checked_since(taken_from);  // taken unchecked, checked now
+      // the taken answer found wrong: its results not final are withdrawn and computed again (refuse)
+      if (verdict.wrong) refuse(*verdict.wrong);
       return;
     case Verdict::Kind::kHold: {  // two answers that differ: the tasks go out again, for a third to decide
       results_.reopen(begin, end);
@@ -286,7 +286,7 @@ void Dispatcher::on_answer(RegisteredWorker& worker, OpenJob& job, std::vector<R
     case Verdict::Kind::kTake:
       for (const WorkerId& id : verdict.passed) workers_.pass_check(id);
       // refused first: its results held back must not become final with this job, which may be the batch's last
-      if (verdict.wrong) refuse_wrong(*verdict.wrong);
+      if (verdict.wrong) refuse(*verdict.wrong);
       workers_.took_answer(verdict.credited, /*checked=*/true);
       accept(job, answer.results, verdict.credited, true);  // ends the job
       return;
@@ -304,7 +304,7 @@ void Dispatcher::accept(OpenJob& job, const std::vector<RolloutResult>& results,
   jobs_.erase(job.id);
 }
 
-void Dispatcher::refuse_wrong(const WorkerId id, const std::string& why) {  // a copy: the answers naming it go
+void Dispatcher::refuse(const WorkerId id, const std::string& why) {
   const RegisteredWorker* worker = workers_.find(id);
   if (!ledger_.refuse(id, {worker != nullptr ? worker->view.name : peer_id_text(id), why}, batch_id_)) return;
   if (worker != nullptr) {
@@ -431,8 +431,6 @@ bool Dispatcher::awaits_coordinator(uint64_t batch_id, uint64_t job_id) const {
   return batch_active_ && batch_id == batch_id_ && jobs_.contains(job_id);
 }
 
-void Dispatcher::refuse(const WorkerId& id, const std::string& why) { refuse_wrong(id, why); }
-
 void Dispatcher::settle_by_coordinator(uint64_t batch_id, uint64_t job_id, const std::vector<RolloutResult>& results) {
   if (!batch_active_ || batch_id != batch_id_) return;
   OpenJob* job = jobs_.find(job_id);
@@ -442,7 +440,7 @@ void Dispatcher::settle_by_coordinator(uint64_t batch_id, uint64_t job_id, const
   for (const WorkerId& id : verdict.passed) workers_.pass_check(id);
   // refused first: their results held back must not become final with this job, which may be the batch's last
   for (const WorkerId& id : verdict.wrong)
-    refuse_wrong(id, "returned results that the coordinator, computing them itself, did not");
+    refuse(id, "returned results that the coordinator, computing them itself, did not");
   accept(*job, results, kCoordinatorAnswer, true);  // ends the job
 }
 

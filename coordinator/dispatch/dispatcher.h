@@ -121,10 +121,10 @@ class Dispatcher {
   // third worker is, those that agree pass a check, and the results are final. Ignored when the job was settled
   // meanwhile or its batch is over.
   void settle_by_coordinator(uint64_t batch_id, uint64_t job_id, const std::vector<RolloutResult>& results);
-  // Refuses a worker, or a peer not registered yet, as one found wrong is (told why, its Hellos refused, its results
-  // not final redone, the run sent back when unchecked ones became final): the caller found it shares the identity
-  // of a worker found wrong (its CURVE key).
-  void refuse(const WorkerId& id, const std::string& why);  // why: "holds ...", after "this worker"
+  // Refuses a worker found wrong, or a peer (registered or not) the caller finds shares a wrong one's identity (its
+  // CURVE key): told why ("this worker " + why), its Hellos refused, its results not final redone, the run sent
+  // back when unchecked ones became final. The id is a copy: the answers naming it are erased.
+  void refuse(WorkerId id, const std::string& why = "returned results that two other workers did not");
 
   // Going back. batch_id() is the batch started last (0: none yet). take_rollback: the first batch whose final
   // results may hold a lie — a worker was refused after unchecked answers of its from that batch on became final —
@@ -212,9 +212,6 @@ class Dispatcher {
   // A valid answer: taken, held for a check, compared, or deciding between two.
   void on_answer(RegisteredWorker& worker, OpenJob& job, std::vector<RolloutResult> results);
   void accept(OpenJob& job, const std::vector<RolloutResult>& results, const WorkerId& from, bool final_now);
-  // Refuses a worker found wrong: removed, its Hellos refused (told why: "this worker " + why), and the batch's
-  // results taken from it redone.
-  void refuse_wrong(WorkerId id, const std::string& why = "returned results that two other workers did not");
   // The answer of a holder beaten to job [begin, end) by another, come while the batch runs: judged against the
   // results taken, as a second answer is (so a newcomer whose trial a proven worker finished first is checked all
   // the same); two that differ send the tasks out again for a third answer to decide.

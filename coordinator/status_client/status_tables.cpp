@@ -249,7 +249,8 @@ void print_workers(const status::WorkerList& list) {
   table.print();
   say("%d workers, %lld jobs queued, %lld in flight", list.workers_size(), static_cast<long long>(list.queue_depth()),
       static_cast<long long>(list.in_flight_jobs()));
-  say(list.refused_size() > 0 ? "; %d refused for wrong results\n" : "\n", list.refused_size());
+  if (list.refused_size() > 0) say("; %d refused for wrong results", list.refused_size());
+  say("\n");
 }
 
 void print_events(const status::EventList& list) {

@@ -361,7 +361,7 @@ TEST_F(PeerTrustTest, AWorkerJoiningLateIsProvenWithinAboutFiveOfItsJobs) {
   EXPECT_EQ(last->trust(), "proven") << ::testing::PrintToString(trusts);
   EXPECT_GE(last->checks_passed(), 5);
   // five checks passed, one job at a time: its answers given while the last checks ran, or beaten to a batch's end
-  // by a backup (not compared once the batch is whole), add a few (4 to 8 of its jobs in four runs here)
+  // by a backup (not compared once the batch is whole), add a few (4 to 8 of its jobs in five runs here)
   EXPECT_LE(last->probation_answers(), 2 * 5) << "probation took " << last->probation_answers() << " of its jobs";
   const double twice =
       last->jobs_done() > 0 ? 1.0 - double(last->answers_taken_unchecked()) / double(last->jobs_done()) : 0;
