@@ -25,6 +25,7 @@
 #include "common/build_fingerprint.h"
 #include "common/stop_signals.h"
 #include "common/tool_flags.h"
+#include "common/zmq_endpoint.h"
 #include "coordinator/daemon/daemon_options.h"
 #include "coordinator/daemon/descriptor_limit.h"
 #include "coordinator/daemon/rollouts.h"
@@ -133,7 +134,9 @@ int main(int argc, char** argv) {
                  "Run rollouts on workers that connect here (e.g. tcp://0.0.0.0:5555); default with "
                  "--local-workers: a free loopback port")
       ->check(CLI::Validator(
-          [](const std::string& endpoint) { return poet::listen_endpoint_problem(endpoint).value_or(""); },
+          [](const std::string& endpoint) {
+            return poet::zmq_endpoint_problem(endpoint, poet::EndpointUse::kBind).value_or("");
+          },
           "ENDPOINT"));
   app.add_option("--local-workers", options.local_workers, "Start and supervise N poet-worker processes here")
       ->check(CLI::Range(0, 256));

@@ -2,12 +2,12 @@
 
 #include <spdlog/spdlog.h>
 
-#include <charconv>
 #include <chrono>
 #include <stdexcept>
 #include <zmq.hpp>
 
 #include "common/text_format.h"
+#include "common/zmq_endpoint.h"
 #include "coordinator/evaluator/curve_authenticator.h"
 #include "simulation/rollout_task.h"
 
@@ -47,24 +47,10 @@ void wait_for_messages(WakePipe& wake, zmq::socket_t& socket, CurveAuthenticator
 RemoteEvaluator::RemoteEvaluator(DispatchSettings settings, std::stop_token stop)
     : stop_(std::move(stop)), dispatcher_(settings) {}
 
-std::optional<std::string> listen_endpoint_problem(std::string_view endpoint) {
-  constexpr std::string_view kTcp = "tcp://";
-  if (!endpoint.starts_with(kTcp)) return std::nullopt;
-  const size_t colon = endpoint.rfind(':');
-  if (colon < kTcp.size()) return "expected tcp://HOST:PORT, got " + std::string(endpoint);
-  const std::string_view port = endpoint.substr(colon + 1);
-  if (port == "*") return std::nullopt;
-  int number = 0;
-  const auto [end, error] = std::from_chars(port.data(), port.data() + port.size(), number);
-  if (port.empty() || error != std::errc() || end != port.data() + port.size() || number < 1 || number > 65535)
-    return "the port of " + std::string(endpoint) + " must be a number from 1 to 65535, or * for a free one";
-  return std::nullopt;
-}
-
 Expected<std::unique_ptr<RemoteEvaluator>> RemoteEvaluator::bind(const std::string& endpoint, DispatchSettings settings,
                                                                  std::stop_token stop,
                                                                  std::optional<CurveServer> curve) {
-  if (std::optional<std::string> problem = listen_endpoint_problem(endpoint))
+  if (std::optional<std::string> problem = zmq_endpoint_problem(endpoint, EndpointUse::kBind))
     return Unexpected{"cannot listen on " + endpoint + ": " + *problem};
   std::unique_ptr<RemoteEvaluator> evaluator(new RemoteEvaluator(settings, std::move(stop)));
   try {

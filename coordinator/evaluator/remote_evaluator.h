@@ -15,7 +15,6 @@
 #include <set>
 #include <stop_token>
 #include <string>
-#include <string_view>
 #include <thread>
 #include <unordered_map>
 #include <vector>
@@ -45,14 +44,10 @@ struct CurveServer {
   std::filesystem::path refused_keys_file;  // the keys of workers refused for wrong results, kept across a resume
 };
 
-// Why the job socket cannot listen on `endpoint` as given, or nullopt. ZeroMQ reads a tcp:// port modulo 65536
-// (tcp://HOST:99999 would listen on port 34463), so a tcp:// endpoint's port must be 1 to 65535, or * for a free
-// one; the rest of an endpoint, and other transports, are ZeroMQ's to judge when it binds.
-std::optional<std::string> listen_endpoint_problem(std::string_view endpoint);
-
 class RemoteEvaluator final : public Evaluator {
  public:
-  // Binds endpoint ("tcp://0.0.0.0:5555"; "tcp://127.0.0.1:*" picks a free port) and starts the socket thread.
+  // Binds endpoint ("tcp://0.0.0.0:5555"; "tcp://127.0.0.1:*" picks a free port; common/zmq_endpoint.h says which
+  // are refused before ZeroMQ sees them) and starts the socket thread.
   // A stop request on `stop` abandons a batch in flight (EvaluationStopped). With `curve`, only workers holding an
   // authorised key can connect.
   static Expected<std::unique_ptr<RemoteEvaluator>> bind(const std::string& endpoint, DispatchSettings settings,
