@@ -9,25 +9,12 @@
 #include <string>
 #include <vector>
 
+#include "coordinator/trust/standing.h"
+
 namespace poet {
 
-using Millis = int64_t;        // milliseconds on the dispatcher's monotonic clock
-using WorkerId = std::string;  // the ROUTER's routing id of the worker's socket
-
-// How far the dispatcher trusts a worker (dispatcher.h says what each allows).
-enum class Trust {
-  kTrial,      // has answered no job yet: holds one at a time
-  kProbation,  // answers, and every answer is checked until probation_checks of them were found right
-  kProven,     // past its probation (or local, or with verification off): a fraction of its answers is checked
-  kDemoted,    // answered nothing, and let a lease run out or returned an error: given no more jobs
-  kRefused,    // returned wrong results: refused from then on, on any connection with its key
-};
-constexpr const char* name(Trust trust) {
-  constexpr const char* kNames[] = {"trial", "probation", "proven", "demoted", "refused"};
-  return kNames[static_cast<size_t>(trust)];
-}
-
-struct WorkerView {
+// A connected worker as the status socket shows it: its standing (trust's) and what the dispatcher knows of it.
+struct WorkerView : Standing {
   WorkerId id;       // any bytes: shown as is when printable ASCII, else as hex
   std::string name;  // the name it gave (host and pid)
   int threads = 0;
@@ -36,15 +23,7 @@ struct WorkerView {
   int64_t results_done = 0;
   Millis last_heard = 0;
   size_t jobs_held = 0;
-  int64_t checks_passed = 0;  // its answers that another worker or the coordinator computed alike
-  int64_t answers_taken = 0;  // its answers whose results the batch kept (the others were another's, or redone)
-  // of those, the ones taken with no other answer compared: every other answer of its was computed twice
-  int64_t answers_taken_unchecked = 0;
-  int64_t probation_answers = 0;  // the answers it gave before its probation ended (so far, while it lasts)
   Trust trust = Trust::kTrial;  // filled by Dispatcher::view and workers()
-  bool local = false;           // started by this coordinator (showed local_token)
-  bool proven = false;          // local, or has returned a valid result: alive and answering (not: right)
-  bool demoted = false;         // not proven, and let a lease expire or returned an error: given no more jobs
 };
 
 inline constexpr size_t kMaxRefusedShown = 64;

@@ -8,10 +8,6 @@
 namespace poet {
 namespace {
 
-// Who answered a task the coordinator computed itself: no routing id can equal it (a peer's own id may not start
-// with a zero byte, and libzmq's generated ones are five bytes).
-const WorkerId kCoordinatorAnswer("\0the coordinator", 16);
-
 // A Result's rollout results when it holds `count` of them and each parses.
 std::optional<std::vector<RolloutResult>> parse_results(const wire::Result& result, size_t count) {
   if (result.results_size() != static_cast<int>(count)) return std::nullopt;
@@ -29,7 +25,7 @@ std::optional<std::vector<RolloutResult>> parse_results(const wire::Result& resu
 
 wire::CoordinatorMessage Dispatcher::on_hello(const WorkerId& id, const wire::Hello& hello, Millis now) {
   wire::CoordinatorMessage reply;
-  if (ledger_.refused(id)) {
+  if (trust_.refused(id)) {
     count_drop(DropReason::kWrongWorker);
     reply.mutable_refused()->set_reason("this worker was refused for wrong results");
     return reply;
@@ -59,7 +55,8 @@ wire::CoordinatorMessage Dispatcher::on_hello(const WorkerId& id, const wire::He
   view.name = hello.name().substr(0, 200);
   view.threads = static_cast<int>(std::clamp<uint32_t>(hello.threads(), 1, 4096));
   view.fingerprint_digest = hello.fingerprint_digest();
-  view.local = !settings_.local_token.empty() && hello.local_token() == settings_.local_token;
+  static_cast<Standing&>(view) =
+      trust_.newcomer(!settings_.local_token.empty() && hello.local_token() == settings_.local_token);
   workers_.add(std::move(view), now);
   reply.mutable_welcome()->set_heartbeat_ms(static_cast<uint32_t>(settings_.heartbeat_ms));
   reply.mutable_welcome()->set_liveness_ms(static_cast<uint32_t>(settings_.liveness_ms));
@@ -86,11 +83,7 @@ void Dispatcher::release(uint64_t job_id, const RegisteredWorker& worker, bool d
   OpenJob* job = jobs_.find(job_id);
   if (job == nullptr) return;
   std::erase_if(job->leases, [&](const Lease& lease) { return lease.worker == worker.view.id; });
-  if (died && !worker.view.proven) {
-    // a peer that never returned a result proves nothing by dying: a proven worker will say whether it kills
-    job->tainted = true;
-    died = false;
-  }
+  if (died) died = trust_.death_counts(job->trust, worker.view);
   // a backed-up job still held by its other worker stays with it: that worker's result will do
   if (job->leases.empty()) requeue(*job, died);
 }
@@ -126,7 +119,7 @@ void Dispatcher::new_jobs(size_t begin, size_t end, size_t per_job, int deaths, 
     }
     size_t stop = t + 1;
     while (stop < end && stop - t < per_job && !results_.has(stop)) ++stop;
-    made.push_back(jobs_.add(t, stop, deaths, verification_.chosen(batch_id_, t, stop)).id);
+    made.push_back(jobs_.add(t, stop, deaths, trust_.new_job(batch_id_, t, stop)).id);
     t = stop;
   }
   jobs_.enqueue(made, front);
@@ -164,14 +157,13 @@ void Dispatcher::on_result(const WorkerId& id, const wire::Result& result, Milli
   std::optional<std::vector<RolloutResult>> parsed = parse_results(result, j.end - j.begin);
   if (!parsed) {  // a worker that sends nonsense is treated as one that died with the job
     count_drop(DropReason::kBadResult);
-    if (!w.view.proven) workers_.demote(w);
+    if (!w.view.proven) trust_.demote(w.view);
     j.leases.push_back({id, now});  // released below as by a death
     release(j.id, w, /*died=*/true);
     return;
   }
-  workers_.prove(w);  // alive and answering; whether it computes right is its probation's to say
+  trust_.answered(w.view, /*counted=*/true);  // alive and answering; whether it computes right is probation's to say
   w.view.jobs_done += 1;
-  if (verification_.on_probation(w.view)) w.view.probation_answers += 1;
   w.view.results_done += static_cast<int64_t>(parsed->size());
   if (holds) jobs_.finished_in(took);  // a result taken back from an expired lease says nothing of job times
   on_answer(w, j, std::move(*parsed));
@@ -194,12 +186,12 @@ void Dispatcher::on_unexpected_result(RegisteredWorker* worker, const wire::Resu
   // tail by proven ones would otherwise never be proven, and one whose trial outlived its batch would be demoted)
   worker->trial_since.reset();
   if (!result.has_error() && result.results_size() > 0 && parse_results(result, result.results_size()))
-    workers_.prove(*worker);
+    trust_.answered(worker->view, /*counted=*/false);
   if (beaten) compare_late(worker->view.id, beaten->first, beaten->second, result);  // last: it may refuse the worker
 }
 
 void Dispatcher::compare_late(const WorkerId id, size_t begin, size_t end, const wire::Result& result) {
-  if (!verification_.enabled() || !batch_active_ || batch_done() || result.has_error()) return;
+  if (!trust_.verifies() || !batch_active_ || batch_done() || result.has_error()) return;
   // the results taken must still be one answer's, whole: not redone since, in other jobs
   const WorkerId taken_from = results_.from(begin);
   const bool taken_final = results_.is_final(begin);
@@ -208,93 +200,76 @@ void Dispatcher::compare_late(const WorkerId id, size_t begin, size_t end, const
   std::optional<std::vector<RolloutResult>> late = parse_results(result, end - begin);
   const RegisteredWorker* worker = workers_.find(id);
   if (!late || worker == nullptr) return;
-  const std::span<const RolloutResult> taken_results = results_.results(begin, end);
-  Answer taken{taken_from, {taken_results.begin(), taken_results.end()}};
-  Answer answer{id, std::move(*late)};
-  // results that are final were checked, or came from a local worker or the coordinator: they decide, as a local
-  // worker's answer does; otherwise the late answer is judged against the one taken, as a second answer is
-  const Verdict verdict = taken_final ? verification_.judge({answer}, taken, /*incoming_local=*/true)
-                                      : verification_.judge({taken}, answer, worker->view.local);
-  switch (verdict.kind) {
-    case Verdict::Kind::kTake:
-      for (const WorkerId& passed : verdict.passed) workers_.pass_check(passed);
-      if (!verdict.wrong && !taken_final) workers_.checked_since(taken_from);  // taken unchecked, checked now
-      // the taken answer found wrong: its results not final are withdrawn and computed again (refuse)
-      if (verdict.wrong) refuse(*verdict.wrong);
-      return;
-    case Verdict::Kind::kHold: {  // two answers that differ: the tasks go out again, for a third to decide
-      results_.reopen(begin, end);
-      OpenJob& job = jobs_.add(begin, end, 0, verification_.chosen(batch_id_, begin, end));
-      job.answers = {std::move(taken), std::move(answer)};
-      jobs_.enqueue_front(job);
-      return;
-    }
-    case Verdict::Kind::kThreeWays:  // not with one answer held
-      return;
+  const std::span<const RolloutResult> taken = results_.results(begin, end);
+  Settlement settlement = trust_.late_answer({taken_from, {taken.begin(), taken.end()}}, taken_final,
+                                             {id, std::move(*late)}, worker->view.local);
+  if (settlement.kind == Settlement::Kind::kReopen) {  // two answers that differ: a third decides
+    results_.reopen(begin, end);
+    OpenJob& job = jobs_.add(begin, end, 0, trust_.new_job(batch_id_, begin, end));
+    job.trust.answers = std::move(settlement.reopened);
+    jobs_.enqueue_front(job);
+    return;
   }
-}
-
-bool Dispatcher::refused_by_enough(const OpenJob& job) const {
-  return !job.refusing.empty() && job.refusing.size() >= std::min<size_t>(2, std::max<size_t>(1, workers_.proven()));
+  if (settlement.checked_since)
+    if (RegisteredWorker* taken_worker = workers_.find(*settlement.checked_since))
+      trust_.checked_since(taken_worker->view);
+  // the taken answer found wrong: its results not final are withdrawn and computed again (refuse)
+  apply_checks(settlement);
 }
 
 void Dispatcher::on_error(RegisteredWorker& worker, OpenJob& job, const std::string& error) {
-  job.failed.insert(worker.view.id);
-  if (!worker.view.proven) {
-    // a peer that never returned a result cannot stop the run: the job goes to a proven worker
-    count_drop(DropReason::kErrorFromUnproven);
-    workers_.demote(worker);
-    job.tainted = true;
-    if (job.leases.empty()) requeue(job, false);
-    return;
+  switch (trust_.error(job.trust, worker.view.id, worker.view, workers_.proven())) {
+    case ErrorVerdict::kFromUnproven:
+      count_drop(DropReason::kErrorFromUnproven);
+      break;
+    case ErrorVerdict::kRetry:  // another proven worker says whether the error is real
+      refusals_seen_ = true;
+      break;
+    case ErrorVerdict::kStop: {
+      refusals_seen_ = true;
+      const size_t refusing = job.trust.refusing.size();
+      if (!failure_)
+        failure_ = "worker " + worker.view.name + " refused " + describe_task(job.begin) +
+                   (job.end - job.begin > 1 ? " (or a later task of its job)" : "") + ": " + error +
+                   (refusing > 1 ? " (and so did " + std::to_string(refusing - 1) + " other worker" +
+                                       (refusing > 2 ? "s" : "") + ")"
+                                 : "");
+      return;
+    }
   }
-  job.refusing.insert(worker.view.id);
-  refusals_seen_ = true;
-  job.tainted = true;
-  if (refused_by_enough(job)) {
-    if (!failure_)
-      failure_ = "worker " + worker.view.name + " refused " + describe_task(job.begin) +
-                 (job.end - job.begin > 1 ? " (or a later task of its job)" : "") + ": " + error +
-                 (job.refusing.size() > 1 ? " (and so did " + std::to_string(job.refusing.size() - 1) +
-                                                " other worker" + (job.refusing.size() > 2 ? "s" : "") + ")"
-                                          : "");
-    return;
-  }
-  if (job.leases.empty()) requeue(job, false);  // another proven worker says whether the error is real
+  if (job.leases.empty()) requeue(job, false);
 }
 
 void Dispatcher::on_answer(RegisteredWorker& worker, OpenJob& job, std::vector<RolloutResult> results) {
-  if (!verification_.needs_check(job.verify, worker.view, !job.answers.empty())) {
-    const bool final_now = verification_.final_unchecked(worker.view);
-    if (!final_now) ledger_.note_unchecked(worker.view.id, batch_id_);
-    workers_.took_answer(worker.view.id, /*checked=*/false);
-    accept(job, results, worker.view.id, final_now);
-    return;
-  }
-  Answer answer{worker.view.id, std::move(results)};
-  const Verdict verdict = verification_.judge(job.answers, answer, worker.view.local);
-  switch (verdict.kind) {
-    case Verdict::Kind::kHold:
-      job.answers.push_back(std::move(answer));
+  Settlement settlement = trust_.answer(job.trust, worker.view.id, worker.view, std::move(results), batch_id_);
+  switch (settlement.kind) {
+    case Settlement::Kind::kHold:
       if (job.leases.empty()) jobs_.enqueue_front(job);  // for a second worker, or a third to decide
       return;
-    case Verdict::Kind::kThreeWays:
+    case Settlement::Kind::kThreeWays:
       if (!failure_)
         failure_ = "three workers returned three different results for " + describe_task(job.begin) +
                    " (or a later task of its job): do they run one build? (compare --fingerprint)";
       return;
-    case Verdict::Kind::kTake:
-      for (const WorkerId& id : verdict.passed) workers_.pass_check(id);
-      // refused first: its results held back must not become final with this job, which may be the batch's last
-      if (verdict.wrong) refuse(*verdict.wrong);
-      workers_.took_answer(verdict.credited, /*checked=*/true);
-      accept(job, answer.results, verdict.credited, true);  // ends the job
+    default:
+      apply_checks(settlement);
+      accept(job, std::move(settlement));  // ends the job
       return;
   }
 }
 
-void Dispatcher::accept(OpenJob& job, const std::vector<RolloutResult>& results, const WorkerId& from, bool final_now) {
-  results_.put(job.begin, results, from, final_now);
+void Dispatcher::apply_checks(const Settlement& settlement) {
+  for (const WorkerId& id : settlement.passed)
+    if (RegisteredWorker* passed = workers_.find(id)) trust_.passed_check(passed->view);
+  // refused before the results are taken: theirs held back must not become final with this job, which may be the
+  // batch's last
+  for (const WorkerId& id : settlement.wrong) refuse(id, settlement.why_wrong);
+}
+
+void Dispatcher::accept(OpenJob& job, Settlement&& settlement) {
+  if (RegisteredWorker* credited = workers_.find(settlement.credited))
+    trust_.took_answer(credited->view, settlement.checked);
+  results_.put(job.begin, settlement.results, settlement.credited, settlement.final_now);
   for (const Lease& other : job.leases) {  // the other holders' results, when they come, are late
     RegisteredWorker* holder = workers_.find(other.worker);
     if (holder == nullptr) continue;
@@ -306,7 +281,7 @@ void Dispatcher::accept(OpenJob& job, const std::vector<RolloutResult>& results,
 
 void Dispatcher::refuse(const WorkerId id, const std::string& why) {
   const RegisteredWorker* worker = workers_.find(id);
-  if (!ledger_.refuse(id, {worker != nullptr ? worker->view.name : peer_id_text(id), why}, batch_id_)) return;
+  if (!trust_.refuse(id, {worker != nullptr ? worker->view.name : peer_id_text(id), why}, batch_id_)) return;
   if (worker != nullptr) {
     WorkerView shown = worker->view;
     shown.trust = Trust::kRefused;
@@ -315,11 +290,8 @@ void Dispatcher::refuse(const WorkerId id, const std::string& why) {
     if (refused_views_.size() > kMaxRefusedShown) refused_views_.pop_front();
   }
   // its answers awaiting a check are worth nothing: those jobs wait for answers from others
-  for (auto& [job_id, job] : jobs_.open()) {
-    const size_t before = job.answers.size();
-    std::erase_if(job.answers, [&](const Answer& a) { return a.worker == id; });
-    if (job.answers.size() != before && job.leases.empty()) jobs_.enqueue_front(job);
-  }
+  for (auto& [job_id, job] : jobs_.open())
+    if (trust_.forget_answers_of(job.trust, id) && job.leases.empty()) jobs_.enqueue_front(job);
   if (worker != nullptr) {
     Outgoing refusal{id, {}};
     refusal.message.mutable_refused()->set_reason("this worker " + why);
@@ -344,11 +316,11 @@ void Dispatcher::expire_leases(Millis now, bool unproven_holding) {
     for (const auto& [job_id, id] : jobs_.take_back_expired(now, workers_.not_proven())) {
       RegisteredWorker& holder = *workers_.find(id);
       holder.jobs.erase(job_id);
-      workers_.demote(holder);
+      trust_.lease_ran_out(jobs_.at(job_id).trust, id, holder.view);
     }
   }
   // a job it held ended with its batch, unanswered, and the lease has run out since
-  workers_.demote_stale_trials(now, jobs_.lease_ms());
+  for (RegisteredWorker* stale : workers_.stale_trials(now, jobs_.lease_ms())) trust_.demote(stale->view);
 }
 
 bool Dispatcher::proven_can_take(const OpenJob& job) const {
@@ -357,13 +329,16 @@ bool Dispatcher::proven_can_take(const OpenJob& job) const {
 }
 
 bool Dispatcher::may_take(const OpenJob& job, const RegisteredWorker& worker) const {
-  const WorkerId& id = worker.view.id;
-  if (job.failed.contains(id) || job.held_by(id) || job.answered_by(id)) return false;
-  if (!job.answers.empty() && !worker.view.proven) return false;  // a check: one that never answered may sit on it
-  if (worker.view.proven || !job.tainted) return true;
-  // a job a worker not proven failed goes to a worker not proven only when no proven one may take it, and never
-  // as a check (the coordinator checks it instead)
-  return job.answers.empty() && !proven_can_take(job);
+  if (job.held_by(worker.view.id)) return false;
+  switch (trust_.may_take(job.trust, worker.view.id, worker.view)) {
+    case Eligibility::kNo:
+      return false;
+    case Eligibility::kYes:
+      return true;
+    case Eligibility::kIfNoProvenCan:
+      return !proven_can_take(job);
+  }
+  return false;
 }
 
 OpenJob* Dispatcher::next_job(const RegisteredWorker& worker, Millis now) {
@@ -393,16 +368,16 @@ void Dispatcher::check_unanswerable(Millis now) {
     for (const uint64_t id : jobs_.queued()) {
       const OpenJob& job = jobs_.at(id);
       // proven workers that refused it may now be all there are (the others left): the error rule says again
-      if (refused_by_enough(job) && !failure_)
-        failure_ = "workers refused " + describe_task(job.begin) + " (" + std::to_string(job.refusing.size()) +
+      if (trust_.refused_by_enough(job.trust, workers_.proven()) && !failure_)
+        failure_ = "workers refused " + describe_task(job.begin) + " (" + std::to_string(job.trust.refusing.size()) +
                    " of the " + std::to_string(workers_.proven()) + " proven workers connected)";
     }
   }
-  if (!verification_.enabled()) return;  // answers are held only to be checked
+  if (!trust_.verifies()) return;  // answers are held only to be checked
   const Millis lease = jobs_.lease_ms();
   const auto& connected = workers_.in_order();
   for (auto& [id, job] : jobs_.open()) {
-    if (job.answers.empty()) continue;
+    if (job.trust.answers.empty()) continue;
     // queued with no connected worker able to check it, or held for a check past the lease (a proven worker that
     // answered once may still sit on it, and proven holders' leases do not expire): the coordinator checks it
     const bool stuck = job.queued ? std::none_of(connected.begin(), connected.end(),
@@ -411,16 +386,16 @@ void Dispatcher::check_unanswerable(Millis now) {
                                                 [&](const Lease& l) { return now - l.since >= lease; });
     if (!stuck) continue;
     coordinator_checks_waiting_ += 1;
-    if (!std::exchange(job.to_coordinator, true)) to_coordinator_.push_back(id);
+    trust_.needs_coordinator(id, job.trust);
   }
 }
 
 std::vector<Dispatcher::CoordinatorCheck> Dispatcher::take_coordinator_checks() {
   std::vector<CoordinatorCheck> out;
-  for (const uint64_t id : std::exchange(to_coordinator_, {})) {
+  for (const uint64_t id : trust_.take_coordinator_jobs()) {
     const OpenJob* job = jobs_.find(id);
     if (!batch_active_ || job == nullptr) continue;
-    out.push_back({batch_id_, id, job->answers.size() > 1,
+    out.push_back({batch_id_, id, job->trust.answers.size() > 1,
                    std::vector<RolloutTask>(tasks_.begin() + static_cast<std::ptrdiff_t>(job->begin),
                                             tasks_.begin() + static_cast<std::ptrdiff_t>(job->end))});
   }
@@ -436,12 +411,9 @@ void Dispatcher::settle_by_coordinator(uint64_t batch_id, uint64_t job_id, const
   OpenJob* job = jobs_.find(job_id);
   if (job == nullptr) return;  // a worker's answer settled it first
   if (results.size() != job->end - job->begin) return;
-  const CoordinatorVerdict verdict = verification_.settle(job->answers, results);
-  for (const WorkerId& id : verdict.passed) workers_.pass_check(id);
-  // refused first: their results held back must not become final with this job, which may be the batch's last
-  for (const WorkerId& id : verdict.wrong)
-    refuse(id, "returned results that the coordinator, computing them itself, did not");
-  accept(*job, results, kCoordinatorAnswer, true);  // ends the job
+  Settlement settlement = trust_.coordinator_answer(job->trust, results);
+  apply_checks(settlement);
+  accept(*job, std::move(settlement));  // ends the job
 }
 
 void Dispatcher::send(OpenJob& job, RegisteredWorker& worker, Millis now,
@@ -477,10 +449,8 @@ void Dispatcher::outgoing(Millis now, const std::function<void(Outgoing&&)>& del
     assigned = false;
     for (RegisteredWorker* held : workers_.in_order()) {
       RegisteredWorker& worker = *held;
-      // a worker not yet proven holds one job at a time, and so does one on probation (its answers wait for checks:
-      // its probation ends within about probation_checks of its jobs, not twice that); a demoted one none
-      const bool one_at_a_time = !worker.view.proven || verification_.on_probation(worker.view);
-      const size_t room = one_at_a_time ? 1 : static_cast<size_t>(settings_.jobs_ahead);
+      // a demoted worker holds none (below), one not proven or on probation one at a time
+      const size_t room = trust_.jobs_at_once(worker.view, static_cast<size_t>(settings_.jobs_ahead));
       if (!worker.ready || worker.view.demoted || worker.jobs.size() >= room) continue;
       if (!worker.view.proven && worker.trial_since) continue;  // a job of an earlier batch still unanswered
       for (size_t places = fill_at_once ? room - worker.jobs.size() : 1; places > 0; --places) {
@@ -505,7 +475,7 @@ void Dispatcher::start_batch(std::span<const RolloutTask> tasks) {
   batch_active_ = true;
   batch_id_ += 1;
   // a worker gone, with no answer held any more, can no longer be found wrong
-  ledger_.forget_workers([&](const WorkerId& id) { return !workers_.contains(id); });
+  trust_.start_batch([&](const WorkerId& id) { return !workers_.contains(id); });
   tasks_.assign(tasks.begin(), tasks.end());
   results_.start(tasks.size());
   encoder_.start_batch(tasks_, batch_id_);
@@ -537,7 +507,7 @@ void Dispatcher::abandon_batch() {
     worker->beaten.clear();
   }
   refusals_seen_ = false;
-  to_coordinator_.clear();
+  trust_.end_batch();
   jobs_.clear();
   tasks_.clear();
   encoder_.clear();
@@ -564,28 +534,21 @@ DispatchView Dispatcher::view(Millis now) const {
   v.queue_depth = queue_depth();
   v.in_flight_jobs = in_flight();
   v.dropped_frames = dropped_;
-  v.workers_joined = workers_joined();
+  v.workers_joined = workers_.joined();
   v.workers_lost = lost_;
   v.backup_jobs = backup_jobs();
-  v.leases_expired = leases_expired();
+  v.leases_expired = jobs_.leases_expired();
   v.workers_demoted = workers_demoted();
   v.verified_jobs = verified_jobs();
-  v.wrong_workers = static_cast<int64_t>(ledger_.refusals().size());
+  v.wrong_workers = static_cast<int64_t>(trust_.refusals().size());
   v.coordinator_checks = coordinator_checks();
-  v.rollbacks = ledger_.rollbacks();
+  v.rollbacks = trust_.rollbacks();
   return v;
 }
 
 std::vector<WorkerView> Dispatcher::workers() const {
   std::vector<WorkerView> views = workers_.views();
-  for (WorkerView& view : views) {
-    if (view.demoted)
-      view.trust = Trust::kDemoted;
-    else if (!view.proven)
-      view.trust = Trust::kTrial;
-    else
-      view.trust = verification_.on_probation(view) ? Trust::kProbation : Trust::kProven;
-  }
+  for (WorkerView& view : views) view.trust = trust_.level(view);
   return views;
 }
 

@@ -8,40 +8,24 @@
 // verified), BatchResults (what is final), RefusalLedger (who was refused) and JobEncoder (the wire) — and keeps
 // the rules that join them: how a batch is cut, who may take which job, the poison-job and error rules.
 //
-// Trust. A worker is proven — alive and answering — once it has returned a valid result (or, started by this
-// coordinator, from its Hello: it showed local_token); whether its answers are right is verification's to say.
-// Until then it holds one job at a time, and what it does cannot stop the run: its death, an error it returns or a
-// lease it lets expire only takes the job back (the job is then "tainted" and goes to proven workers only, while
-// any is connected), and the latter two demote it (no more jobs). With nothing queued, a proven worker takes at once
-// a job held only by workers not proven (a backup; the first result wins), and a worker not proven gets a copy of
-// an open job as its trial (one at a time, across batches until it answers: one that lets a trial run past a lease
-// is demoted). So any number of peers that say Hello, heartbeat and never answer cannot queue a real worker behind
-// them, and delay a batch by at most about one lease (backup_factor × the median time of the batch's finished jobs,
-// at least backup_min_ms, or liveness_ms while none has finished), and by nothing once a proven worker is there. A
-// proven worker's job held past the lease is also sent to another worker (up to max_leases holders; the first
-// result wins). The run stops on a poison job only when max_attempts proven workers died holding it, and on an
-// error only when two proven workers (or the only one) refuse the job: a real error repeats, runs being
-// deterministic.
-//
-// Verification. With verify_fraction > 0, every answer of a worker on probation (not local, and fewer than
-// probation_checks of its answers checked and found right) and a fraction of the other answers of workers that are
-// not local are also computed by a second, different, proven worker (one that never answered might sit on it), and
-// the results must match bit for bit; on a mismatch a third run decides (a local worker's answer decides at once). An
-// answer held for a check is compared with the job's next answer, whoever gives it, and the answer of a holder beaten
-// to a job by another comes late and is compared with the results taken: so a worker that joins after the others
-// are past probation is checked on each of its first answers, whether or not a proven worker finishes its job first,
-// and leaves probation after about probation_checks jobs.
-// Which jobs are checked is drawn from verify_secret, the batch and the job's tasks: a worker that does not know
-// the secret cannot tell which of its answers will be checked, so one lying on k answers after probation goes
-// unnoticed with probability (1 - verify_fraction)^k whichever it chooses. An answer that no connected worker can
-// check (or whose check was held past the lease), or two that differ with no third worker to decide, go to the
-// coordinator (take_coordinator_checks), whose own results decide as a local worker's do. The worker found wrong is
+// Who may take which job, what an answer settles and when the run must go back are trust's to say
+// (coordinator/trust/worker_trust.h: proven workers, probation, verification, refusals, the coordinator's own checks
+// and the rollback record); the Dispatcher acts on those decisions. A worker not proven holds one job at a time, and
+// so does one on probation. With nothing queued, a proven worker takes at once a job held only by workers not proven
+// (a backup; the first result wins), and a worker not proven gets a copy of an open job as its trial (one at a time,
+// across batches until it answers: one that lets a trial run past a lease is demoted). So any number of peers that
+// say Hello, heartbeat and never answer cannot queue a real worker behind them, and delay a batch by at most about
+// one lease (backup_factor × the median time of the batch's finished jobs, at least backup_min_ms, or liveness_ms
+// while none has finished), and by nothing once a proven worker is there. A proven worker's job held past the lease
+// is also sent to another worker (up to max_leases holders; the first result wins). The run stops on a poison job
+// only when max_attempts proven workers died holding it, and on an error when trust says proven workers agree.
+// A job whose answer no connected worker can check (or whose check was held past the lease), or two answers that
+// differ with no third worker to decide, go to the coordinator (take_coordinator_checks). A worker found wrong is
 // refused from then on (Refused, and its Hellos), and every result of the batch taken from it and not yet reported
-// final is computed again; refuse() does the same to a peer the caller finds shares its identity (a CURVE key). Each
-// worker's trust (dispatch_view.h) is shown with the checks it passed and the answers taken from it. Unchecked answers
-// of workers that are not local are reported final (take_ready_ranges) only once the batch is whole, as a wrong one may
-// still be found; once they are, only going back to a state computed before them undoes them: take_rollback names the
-// first batch to compute again when a worker refused had unchecked answers made final.
+// final is computed again; refuse() does the same to a peer the caller finds shares its identity (a CURVE key).
+// Unchecked answers of workers that are not local are reported final (take_ready_ranges) only once the batch is
+// whole; take_rollback names the first batch to compute again when a worker refused had unchecked answers made
+// final.
 
 #include <cstdint>
 #include <deque>
@@ -61,9 +45,8 @@
 #include "coordinator/dispatch/job_encoder.h"
 #include "coordinator/dispatch/job_queue.h"
 #include "coordinator/dispatch/outgoing.h"
-#include "coordinator/dispatch/refusal_ledger.h"
-#include "coordinator/dispatch/verification.h"
 #include "coordinator/dispatch/worker_registry.h"
+#include "coordinator/trust/worker_trust.h"
 #include "simulation/rollout_task.h"
 #include "wire.pb.h"
 
@@ -94,7 +77,7 @@ class Dispatcher {
   explicit Dispatcher(DispatchSettings settings)
       : settings_(settings),
         jobs_({settings.liveness_ms, settings.backup_factor, settings.backup_min_ms, settings.max_leases}),
-        verification_(settings.verify_fraction, settings.verify_secret, settings.probation_checks) {}
+        trust_({settings.verify_fraction, settings.verify_secret, settings.probation_checks}) {}
 
   // A Hello: the Welcome to send, or a Refused (wrong protocol version or build fingerprint, or max_workers
   // reached; counted). A welcomed worker gets jobs once it has sent another message (proof that it listens).
@@ -124,7 +107,7 @@ class Dispatcher {
   // Refuses a worker found wrong, or a peer (registered or not) the caller finds shares a wrong one's identity (its
   // CURVE key): told why ("this worker " + why), its Hellos refused, its results not final redone, the run sent
   // back when unchecked ones became final. The id is a copy: the answers naming it are erased.
-  void refuse(WorkerId id, const std::string& why = "returned results that two other workers did not");
+  void refuse(WorkerId id, const std::string& why);
 
   // Going back. batch_id() is the batch started last (0: none yet). take_rollback: the first batch whose final
   // results may hold a lie — a worker was refused after unchecked answers of its from that batch on became final —
@@ -133,9 +116,9 @@ class Dispatcher {
   // caller must be able to go back to; a rollback not yet taken among them). forget_batches_from: the caller went back
   // to before `batch`; answers of that batch and later ones no longer count.
   uint64_t batch_id() const { return batch_id_; }
-  std::optional<uint64_t> take_rollback() { return ledger_.take_rollback(); }
-  std::vector<uint64_t> unchecked_since() const { return ledger_.unchecked_since(); }
-  void forget_batches_from(uint64_t batch) { ledger_.forget_batches_from(batch); }
+  std::optional<uint64_t> take_rollback() { return trust_.take_rollback(); }
+  std::vector<uint64_t> unchecked_since() const { return trust_.unchecked_since(); }
+  void forget_batches_from(uint64_t batch) { trust_.forget_batches_from(batch); }
 
   // Workers silent for liveness_ms are removed (their jobs re-queued, counted as a death for each job).
   std::vector<WorkerId> expire(Millis now);
@@ -169,21 +152,18 @@ class Dispatcher {
   DispatchView view(Millis now) const;      // the workers and every counter below, for the status socket
   // Frames and Hellos refused or dropped, by reason's name (drop_reason.h).
   const std::map<std::string, int64_t>& dropped() const { return dropped_; }
-  int64_t workers_joined() const { return workers_.joined(); }       // Welcomes given
-  int64_t workers_lost() const { return lost_; }                     // workers removed for silence or a failed send
-  int64_t backup_jobs() const { return jobs_.backups(); }            // jobs sent to a second worker
+  int64_t workers_lost() const { return lost_; }           // workers removed for silence or a failed send
+  int64_t backup_jobs() const { return jobs_.backups(); }  // jobs sent to a second worker
   int64_t leases_expired() const { return jobs_.leases_expired(); }  // jobs taken back from workers not yet proven
-  int64_t workers_demoted() const { return workers_.demoted(); }
-  // answers found right by a second worker or the coordinator
-  int64_t verified_jobs() const { return verification_.verified(); }
+  int64_t rollbacks() const { return trust_.rollbacks(); }          // times take_rollback asked to go back
+  int64_t workers_demoted() const { return trust_.demoted(); }
+  int64_t verified_jobs() const { return trust_.verified(); }  // answers found right by a second worker or the coordinator
   // Jobs whose answer waits for the coordinator's own (no connected worker may check or decide).
   int64_t coordinator_checks_waiting() const { return coordinator_checks_waiting_; }
-  // jobs settled by the coordinator's own answer
-  int64_t coordinator_checks() const { return verification_.coordinator_checks(); }
-  int64_t rollbacks() const { return ledger_.rollbacks(); }  // times take_rollback asked to go back
+  int64_t coordinator_checks() const { return trust_.coordinator_checks(); }  // jobs settled by the coordinator's answer
   // Workers refused for a wrong result, with their names and why, in order (the log and /metrics read them).
-  const std::vector<Refusal>& wrong_workers() const { return ledger_.refusals(); }
-  const std::set<WorkerId>& refused_workers() const { return ledger_.refused_ids(); }  // the same, by routing id
+  const std::vector<Refusal>& wrong_workers() const { return trust_.refusals(); }
+  const std::set<WorkerId>& refused_workers() const { return trust_.refused_ids(); }  // the same, by routing id
   void count_drop(DropReason reason) { dropped_[name(reason)] += 1; }
   const DispatchSettings& settings() const { return settings_; }
 
@@ -203,15 +183,18 @@ class Dispatcher {
   };
   // The queued job the worker may take, or a job to back up on it; nullptr when none. Reads spare_.
   OpenJob* next_job(const RegisteredWorker& worker, Millis now);
-  bool may_take(const OpenJob& job, const RegisteredWorker& worker) const;
-  bool proven_can_take(const OpenJob& job) const;  // a ready proven worker may take it
+  bool may_take(const OpenJob& job, const RegisteredWorker& worker) const;  // trust's answer, with the holders'
+  bool proven_can_take(const OpenJob& job) const;                          // a ready proven worker may take it
   // A Result for a job the worker does not hold: dropped, though a late one that parses still proves the worker.
   void on_unexpected_result(RegisteredWorker* worker, const wire::Result& result);
   // An error Result: the job goes back, and the run stops only when proven workers agree.
   void on_error(RegisteredWorker& worker, OpenJob& job, const std::string& error);
   // A valid answer: taken, held for a check, compared, or deciding between two.
   void on_answer(RegisteredWorker& worker, OpenJob& job, std::vector<RolloutResult> results);
-  void accept(OpenJob& job, const std::vector<RolloutResult>& results, const WorkerId& from, bool final_now);
+  // What a settlement says of workers: those found wrong refused, the others credited with a check.
+  void apply_checks(const Settlement& settlement);
+  // The settled results taken: the job ends, and its other holders' answers, when they come, are late.
+  void accept(OpenJob& job, Settlement&& settlement);
   // The answer of a holder beaten to job [begin, end) by another, come while the batch runs: judged against the
   // results taken, as a second answer is (so a newcomer whose trial a proven worker finished first is checked all
   // the same); two that differ send the tasks out again for a third answer to decide.
@@ -219,7 +202,6 @@ class Dispatcher {
   // Jobs awaiting an answer to check against that no connected worker can give go to the coordinator
   // (take_coordinator_checks); jobs refused by every proven worker connected stop the run.
   void check_unanswerable(Millis now);
-  bool refused_by_enough(const OpenJob& job) const;  // the error rule: proven workers agree the job fails
   bool eligible_checker(const OpenJob& job, const RegisteredWorker& worker) const;
   void new_jobs(size_t begin, size_t end, size_t per_job, int deaths, bool front);
   size_t tasks_per_job(size_t tasks) const;  // how a new batch is cut
@@ -228,8 +210,7 @@ class Dispatcher {
   DispatchSettings settings_;
   WorkerRegistry workers_;     // who is connected, and how far each is trusted
   JobQueue jobs_;              // the batch's open jobs, their queue and leases
-  Verification verification_;  // which answers are checked, and what their checks say
-  RefusalLedger ledger_;       // across batches: the workers refused, their unchecked answers, rollbacks
+  WorkerTrust trust_;          // how far each worker is trusted, what answers settle, refusals and rollbacks
 
   // the batch
   bool batch_active_ = false;
@@ -244,7 +225,6 @@ class Dispatcher {
   std::map<std::string, int64_t> dropped_;
   int64_t lost_ = 0;
   int64_t coordinator_checks_waiting_ = 0;
-  std::vector<uint64_t> to_coordinator_;  // jobs to hand to the coordinator (take_coordinator_checks)
   std::vector<Outgoing> refusals_;        // Refused messages to send
   std::deque<WorkerView> refused_views_;  // the workers refused, as they were, the latest kMaxRefusedShown
 };

@@ -14,10 +14,6 @@ bool OpenJob::held_by(const WorkerId& worker) const {
   return std::any_of(leases.begin(), leases.end(), [&](const Lease& l) { return l.worker == worker; });
 }
 
-bool OpenJob::answered_by(const WorkerId& worker) const {
-  return std::any_of(answers.begin(), answers.end(), [&](const Answer& a) { return a.worker == worker; });
-}
-
 Millis OpenJob::newest_lease() const {
   Millis newest = 0;
   for (const Lease& l : leases) newest = std::max(newest, l.since);
@@ -31,13 +27,13 @@ void JobQueue::clear() {  // job ids go on across batches: a late result of an e
   backup_after_ = 0;
 }
 
-OpenJob& JobQueue::add(size_t begin, size_t end, int deaths, bool verify) {
+OpenJob& JobQueue::add(size_t begin, size_t end, int deaths, JobTrust trust) {
   OpenJob job;
   job.id = next_id_++;
   job.begin = begin;
   job.end = end;
   job.deaths = deaths;
-  job.verify = verify;
+  job.trust = std::move(trust);
   return jobs_.emplace(job.id, std::move(job)).first->second;
 }
 
@@ -142,13 +138,11 @@ std::vector<std::pair<uint64_t, WorkerId>> JobQueue::take_back_expired(
     std::erase_if(job.leases, [&](const Lease& l) {
       if (now - l.since < lease || !may_take_back(l.worker)) return false;
       job.taken_back.insert(l.worker);
-      job.failed.insert(l.worker);
       taken.emplace_back(id, l.worker);
       return true;
     });
     if (job.leases.size() == before) continue;
     leases_expired_ += static_cast<int64_t>(before - job.leases.size());
-    job.tainted = true;
     if (job.leases.empty()) enqueue_front(job);
   }
   return taken;

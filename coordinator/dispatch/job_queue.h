@@ -16,7 +16,7 @@
 
 #include "coordinator/dispatch/dispatch_view.h"
 #include "coordinator/dispatch/running_median.h"
-#include "coordinator/dispatch/verification.h"
+#include "coordinator/trust/job_trust.h"
 
 namespace poet {
 
@@ -32,17 +32,11 @@ struct OpenJob {
   int deaths = 0;             // proven workers that died holding it
   std::vector<Lease> leases;  // its holders: none while queued, more once backed up
   bool queued = false;
-  bool tainted = false;              // a worker not proven failed it: proven workers take it while any is connected
-  bool verify = false;               // chosen for a check: an answer from a worker that is not local needs a second
-  std::set<WorkerId> failed;         // workers that returned an error or let their lease expire: not sent to them again
-  std::set<WorkerId> refusing;       // proven workers that returned an error for it
+  JobTrust trust;                    // chosen for a check, failed by whom, the answers it holds (trust's to change)
   std::set<WorkerId> missing_theta;  // workers that said they lacked its θ (once each is believed)
   std::set<WorkerId> taken_back;     // not proven, their lease expired: a result that still comes in time is taken
-  std::vector<Answer> answers;       // answers awaiting a check: one, or two that differ
-  bool to_coordinator = false;       // handed to the coordinator to check
 
   bool held_by(const WorkerId& worker) const;
-  bool answered_by(const WorkerId& worker) const;
   Millis newest_lease() const;  // when its latest holder took it
 };
 
@@ -62,7 +56,7 @@ class JobQueue {
   void clear();  // a new batch, or none
 
   // A new job of tasks [begin, end), not queued yet; its id is the next one.
-  OpenJob& add(size_t begin, size_t end, int deaths, bool verify);
+  OpenJob& add(size_t begin, size_t end, int deaths, JobTrust trust = {});
   // Jobs queued in this order, at the back of the queue or at its front (keeping their order).
   void enqueue(const std::vector<uint64_t>& ids, bool front);
   void enqueue_front(OpenJob& job);  // put back: first to go out again (nothing when queued already)
@@ -90,9 +84,9 @@ class JobQueue {
   OpenJob* backup(Millis now, const Pick& pick);
   bool any_overdue(Millis now) const;  // some job may be backed up
 
-  // Leases older than the lease whose holder `may_take_back` allows are ended: the job is tainted, the worker may
-  // not take it again (its late result is still taken), and a job no one holds any more goes to the front of the
-  // queue. The (job, worker) pairs taken back.
+  // Leases older than the lease whose holder `may_take_back` allows are ended (a result that still comes is taken),
+  // and a job no one holds any more goes to the front of the queue. The (job, worker) pairs taken back: what a lease
+  // run out means for the job and the worker is trust's to say.
   std::vector<std::pair<uint64_t, WorkerId>> take_back_expired(
       Millis now, const std::function<bool(const WorkerId&)>& may_take_back);
 

@@ -9,7 +9,6 @@ RegisteredWorker& WorkerRegistry::add(WorkerView view, Millis now) {
   RegisteredWorker worker;
   worker.view = std::move(view);
   worker.view.last_heard = now;
-  worker.view.proven = worker.view.local;
   worker.last_sent = now;
   const WorkerId id = worker.view.id;
   RegisteredWorker& added = by_id_.emplace(id, std::move(worker)).first->second;
@@ -57,33 +56,6 @@ std::vector<WorkerId> WorkerRegistry::silent(Millis now, Millis liveness) const 
   return out;
 }
 
-void WorkerRegistry::prove(RegisteredWorker& worker) {
-  worker.view.proven = true;
-  worker.view.demoted = false;
-}
-
-void WorkerRegistry::demote(RegisteredWorker& worker) {
-  if (worker.view.demoted) return;
-  worker.view.demoted = true;
-  demoted_ += 1;
-}
-
-void WorkerRegistry::pass_check(const WorkerId& id) {
-  if (RegisteredWorker* worker = find(id)) worker->view.checks_passed += 1;
-}
-
-void WorkerRegistry::took_answer(const WorkerId& id, bool checked) {
-  RegisteredWorker* worker = find(id);
-  if (worker == nullptr) return;
-  worker->view.answers_taken += 1;
-  if (!checked) worker->view.answers_taken_unchecked += 1;
-}
-
-void WorkerRegistry::checked_since(const WorkerId& id) {
-  RegisteredWorker* worker = find(id);
-  if (worker != nullptr && worker->view.answers_taken_unchecked > 0) worker->view.answers_taken_unchecked -= 1;
-}
-
 void WorkerRegistry::sent_job(RegisteredWorker& worker, uint64_t job_id, Millis now) {
   worker.jobs.insert(job_id);
   if (!worker.view.proven && !worker.trial_since) {
@@ -93,10 +65,13 @@ void WorkerRegistry::sent_job(RegisteredWorker& worker, uint64_t job_id, Millis 
   worker.last_sent = now;
 }
 
-void WorkerRegistry::demote_stale_trials(Millis now, Millis lease) {
+std::vector<RegisteredWorker*> WorkerRegistry::stale_trials(Millis now, Millis lease) const {
+  std::vector<RegisteredWorker*> out;
   for (RegisteredWorker* worker : arrival_)
-    if (!worker->view.proven && worker->jobs.empty() && worker->trial_since && now - *worker->trial_since >= lease)
-      demote(*worker);
+    if (!worker->view.proven && !worker->view.demoted && worker->jobs.empty() && worker->trial_since &&
+        now - *worker->trial_since >= lease)
+      out.push_back(worker);
+  return out;
 }
 
 size_t WorkerRegistry::proven() const {

@@ -1,9 +1,7 @@
 #pragma once
-// Who is connected and how far each is trusted: the workers in the order they said Hello, when each was last heard
-// from, whether it is proven (alive and answering: it returned a valid result, or is local), demoted (not proven,
-// and let a lease or its trial run out, or returned an error or a result that does not parse: given nothing more)
-// or on trial (not proven, sent a job it has not answered yet), and the checks its answers passed. Time is a parameter;
-// no queue, no sockets.
+// Who is connected: the workers in the order they said Hello, when each was last heard from, what each holds, and
+// its trial (not proven, sent a job it has not answered yet). Each keeps its standing in its view (how far it is
+// trusted: WorkerTrust's to change, read here to count and to choose). Time is a parameter; no queue, no sockets.
 
 #include <cstddef>
 #include <cstdint>
@@ -34,7 +32,7 @@ struct RegisteredWorker {
 
 class WorkerRegistry {
  public:
-  // A worker welcomed (its view filled from its Hello); it must not be registered already.
+  // A worker welcomed (its view filled from its Hello, its standing from trust); it must not be registered already.
   RegisteredWorker& add(WorkerView view, Millis now);
   // Removed, and handed back to the caller (its jobs to release); nullopt for an unknown id.
   std::optional<RegisteredWorker> remove(const WorkerId& id);
@@ -52,16 +50,11 @@ class WorkerRegistry {
 
   bool heard_from(const WorkerId& id, Millis now);  // any message: alive and listening; false for a stranger
   std::vector<WorkerId> silent(Millis now, Millis liveness) const;  // heard from longer ago than liveness
-  void prove(RegisteredWorker& worker);  // alive and answering: proven, and no longer demoted
-  void demote(RegisteredWorker& worker);
-  void pass_check(const WorkerId& id);  // an answer of its was found right
-  // An answer of its taken as the job's results, after a check or without one (nothing for an unknown id).
-  void took_answer(const WorkerId& id, bool checked);
-  void checked_since(const WorkerId& id);  // one taken unchecked was compared since, and found right
   // A job sent to it; a worker not proven is on trial from its first one until it answers.
   void sent_job(RegisteredWorker& worker, uint64_t job_id, Millis now);
-  // Workers not proven whose trial ran a lease without an answer, holding nothing now (its batch ended): demoted.
-  void demote_stale_trials(Millis now, Millis lease);
+  // Workers not proven, not demoted, whose trial ran a lease without an answer and that hold nothing now (its batch
+  // ended).
+  std::vector<RegisteredWorker*> stale_trials(Millis now, Millis lease) const;
 
   size_t proven() const;
   size_t ready() const;                   // those that may be sent jobs
@@ -69,13 +62,11 @@ class WorkerRegistry {
   int64_t jobs_held() const;              // by all of them
   std::vector<WorkerView> views() const;  // in order, each with its jobs held
   int64_t joined() const { return joined_; }
-  int64_t demoted() const { return demoted_; }
 
  private:
   std::unordered_map<WorkerId, RegisteredWorker> by_id_;
   std::vector<RegisteredWorker*> arrival_;  // by_id_'s entries in the order they said Hello
   int64_t joined_ = 0;
-  int64_t demoted_ = 0;
 };
 
 }  // namespace poet

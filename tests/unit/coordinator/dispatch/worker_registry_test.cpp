@@ -1,5 +1,4 @@
-// Tests coordinator/dispatch/worker_registry.cpp: workers in the order they said Hello, silence, and trust —
-// proven, demoted, on trial.
+// Tests coordinator/dispatch/worker_registry.cpp: workers in the order they said Hello, silence, and trials.
 #include "coordinator/dispatch/worker_registry.h"
 
 #include <gtest/gtest.h>
@@ -7,18 +6,18 @@
 namespace poet {
 namespace {
 
-WorkerView hello(const WorkerId& id, bool local = false) {
+WorkerView hello(const WorkerId& id, bool proven = false) {
   WorkerView view;
   view.id = id;
   view.name = "worker-" + id;
-  view.local = local;
+  view.proven = proven;
   return view;
 }
 
-TEST(WorkerRegistry, WorkersKeepTheOrderTheySaidHelloInAndALocalOneIsProvenFromTheStart) {
+TEST(WorkerRegistry, WorkersKeepTheOrderTheySaidHelloInWithTheirStanding) {
   WorkerRegistry registry;
   registry.add(hello("b"), 0);
-  registry.add(hello("a", /*local=*/true), 0);
+  registry.add(hello("a", /*proven=*/true), 0);
   registry.add(hello("c"), 0);
   ASSERT_EQ(registry.in_order().size(), 3u);
   EXPECT_EQ(registry.in_order()[0]->view.id, "b");
@@ -48,7 +47,7 @@ TEST(WorkerRegistry, AWorkerIsReadyOnceHeardFromAndSilentOnceNotForLonger) {
   EXPECT_EQ(registry.silent(1400, 800), (std::vector<WorkerId>{"a", "b"}));
 }
 
-TEST(WorkerRegistry, AWorkerNotProvenIsOnTrialFromItsFirstJobAndDemotedOnceItRunsALeaseWithNoAnswer) {
+TEST(WorkerRegistry, AWorkerNotProvenIsOnTrialFromItsFirstJobAndStaleOnceItRunsALeaseWithNoAnswer) {
   WorkerRegistry registry;
   RegisteredWorker& a = registry.add(hello("a"), 0);
   registry.sent_job(a, 7, 100);
@@ -58,21 +57,12 @@ TEST(WorkerRegistry, AWorkerNotProvenIsOnTrialFromItsFirstJobAndDemotedOnceItRun
   EXPECT_TRUE(registry.unproven_holding());
   EXPECT_EQ(registry.jobs_held(), 2);
   EXPECT_EQ(registry.views()[0].jobs_held, 2u);
-  registry.demote_stale_trials(1000, 500);
-  EXPECT_FALSE(a.view.demoted);  // it still holds its jobs: their leases say
-  a.jobs.clear();                // its batch ended
-  registry.demote_stale_trials(599, 500);
-  EXPECT_FALSE(a.view.demoted);
-  registry.demote_stale_trials(600, 500);
-  EXPECT_TRUE(a.view.demoted);
-  registry.demote(a);
-  EXPECT_EQ(registry.demoted(), 1);  // once
-  registry.prove(a);
-  EXPECT_TRUE(a.view.proven);
-  EXPECT_FALSE(a.view.demoted);
-  registry.pass_check("a");
-  registry.pass_check("gone");
-  EXPECT_EQ(a.view.checks_passed, 1);
+  EXPECT_TRUE(registry.stale_trials(1000, 500).empty());  // it still holds its jobs: their leases say
+  a.jobs.clear();                                         // its batch ended
+  EXPECT_TRUE(registry.stale_trials(599, 500).empty());
+  EXPECT_EQ(registry.stale_trials(600, 500), (std::vector<RegisteredWorker*>{&a}));
+  a.view.demoted = true;
+  EXPECT_TRUE(registry.stale_trials(600, 500).empty());  // once
 }
 
 }  // namespace

@@ -1,6 +1,6 @@
-// Tests coordinator/dispatch/refusal_ledger.cpp: refusing a worker whose unchecked answers became final in an
+// Tests coordinator/trust/refusal_ledger.cpp: refusing a worker whose unchecked answers became final in an
 // earlier batch asks, once, to go back to before the earliest such batch.
-#include "coordinator/dispatch/refusal_ledger.h"
+#include "coordinator/trust/refusal_ledger.h"
 
 #include <gtest/gtest.h>
 

@@ -11,7 +11,7 @@
 #include <string>
 #include <vector>
 
-#include "coordinator/dispatch/dispatch_view.h"
+#include "coordinator/trust/standing.h"
 
 namespace poet {
 

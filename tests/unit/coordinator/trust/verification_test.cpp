@@ -1,21 +1,18 @@
-// Tests coordinator/dispatch/verification.cpp: which jobs are chosen for a check, whose answers need one, and what
+// Tests coordinator/trust/verification.cpp: which jobs are chosen for a check, whose answers need one, and what
 // two or three answers to a job say.
-#include "coordinator/dispatch/verification.h"
+#include "coordinator/trust/verification.h"
 
 #include <gtest/gtest.h>
+
+#include "answers.h"
 
 namespace poet {
 namespace {
 
-std::vector<RolloutResult> returns(double total) {
-  RolloutResult r;
-  r.total_reward = total;
-  r.steps = 100;
-  return {r, r};
-}
+using testing::returns;
 
-WorkerView worker(bool local, int64_t checks_passed) {
-  WorkerView view;
+Standing worker(bool local, int64_t checks_passed) {
+  Standing view;
   view.local = local;
   view.checks_passed = checks_passed;
   return view;

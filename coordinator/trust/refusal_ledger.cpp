@@ -1,4 +1,4 @@
-#include "coordinator/dispatch/refusal_ledger.h"
+#include "coordinator/trust/refusal_ledger.h"
 
 #include <utility>
 

@@ -2,14 +2,14 @@
 // What is verified — a judge, and the count of what it found right: which jobs are chosen for a check (drawn from a
 // secret the workers never see), whose answers need a second one (a chosen job's, or any answer of a worker on
 // probation), and what the answers held for a job say once another comes in — taken, held for another worker, or one of
-// two found wrong. It knows no queue and no sockets; the Dispatcher acts on its verdicts.
+// two found wrong. It knows no queue and no sockets; WorkerTrust acts on its verdicts.
 
 #include <cstddef>
 #include <cstdint>
 #include <optional>
 #include <vector>
 
-#include "coordinator/dispatch/dispatch_view.h"
+#include "coordinator/trust/standing.h"
 #include "simulation/rollout.h"
 
 namespace poet {
@@ -52,14 +52,14 @@ class Verification {
   bool enabled() const { return fraction_ > 0; }
   // Whether the job of tasks [begin, end) of `batch` is chosen for a check.
   bool chosen(uint64_t batch, size_t begin, size_t end) const;
-  bool on_probation(const WorkerView& worker) const;
+  bool on_probation(const Standing& worker) const;
   // Whether this worker's answer to a job is judged against another's rather than taken: an answer is held for the
   // job already (it is compared with the next, whoever gives it: the only check a newcomer gets when the proven
   // worker that backs its job up answers second), or the job was chosen or the worker is on probation and the
   // worker is not local.
-  bool needs_check(bool job_chosen, const WorkerView& worker, bool answers_held) const;
+  bool needs_check(bool job_chosen, const Standing& worker, bool answers_held) const;
   // An answer taken without a check is final at once only from a local worker, or with verification off.
-  bool final_unchecked(const WorkerView& worker) const { return !enabled() || worker.local; }
+  bool final_unchecked(const Standing& worker) const { return !enabled() || worker.local; }
 
   // Another answer to a job with `held` answers awaiting a check (none, one, or two that differ).
   Verdict judge(const std::vector<Answer>& held, const Answer& incoming, bool incoming_local);

@@ -1,4 +1,4 @@
-#include "coordinator/dispatch/verification.h"
+#include "coordinator/trust/verification.h"
 
 #include <bit>
 
@@ -22,11 +22,11 @@ bool Verification::chosen(uint64_t batch, size_t begin, size_t end) const {
   return static_cast<double>(key >> 11) * 0x1.0p-53 < fraction_;
 }
 
-bool Verification::on_probation(const WorkerView& worker) const {
+bool Verification::on_probation(const Standing& worker) const {
   return enabled() && !worker.local && worker.checks_passed < probation_checks_;
 }
 
-bool Verification::needs_check(bool job_chosen, const WorkerView& worker, bool answers_held) const {
+bool Verification::needs_check(bool job_chosen, const Standing& worker, bool answers_held) const {
   return answers_held || ((job_chosen || on_probation(worker)) && !worker.local);
 }
 

@@ -1,0 +1,27 @@
+#pragma once
+// A job as trust sees it: whether it was chosen for a check, who failed it, and the answers it holds until another
+// agrees or decides. Kept with the job the dispatcher queues; only WorkerTrust (worker_trust.h) changes it.
+
+#include <algorithm>
+#include <set>
+#include <vector>
+
+#include "coordinator/trust/standing.h"
+#include "coordinator/trust/verification.h"
+
+namespace poet {
+
+struct JobTrust {
+  bool chosen = false;           // chosen for a check: an answer from a worker that is not local needs a second
+  bool tainted = false;          // a worker not proven failed it: proven workers take it while any is connected
+  std::set<WorkerId> failed;     // workers that returned an error or let their lease expire: not sent to them again
+  std::set<WorkerId> refusing;   // proven workers that returned an error for it
+  std::vector<Answer> answers;   // answers awaiting a check: one, or two that differ
+  bool to_coordinator = false;   // handed to the coordinator to check
+
+  bool answered_by(const WorkerId& worker) const {
+    return std::any_of(answers.begin(), answers.end(), [&](const Answer& a) { return a.worker == worker; });
+  }
+};
+
+}  // namespace poet

@@ -1,0 +1,163 @@
+#include "coordinator/trust/worker_trust.h"
+
+#include <algorithm>
+#include <utility>
+
+namespace poet {
+namespace {
+
+const char* const kWrongByWorkers = "returned results that two other workers did not";
+
+}  // namespace
+
+Standing WorkerTrust::newcomer(bool local) const {
+  Standing standing;
+  standing.local = local;
+  standing.proven = local;
+  return standing;
+}
+
+Trust WorkerTrust::level(const Standing& worker) const {
+  if (worker.demoted) return Trust::kDemoted;
+  if (!worker.proven) return Trust::kTrial;
+  return on_probation(worker) ? Trust::kProbation : Trust::kProven;
+}
+
+size_t WorkerTrust::jobs_at_once(const Standing& worker, size_t jobs_ahead) const {
+  return !worker.proven || on_probation(worker) ? 1 : jobs_ahead;
+}
+
+void WorkerTrust::answered(Standing& worker, bool counted) const {
+  worker.proven = true;
+  worker.demoted = false;
+  if (counted && on_probation(worker)) worker.probation_answers += 1;
+}
+
+void WorkerTrust::demote(Standing& worker) {
+  if (worker.demoted) return;
+  worker.demoted = true;
+  demoted_ += 1;
+}
+
+void WorkerTrust::took_answer(Standing& worker, bool checked) const {
+  worker.answers_taken += 1;
+  if (!checked) worker.answers_taken_unchecked += 1;
+}
+
+void WorkerTrust::checked_since(Standing& worker) const {
+  if (worker.answers_taken_unchecked > 0) worker.answers_taken_unchecked -= 1;
+}
+
+Eligibility WorkerTrust::may_take(const JobTrust& job, const WorkerId& id, const Standing& worker) const {
+  if (job.failed.contains(id) || job.answered_by(id)) return Eligibility::kNo;
+  if (!job.answers.empty() && !worker.proven) return Eligibility::kNo;  // a check: one that never answered may sit on it
+  if (worker.proven || !job.tainted) return Eligibility::kYes;
+  // a job a worker not proven failed goes to a worker not proven only when no proven one may take it, and never as
+  // a check (the coordinator checks it instead)
+  return job.answers.empty() ? Eligibility::kIfNoProvenCan : Eligibility::kNo;
+}
+
+bool WorkerTrust::death_counts(JobTrust& job, const Standing& holder) const {
+  if (holder.proven) return true;
+  job.tainted = true;  // a peer that never returned a result proves nothing by dying: a proven worker will say
+  return false;
+}
+
+void WorkerTrust::lease_ran_out(JobTrust& job, const WorkerId& id, Standing& holder) {
+  job.failed.insert(id);
+  job.tainted = true;
+  demote(holder);
+}
+
+ErrorVerdict WorkerTrust::error(JobTrust& job, const WorkerId& id, Standing& worker, size_t proven_connected) {
+  job.failed.insert(id);
+  job.tainted = true;
+  if (!worker.proven) {  // a peer that never returned a result cannot stop the run: the job goes to a proven worker
+    demote(worker);
+    return ErrorVerdict::kFromUnproven;
+  }
+  job.refusing.insert(id);
+  return refused_by_enough(job, proven_connected) ? ErrorVerdict::kStop : ErrorVerdict::kRetry;
+}
+
+bool WorkerTrust::refused_by_enough(const JobTrust& job, size_t proven_connected) const {
+  return !job.refusing.empty() && job.refusing.size() >= std::min<size_t>(2, std::max<size_t>(1, proven_connected));
+}
+
+Settlement WorkerTrust::answer(JobTrust& job, const WorkerId& id, Standing& worker, std::vector<RolloutResult> results,
+                               uint64_t batch) {
+  Settlement out;
+  if (!verification_.needs_check(job.chosen, worker, !job.answers.empty())) {
+    out.kind = Settlement::Kind::kTake;
+    out.credited = id;
+    out.final_now = verification_.final_unchecked(worker);
+    if (!out.final_now) ledger_.note_unchecked(id, batch);
+    out.results = std::move(results);
+    return out;
+  }
+  Answer incoming{id, std::move(results)};
+  Verdict verdict = verification_.judge(job.answers, incoming, worker.local);
+  switch (verdict.kind) {
+    case Verdict::Kind::kHold:
+      job.answers.push_back(std::move(incoming));
+      out.kind = Settlement::Kind::kHold;
+      return out;
+    case Verdict::Kind::kThreeWays:
+      out.kind = Settlement::Kind::kThreeWays;
+      return out;
+    case Verdict::Kind::kTake:
+      out.kind = Settlement::Kind::kTake;
+      out.credited = verdict.credited;
+      out.checked = true;
+      out.results = std::move(incoming.results);
+      out.passed = std::move(verdict.passed);
+      if (verdict.wrong) out.wrong.push_back(*verdict.wrong);
+      out.why_wrong = kWrongByWorkers;
+      return out;
+  }
+  return out;
+}
+
+Settlement WorkerTrust::late_answer(Answer taken, bool taken_final, Answer late, bool late_local) {
+  // results that are final were checked, or came from a local worker or the coordinator: they decide, as a local
+  // worker's answer does; otherwise the late answer is judged against the one taken, as a second answer is
+  const Verdict verdict = taken_final ? verification_.judge({late}, taken, /*incoming_local=*/true)
+                                      : verification_.judge({taken}, late, late_local);
+  Settlement out;
+  if (verdict.kind == Verdict::Kind::kHold) {  // two answers that differ: a third decides
+    out.kind = Settlement::Kind::kReopen;
+    out.reopened = {std::move(taken), std::move(late)};
+    return out;
+  }
+  out.kind = Settlement::Kind::kStands;  // (three ways cannot come of one answer held)
+  out.passed = verdict.passed;
+  if (verdict.wrong) out.wrong.push_back(*verdict.wrong);
+  out.why_wrong = kWrongByWorkers;
+  if (!verdict.wrong && !taken_final) out.checked_since = taken.worker;  // taken unchecked, checked now
+  return out;
+}
+
+Settlement WorkerTrust::coordinator_answer(const JobTrust& job, std::vector<RolloutResult> results) {
+  CoordinatorVerdict verdict = verification_.settle(job.answers, results);
+  Settlement out;
+  out.kind = Settlement::Kind::kTake;
+  out.credited = kCoordinatorAnswer;
+  out.checked = true;
+  out.results = std::move(results);
+  out.passed = std::move(verdict.passed);
+  out.wrong = std::move(verdict.wrong);
+  out.why_wrong = "returned results that the coordinator, computing them itself, did not";
+  return out;
+}
+
+void WorkerTrust::needs_coordinator(uint64_t job_id, JobTrust& job) {
+  if (!std::exchange(job.to_coordinator, true)) to_coordinator_.push_back(job_id);
+}
+
+bool WorkerTrust::forget_answers_of(JobTrust& job, const WorkerId& id) const {
+  const size_t before = job.answers.size();
+  std::erase_if(job.answers, [&](const Answer& a) { return a.worker == id; });
+  return job.answers.size() != before;
+}
+
+}  // namespace poet

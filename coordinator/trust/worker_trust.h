@@ -1,0 +1,171 @@
+#pragma once
+// How far the coordinator trusts its workers, as decisions the dispatcher acts on: may this worker take this job,
+// what does this answer settle, must the run go back and to where. Pure: no queue, no sockets, no clock of its own
+// (its verdicts follow from the standings and jobs it is given, and what it has recorded). It holds verification
+// (which answers are checked, what they say), the refusal ledger, the coordinator's own checks waiting and the
+// rollback record; the standing of each worker (standing.h) and the checks of each job (job_trust.h) are kept with
+// the worker and the job, and changed only here.
+//
+// Trust. A worker is proven — alive and answering — once it has returned a valid result (or, started by this
+// coordinator, from its Hello: it showed local_token); whether its answers are right is verification's to say.
+// Until then its death, an error it returns or a lease it lets expire only takes the job back (the job is then
+// tainted and goes to proven workers only, while any is connected), and the latter two demote it (no more jobs).
+// The run stops on an error only when two proven workers (or the only one) refuse the job: a real error repeats,
+// runs being deterministic.
+//
+// Verification. With verify_fraction > 0, every answer of a worker on probation (not local, and fewer than
+// probation_checks of its answers checked and found right) and a fraction of the other answers of workers that are
+// not local are also computed by a second, different, proven worker, and the results must match bit for bit; on a
+// mismatch a third answer decides (a local worker's, or the coordinator's, decides at once). An answer held for a
+// check is compared with the job's next answer, whoever gives it, and a holder beaten to a job answers late and is
+// compared with the results taken. Which jobs are checked is drawn from verify_secret, the batch and the job's
+// tasks: a worker that does not know the secret cannot tell which of its answers will be checked, so one lying on k
+// answers after probation goes unnoticed with probability (1 - verify_fraction)^k whichever it chooses. The worker
+// found wrong is refused from then on. Unchecked answers of workers that are not local are final only once their
+// batch is whole; once they are, only going back to a state computed before them undoes them: take_rollback names
+// the first batch to compute again when a worker refused had unchecked answers made final.
+
+#include <cstddef>
+#include <cstdint>
+#include <functional>
+#include <optional>
+#include <set>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "coordinator/trust/job_trust.h"
+#include "coordinator/trust/refusal_ledger.h"
+#include "coordinator/trust/standing.h"
+#include "coordinator/trust/verification.h"
+#include "simulation/rollout.h"
+
+namespace poet {
+
+// Who answered a task the coordinator computed itself: no routing id can equal it (a peer's own id may not start
+// with a zero byte, and libzmq's generated ones are five bytes).
+inline const WorkerId kCoordinatorAnswer("\0the coordinator", 16);
+
+struct TrustSettings {
+  double verify_fraction = 0;  // of the jobs answered by workers that are not local, also run on a second
+  uint64_t verify_secret = 0;  // which jobs are checked: drawn from it, the batch and the job; never sent
+  int probation_checks = 5;    // with verification: every answer of a worker not local is checked until this many were
+};
+
+// Whether a worker may take a job (beyond holding it already, which is the queue's to say).
+enum class Eligibility {
+  kNo,
+  kYes,
+  kIfNoProvenCan,  // a tainted job, to a worker not proven: only when no proven worker connected may take it
+};
+
+// What an answer settles. The dispatcher refuses `wrong` first (their results held back must not become final
+// with this job), credits `passed` with a check each, then acts on the kind.
+struct Settlement {
+  enum class Kind {
+    kTake,       // take `results` from `credited`: final at once (final_now), or held back until the batch is whole
+    kHold,       // the answer is held with the job, which waits for another worker's
+    kStands,     // a late answer: the results taken stand
+    kReopen,     // a late answer differs from the results taken: the tasks go out again holding `reopened`
+    kThreeWays,  // three answers, all different: the workers do not compute alike, and the run stops
+  };
+  Kind kind = Kind::kHold;
+  WorkerId credited;
+  bool final_now = true;
+  bool checked = false;  // kTake: another answer was compared with it
+  std::vector<RolloutResult> results;
+  std::vector<WorkerId> passed;  // answers found right
+  std::vector<WorkerId> wrong;   // workers found wrong: refused before the results are taken
+  std::string why_wrong;         // what they did, after their name ("returned results that ...")
+  std::optional<WorkerId> checked_since;  // kStands: its answer, taken unchecked, was compared since
+  std::vector<Answer> reopened;
+};
+
+// What an error Result from a holder means.
+enum class ErrorVerdict {
+  kFromUnproven,  // from a worker not proven: demoted, and the job goes to proven workers
+  kRetry,         // from a proven worker: another proven worker says whether the error is real
+  kStop,          // proven workers agree: the job fails, and the run stops
+};
+
+class WorkerTrust {
+ public:
+  explicit WorkerTrust(TrustSettings settings)
+      : verification_(settings.verify_fraction, settings.verify_secret, settings.probation_checks) {}
+
+  bool verifies() const { return verification_.enabled(); }
+
+  // Joining and standing.
+  bool refused(const WorkerId& id) const { return ledger_.refused(id); }
+  Standing newcomer(bool local) const;  // a local worker is proven from the start
+  Trust level(const Standing& worker) const;
+  bool on_probation(const Standing& worker) const { return verification_.on_probation(worker); }
+  // Jobs it may hold at once: one while not proven or on probation (its answers wait for checks: its probation ends
+  // within about probation_checks of its jobs, not twice that), else jobs_ahead.
+  size_t jobs_at_once(const Standing& worker, size_t jobs_ahead) const;
+  // A valid answer: alive and answering, proven and no longer demoted (`counted`: an answer to a job it held, which
+  // counts towards what it answered on probation).
+  void answered(Standing& worker, bool counted) const;
+  void demote(Standing& worker);  // given no more jobs (counted once)
+  void passed_check(Standing& worker) const { worker.checks_passed += 1; }
+  // One of its answers taken as a job's results, with another compared or without.
+  void took_answer(Standing& worker, bool checked) const;
+  void checked_since(Standing& worker) const;  // one taken unchecked was compared since, and found right
+
+  // Jobs.
+  JobTrust new_job(uint64_t batch, size_t begin, size_t end) const { return {verification_.chosen(batch, begin, end)}; }
+  Eligibility may_take(const JobTrust& job, const WorkerId& id, const Standing& worker) const;
+  // A holder died with the job: whether that counts towards the poison rule (a proven worker's death); a worker not
+  // proven proves nothing by dying, and taints the job.
+  bool death_counts(JobTrust& job, const Standing& holder) const;
+  void lease_ran_out(JobTrust& job, const WorkerId& id, Standing& holder);  // holder not proven: demoted
+  ErrorVerdict error(JobTrust& job, const WorkerId& id, Standing& worker, size_t proven_connected);
+  // The error rule: proven workers agree the job fails (two, or the only one connected).
+  bool refused_by_enough(const JobTrust& job, size_t proven_connected) const;
+
+  // What an answer settles: a job's holder's answer in `batch`; the late answer of a holder beaten to it, against
+  // the results taken (whose, and whether final: a final one was checked or local, and decides); the coordinator's
+  // own results for a job handed to it.
+  Settlement answer(JobTrust& job, const WorkerId& id, Standing& worker, std::vector<RolloutResult> results,
+                    uint64_t batch);
+  Settlement late_answer(Answer taken, bool taken_final, Answer late, bool late_local);
+  Settlement coordinator_answer(const JobTrust& job, std::vector<RolloutResult> results);
+
+  // The coordinator's own checks: a job holding answers that no connected worker can check (or whose check was held
+  // past the lease) is handed to the coordinator, once; take_coordinator_jobs hands the ids over.
+  void needs_coordinator(uint64_t job_id, JobTrust& job);
+  std::vector<uint64_t> take_coordinator_jobs() { return std::exchange(to_coordinator_, {}); }
+
+  // Refusing: a worker found wrong, or sharing a wrong one's identity, while batch `current` runs (false when it was
+  // refused already). Its answers held with jobs are worth nothing: forget_answers_of drops them from one (true if
+  // it held any).
+  bool refuse(const WorkerId& id, Refusal refusal, uint64_t current) {
+    return ledger_.refuse(id, std::move(refusal), current);
+  }
+  bool forget_answers_of(JobTrust& job, const WorkerId& id) const;
+
+  // Going back: the first batch to compute again, once a worker was refused after unchecked answers of its became
+  // final; for each worker that may still be found wrong, the first batch of such an answer (what the caller must be
+  // able to go back to); the caller went back to before `batch`; a batch starts (workers gone can no longer be
+  // found wrong); it ends (the coordinator's checks waiting are void).
+  std::optional<uint64_t> take_rollback() { return ledger_.take_rollback(); }
+  std::vector<uint64_t> unchecked_since() const { return ledger_.unchecked_since(); }
+  void forget_batches_from(uint64_t batch) { ledger_.forget_batches_from(batch); }
+  void start_batch(const std::function<bool(const WorkerId&)>& gone) { ledger_.forget_workers(gone); }
+  void end_batch() { to_coordinator_.clear(); }
+
+  int64_t verified() const { return verification_.verified(); }  // answers found right by a second worker or the coordinator
+  int64_t coordinator_checks() const { return verification_.coordinator_checks(); }  // jobs settled by its answer
+  int64_t rollbacks() const { return ledger_.rollbacks(); }
+  int64_t demoted() const { return demoted_; }
+  const std::vector<Refusal>& refusals() const { return ledger_.refusals(); }  // in order
+  const std::set<WorkerId>& refused_ids() const { return ledger_.refused_ids(); }
+
+ private:
+  Verification verification_;
+  RefusalLedger ledger_;
+  std::vector<uint64_t> to_coordinator_;  // jobs handed to the coordinator, not yet taken
+  int64_t demoted_ = 0;
+};
+
+}  // namespace poet
