@@ -104,4 +104,16 @@ Expected<RolloutResult> result_from_wire(const wire::TaskResult& message) {
   return r;
 }
 
+std::optional<std::vector<RolloutResult>> results_from_wire(const wire::Result& message, size_t count) {
+  if (message.results_size() != static_cast<int>(count)) return std::nullopt;
+  std::vector<RolloutResult> parsed;
+  parsed.reserve(count);
+  for (const wire::TaskResult& one : message.results()) {
+    Expected<RolloutResult> r = result_from_wire(one);
+    if (!r) return std::nullopt;
+    parsed.push_back(std::move(*r));
+  }
+  return parsed;
+}
+
 }  // namespace poet

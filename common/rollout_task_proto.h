@@ -5,6 +5,7 @@
 
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <span>
 #include <unordered_map>
 #include <vector>
@@ -34,5 +35,7 @@ Expected<RolloutTask> task_from_wire(const wire::Task& message, const ThetaCache
 
 // A result message as the engine's value; finite return and steps ≥ 0, else an error.
 Expected<RolloutResult> result_from_wire(const wire::TaskResult& message);
+// A Result's rollout results when it holds exactly `count` of them and each is valid; nullopt otherwise.
+std::optional<std::vector<RolloutResult>> results_from_wire(const wire::Result& message, size_t count);
 
 }  // namespace poet

@@ -4,24 +4,9 @@
 
 #include "common/rollout_task_proto.h"
 #include "common/text_format.h"
+#include "coordinator/dispatch/hello_check.h"
 
 namespace poet {
-namespace {
-
-// A Result's rollout results when it holds `count` of them and each parses.
-std::optional<std::vector<RolloutResult>> parse_results(const wire::Result& result, size_t count) {
-  if (result.results_size() != static_cast<int>(count)) return std::nullopt;
-  std::vector<RolloutResult> parsed;
-  parsed.reserve(count);
-  for (const wire::TaskResult& one : result.results()) {
-    Expected<RolloutResult> r = result_from_wire(one);
-    if (!r) return std::nullopt;
-    parsed.push_back(std::move(*r));
-  }
-  return parsed;
-}
-
-}  // namespace
 
 wire::CoordinatorMessage Dispatcher::on_hello(const WorkerId& id, const wire::Hello& hello, Millis now) {
   wire::CoordinatorMessage reply;
@@ -30,17 +15,9 @@ wire::CoordinatorMessage Dispatcher::on_hello(const WorkerId& id, const wire::He
     reply.mutable_refused()->set_reason("this worker was refused for wrong results");
     return reply;
   }
-  if (hello.protocol_version() != wire::PROTOCOL_VERSION) {
-    count_drop(DropReason::kWrongVersion);
-    reply.mutable_refused()->set_reason("protocol version " + std::to_string(hello.protocol_version()) +
-                                        ", the coordinator speaks " + std::to_string(wire::PROTOCOL_VERSION));
-    return reply;
-  }
-  if (settings_.fingerprint_digest != 0 && hello.fingerprint_digest() != settings_.fingerprint_digest) {
-    count_drop(DropReason::kWrongFingerprint);
-    reply.mutable_refused()->set_reason("build fingerprint " + hex_text(hello.fingerprint_digest()) +
-                                        " differs from the coordinator's " + hex_text(settings_.fingerprint_digest) +
-                                        ": its returns would differ (compare --fingerprint of both binaries)");
+  if (const std::optional<HelloRefusal> refusal = hello_refusal(hello, settings_.fingerprint_digest)) {
+    count_drop(refusal->reason);
+    reply.mutable_refused()->set_reason(refusal->why);
     return reply;
   }
   if (workers_.contains(id)) remove_worker(id, /*died=*/false);  // said Hello again: a fresh start
@@ -50,11 +27,7 @@ wire::CoordinatorMessage Dispatcher::on_hello(const WorkerId& id, const wire::He
                                         " workers, its limit");
     return reply;
   }
-  WorkerView view;
-  view.id = id;
-  view.name = hello.name().substr(0, 200);
-  view.threads = static_cast<int>(std::clamp<uint32_t>(hello.threads(), 1, 4096));
-  view.fingerprint_digest = hello.fingerprint_digest();
+  WorkerView view = view_of_hello(id, hello);
   static_cast<Standing&>(view) =
       trust_.newcomer(!settings_.local_token.empty() && hello.local_token() == settings_.local_token);
   workers_.add(std::move(view), now);
@@ -154,7 +127,7 @@ void Dispatcher::on_result(const WorkerId& id, const wire::Result& result, Milli
     on_error(w, j, result.error());
     return;
   }
-  std::optional<std::vector<RolloutResult>> parsed = parse_results(result, j.end - j.begin);
+  std::optional<std::vector<RolloutResult>> parsed = results_from_wire(result, j.end - j.begin);
   if (!parsed) {  // a worker that sends nonsense is treated as one that died with the job
     count_drop(DropReason::kBadResult);
     if (!w.view.proven) trust_.demote(w.view);
@@ -185,7 +158,7 @@ void Dispatcher::on_unexpected_result(RegisteredWorker* worker, const wire::Resu
   // a late answer still shows the worker alive and answering when it parses (a new worker beaten at every batch's
   // tail by proven ones would otherwise never be proven, and one whose trial outlived its batch would be demoted)
   worker->trial_since.reset();
-  if (!result.has_error() && result.results_size() > 0 && parse_results(result, result.results_size()))
+  if (!result.has_error() && result.results_size() > 0 && results_from_wire(result, result.results_size()))
     trust_.answered(worker->view, /*counted=*/false);
   if (beaten) compare_late(worker->view.id, beaten->first, beaten->second, result);  // last: it may refuse the worker
 }
@@ -197,7 +170,7 @@ void Dispatcher::compare_late(const WorkerId id, size_t begin, size_t end, const
   const bool taken_final = results_.is_final(begin);
   for (size_t t = begin; t < end; ++t)
     if (!results_.has(t) || results_.from(t) != taken_from || results_.is_final(t) != taken_final) return;
-  std::optional<std::vector<RolloutResult>> late = parse_results(result, end - begin);
+  std::optional<std::vector<RolloutResult>> late = results_from_wire(result, end - begin);
   const RegisteredWorker* worker = workers_.find(id);
   if (!late || worker == nullptr) return;
   const std::span<const RolloutResult> taken = results_.results(begin, end);

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <bit>
+#include <limits>
 #include <memory>
 
 #include "simulation/envgen/cppn_mutation.h"
@@ -57,6 +58,21 @@ TEST(RolloutTaskProto, AHostileGenomeOnTheWireIsRefusedNamingTheField) {
   ASSERT_FALSE(many);
   EXPECT_EQ(many.error(), "env.encoding.cppn.nodes: " +
                               std::to_string(1'000'000 + task.env.encoding.cppn->nodes.size()) + " nodes; at most 256");
+}
+
+TEST(RolloutTaskProto, AResultHoldsItsRolloutResultsOnlyWhenEveryOneIsThereAndValid) {
+  wire::Result result;
+  for (int i = 0; i < 2; ++i) {
+    wire::TaskResult* one = result.add_results();
+    one->set_total_reward(1.5 + i);
+    one->set_steps(10);
+  }
+  const std::optional<std::vector<RolloutResult>> both = results_from_wire(result, 2);
+  ASSERT_TRUE(both);
+  EXPECT_EQ((*both)[1].total_reward, 2.5);
+  EXPECT_FALSE(results_from_wire(result, 3));  // a job of three tasks: one is missing
+  result.mutable_results(1)->set_total_reward(std::numeric_limits<double>::quiet_NaN());
+  EXPECT_FALSE(results_from_wire(result, 2));
 }
 
 }  // namespace
