@@ -100,7 +100,10 @@ int run(const DaemonOptions& options, StopSignals& signals) {
                       waiting ? "no worker is connected" : "");
     });
   }
-  return run_loop(options, signals, board, *rollouts, std::move(*opened), std::move(wall_times), started);
+  const RunEnd end =
+      run_loop(options, signals, board, *rollouts->evaluator, std::move(*opened), std::move(wall_times), started);
+  end_rollouts(options, signals, board, *rollouts, end.finished, end.finished_when_opened);
+  return end.exit_code;
 }
 
 }  // namespace

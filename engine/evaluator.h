@@ -3,7 +3,9 @@
 // The POET loop never knows whether a batch ran on threads in this process or on workers elsewhere.
 
 #include <cstddef>
+#include <cstdint>
 #include <functional>
+#include <optional>
 #include <span>
 #include <stdexcept>
 #include <vector>
@@ -20,10 +22,23 @@ class EvaluationStopped : public std::runtime_error {
 };
 
 // Results [first, first + results.size()) of the batch are final: evaluate() will return exactly these. Called
-// zero or more times before evaluate() returns, each index at most once, from any of the evaluator's threads
-// but never concurrently with itself; it runs on the evaluator's dispatch path, so it must be quick. An empty
-// function means nobody listens.
+// zero or more times before evaluate() returns, each index at most once, from the thread that called evaluate() or
+// one of the evaluator's own, never concurrently with itself and never under a lock the evaluator needs to go on
+// (the remote evaluator calls it on evaluate()'s thread while its socket thread keeps serving). The batch's end
+// waits for it, so it should be quick: the engine hands its gradient work to threads of its own. An empty function
+// means nobody listens.
 using ResultsReady = std::function<void(size_t first, std::span<const RolloutResult> results)>;
+
+// Results an evaluator may take back after evaluate() returned them: with verification, a remote worker's unchecked
+// answers are final once their batch is whole, and the worker found wrong later makes them wrong. Batches are
+// numbered from 1 as evaluate() starts them. A caller keeps a state from before each batch in `reachable`; told
+// `withdrawn_from`, it goes back to a state from before that batch and says so (Evaluator::went_back).
+struct Withdrawals {
+  bool possible = false;                   // whether results may ever be withdrawn (false: the rest stays empty)
+  uint64_t last_batch = 0;                 // the batch started last (0: none yet)
+  std::optional<uint64_t> withdrawn_from;  // results of this batch and later ones may be wrong: go back before it
+  std::vector<uint64_t> reachable;         // batches whose results may yet be withdrawn
+};
 
 class Evaluator {
  public:
@@ -34,6 +49,13 @@ class Evaluator {
   // the batch completes; an evaluator honours a stop request within about a second.
   virtual std::vector<RolloutResult> evaluate(std::span<const RolloutTask> tasks, const ResultsReady& ready) = 0;
   std::vector<RolloutResult> evaluate(std::span<const RolloutTask> tasks) { return evaluate(tasks, {}); }
+
+  // Which of its results are withdrawn, or may yet be; a withdrawal stands until went_back. Called between batches.
+  // By default none ever is.
+  virtual Withdrawals withdrawals() { return {}; }
+  // The caller went back to a state saved when `last_batch` was the batch started last: the results of later
+  // batches count no more, and an evaluator that remembers results forgets them.
+  virtual void went_back(uint64_t /*last_batch*/) {}
 };
 
 }  // namespace poet

@@ -3,7 +3,10 @@
 #include <spdlog/spdlog.h>
 
 #include <algorithm>
+#include <chrono>
+#include <condition_variable>
 #include <filesystem>
+#include <mutex>
 #include <thread>
 #include <utility>
 
@@ -44,6 +47,18 @@ std::optional<CurveServer> curve_server(const std::filesystem::path& dir, bool l
   spdlog::info("CURVE on: workers need one of the {} keys in {}", authorized_keys.size(),
                (dir / "authorized").string());
   return CurveServer{keys->secret_key, dir, {}, {}};  // the callbacks and files: set by the caller
+}
+
+// A run that was finished when opened: the workers an orchestrator starts beside it (Compose starts them once
+// /healthz answers) would try to reach a coordinator for ever; for --linger seconds each one that connects is told
+// the run is finished and exits 0. A stop request ends the wait.
+void linger(const DaemonOptions& options, StopSignals& signals) {
+  spdlog::info("the run was finished already; workers that connect in the next {} s are told so, then this exits",
+               options.linger_seconds);
+  std::mutex mutex;
+  std::condition_variable_any stopped;
+  std::unique_lock lock(mutex);
+  stopped.wait_for(lock, signals.token(), std::chrono::seconds(options.linger_seconds), [] { return false; });
 }
 
 }  // namespace
@@ -103,6 +118,17 @@ bool start_local_workers(const DaemonOptions& options, Rollouts& r) {
   r.local_workers = std::move(*workers);
   spdlog::info("started {} local workers ({}) with {} threads each", options.local_workers, binary, threads);
   return true;
+}
+
+void end_rollouts(const DaemonOptions& options, StopSignals& signals, StatusBoard& board, Rollouts& r, bool finished,
+                  bool finished_when_opened) {
+  if (r.remote) r.remote->log_summary();
+  if (!finished) return;
+  if (r.remote) r.remote->on_snapshot(nullptr);  // first, so that no snapshot of the dispatcher says "running" again
+  board.set_state(RunPhase::kFinished);
+  if (!r.remote) return;
+  r.remote->shutdown_workers("the run is finished");
+  if (finished_when_opened && options.linger_seconds > 0) linger(options, signals);
 }
 
 }  // namespace poet

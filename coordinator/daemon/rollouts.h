@@ -31,5 +31,10 @@ struct Rollouts {
 std::optional<Rollouts> make_rollouts(const DaemonOptions& options, StopSignals& signals, StatusBoard& board);
 // --local-workers: started once the run is open, connected to the bound socket.
 bool start_local_workers(const DaemonOptions& options, Rollouts& r);
+// The run loop ended: what the workers cost and did is logged. When the run is finished, the board says so (and no
+// longer hears from the dispatcher) and the workers are told (they exit); a run finished already when opened then
+// waits --linger seconds, telling every worker that connects, or until a stop request.
+void end_rollouts(const DaemonOptions& options, StopSignals& signals, StatusBoard& board, Rollouts& r, bool finished,
+                  bool finished_when_opened);
 
 }  // namespace poet

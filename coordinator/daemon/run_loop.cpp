@@ -2,9 +2,7 @@
 
 #include <spdlog/spdlog.h>
 
-#include <condition_variable>
 #include <cstdio>
-#include <mutex>
 #include <optional>
 #include <string>
 #include <variant>
@@ -50,35 +48,35 @@ void print_summary(const RunState& state, double wall_seconds) {
 }
 
 // The run loop once the run is open: iterations, checkpoints and the wall times, going back to a checkpoint when
-// a worker was found wrong (with verification), and the end of the run. It owns the opened run directory and
-// state, and the evaluators in front of the rollouts (the score cache and the time spent waiting).
+// the evaluator withdraws results (a worker found wrong, with verification), and the end of the run. It owns the
+// opened run directory and state, and the evaluators in front of the rollouts (the score cache and the time spent
+// waiting).
 class RunLoop {
  public:
-  RunLoop(const DaemonOptions& options, StopSignals& signals, StatusBoard& board, Rollouts& rollouts,
+  RunLoop(const DaemonOptions& options, StopSignals& signals, StatusBoard& board, Evaluator& rollouts,
           std::pair<RunDirectory, RunState> opened, WallTimes wall_times, std::chrono::steady_clock::time_point started)
       : options_(options),
         signals_(signals),
         board_(board),
-        rollouts_(rollouts),
         opened_(std::move(opened)),
         wall_times_(std::move(wall_times)),
         started_(started),
         waiting_(
-            *rollouts.evaluator,
+            rollouts,
             [] { return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count(); }),
         evaluator_(waiting_, kScoreCacheBytes),
         progress_(!options.quiet),
         phase_timer_([this] { return elapsed(); }),
         saved_iteration_(state().next_iteration),
         finished_when_opened_(run_complete(state())),
-        verified_(rollouts.remote && rollouts.remote->verifies()) {}
+        may_go_back_(evaluator_.withdrawals().possible) {}
 
-  // Iterations until the run is complete or a stop is asked for; then the shutdown. The process's exit code.
-  int run() {
+  // Iterations until the run is complete or a stop is asked for; then the shutdown.
+  RunEnd run() {
     keep_anchor();
     signals_.loop_started();
     while (!run_complete(state()) && !signals_.stop_requested()) {
-      if (const std::optional<int> ended = iterate()) return *ended;
+      if (const std::optional<int> ended = iterate()) return {*ended, false, finished_when_opened_};
     }
     return finish();
   }
@@ -132,56 +130,38 @@ class RunLoop {
     return std::nullopt;
   }
 
-  // The loop ended: the last iterations saved, the summaries logged, the workers told when the run is finished.
-  int finish() {
+  // The loop ended: the last iterations saved, the summaries logged.
+  RunEnd finish() {
     // a stop between an iteration's save check and the loop test leaves that iteration unsaved
-    if (state().next_iteration != saved_iteration_ && !save()) return kExitError;
+    if (state().next_iteration != saved_iteration_ && !save()) return {kExitError, false, finished_when_opened_};
     progress_.finish();
     log_summaries();
     if (!run_complete(state())) {
       spdlog::warn("interrupted at iteration {}; continue with: poet-coordinator --run-dir {} --resume",
                    state().next_iteration, options_.run_dir);
       print_summary(state(), elapsed());
-      return signals_.exit_code();
+      return {signals_.exit_code(), false, finished_when_opened_};
     }
     if (budget_reached(state()))
       spdlog::info("run finished at iteration {}: its environment-step budget of {} reached ({} steps)",
                    state().next_iteration, state().settings.env_step_budget, state().counters.env_steps);
     else
       spdlog::info("run finished at iteration {}", state().next_iteration);
-    board_.set_state(RunPhase::kFinished);
-    if (rollouts_.remote) {
-      rollouts_.remote->on_snapshot(nullptr);
-      rollouts_.remote->shutdown_workers("the run is finished");
-      if (finished_when_opened_ && options_.linger_seconds > 0) linger();
-    }
     print_summary(state(), elapsed());
-    return 0;
+    return {0, true, finished_when_opened_};
   }
 
-  // A run that was finished when opened: the workers an orchestrator starts beside it (Compose starts them once
-  // /healthz answers) would try to reach a coordinator for ever; for --linger seconds each one that connects is told
-  // the run is finished and exits 0. A stop request ends the wait.
-  void linger() {
-    spdlog::info("the run was finished already; workers that connect in the next {} s are told so, then this exits",
-                 options_.linger_seconds);
-    std::mutex mutex;
-    std::condition_variable_any stopped;
-    std::unique_lock lock(mutex);
-    stopped.wait_for(lock, signals_.token(), std::chrono::seconds(options_.linger_seconds), [] { return false; });
-  }
-
-  // With verification, the checkpoint just written, kept in memory while a rollback may need it.
+  // When results may be withdrawn, the checkpoint just written, kept in memory while going back may need it.
   void keep_anchor() {
-    if (!verified_) return;
+    if (!may_go_back_) return;
     Expected<std::string> bytes = read_text_file(dir().path() / kCheckpointFile, kMaxCheckpointBytes);
     if (!bytes) {  // then an older one stands in, which only costs more recomputation
       spdlog::warn("{}: {}", (dir().path() / kCheckpointFile).string(), bytes.error());
       return;
     }
-    anchors_.add({rollouts_.remote->batch_id(), state().next_iteration, std::move(*bytes)});
-    const std::vector<uint64_t> needed = rollouts_.remote->unchecked_since();
-    anchors_.prune(needed);
+    const Withdrawals withdrawals = evaluator_.withdrawals();
+    anchors_.add({withdrawals.last_batch, state().next_iteration, std::move(*bytes)});
+    anchors_.prune(withdrawals.reachable);
   }
 
   bool save() {
@@ -216,8 +196,7 @@ class RunLoop {
         first_bad, anchor->next_iteration);
     if (auto error = write_file_atomically(dir().path() / kCheckpointFile, anchor->bytes))
       return (dir().path() / kCheckpointFile).string() + ": " + *error;
-    rollouts_.remote->forget_batches_from(anchor->last_batch + 1);
-    evaluator_.clear();  // the wrong worker's results may be among those remembered
+    evaluator_.went_back(anchor->last_batch);  // and the score cache forgets: the wrong worker's results may be in it
     anchors_.keep_until(*anchor);
     opened_.reset();  // its lock released, for the resume to take
     Expected<std::pair<RunDirectory, RunState>> resumed = RunDirectory::resume(options_.run_dir);
@@ -237,7 +216,7 @@ class RunLoop {
   // iteration in flight is given up: a liar caught then may have unchecked answers in the checkpoint on disk, which
   // a resume must not go on from.
   std::optional<bool> go_back_if_asked() {
-    const std::optional<uint64_t> first_bad = rollouts_.remote ? rollouts_.remote->take_rollback() : std::nullopt;
+    const std::optional<uint64_t> first_bad = evaluator_.withdrawals().withdrawn_from;
     if (!first_bad) return std::nullopt;
     if (auto error = go_back(*first_bad)) {
       spdlog::error("going back: {}", *error);
@@ -246,9 +225,8 @@ class RunLoop {
     return true;
   }
 
-  // what this process's dispatcher and score cache did, however the loop ends
+  // what the score cache did, however the loop ends (the workers' part is their owner's: end_rollouts)
   void log_summaries() {
-    if (rollouts_.remote) rollouts_.remote->log_summary();
     if (evaluator_.episodes_saved() > 0)
       spdlog::info("score cache: {} episodes asked for again were not run ({} environment steps)",
                    evaluator_.episodes_saved(), evaluator_.steps_saved());
@@ -257,7 +235,6 @@ class RunLoop {
   const DaemonOptions& options_;
   StopSignals& signals_;
   StatusBoard& board_;
-  Rollouts& rollouts_;
   std::optional<std::pair<RunDirectory, RunState>> opened_;
   WallTimes wall_times_;
   const std::chrono::steady_clock::time_point started_;
@@ -272,14 +249,14 @@ class RunLoop {
   CheckpointAnchors anchors_;
   // the run's wall time stays the machine's time after going back: the times of the iterations given up are in it
   double wall_offset_ = 0;
-  const bool verified_;
+  const bool may_go_back_;  // the evaluator may withdraw results (verification): checkpoints are kept for it
 };
 
 }  // namespace
 
-int run_loop(const DaemonOptions& options, StopSignals& signals, StatusBoard& board, Rollouts& rollouts,
-             std::pair<RunDirectory, RunState> opened, WallTimes wall_times,
-             std::chrono::steady_clock::time_point started) {
+RunEnd run_loop(const DaemonOptions& options, StopSignals& signals, StatusBoard& board, Evaluator& rollouts,
+                std::pair<RunDirectory, RunState> opened, WallTimes wall_times,
+                std::chrono::steady_clock::time_point started) {
   RunLoop loop(options, signals, board, rollouts, std::move(opened), std::move(wall_times), started);
   return loop.run();
 }

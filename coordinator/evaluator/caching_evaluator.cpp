@@ -91,6 +91,11 @@ void CachingEvaluator::remember(std::string key, const RolloutResult& result) {
   }
 }
 
+void CachingEvaluator::went_back(uint64_t last_batch) {
+  clear();
+  inner_.went_back(last_batch);
+}
+
 void CachingEvaluator::clear() {
   results_.clear();
   order_.clear();

@@ -29,8 +29,11 @@ class CachingEvaluator final : public Evaluator {
   // The inner evaluator runs the tasks not known (each distinct one once), in task order; known results are
   // reported to `ready` first, then the inner evaluator's as they come, each index once.
   std::vector<RolloutResult> evaluate(std::span<const RolloutTask> tasks, const ResultsReady& ready) override;
-  // Forgets every result: after the run went back to a checkpoint because a worker was found wrong, its results may
-  // be among them.
+  // The inner evaluator's: the cache withdraws nothing of its own.
+  Withdrawals withdrawals() override { return inner_.withdrawals(); }
+  // Forgets every result (the wrong worker's may be among them), and tells the inner evaluator.
+  void went_back(uint64_t last_batch) override;
+  // Forgets every result.
   void clear();
 
   int64_t episodes_saved() const { return episodes_saved_; }  // tasks answered without running them

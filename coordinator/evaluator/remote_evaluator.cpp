@@ -2,8 +2,10 @@
 
 #include <spdlog/spdlog.h>
 
+#include <algorithm>
 #include <chrono>
 #include <stdexcept>
+#include <utility>
 #include <zmq.hpp>
 
 #include "common/text_format.h"
@@ -111,24 +113,19 @@ void RemoteEvaluator::check_loop() {
   }
 }
 
-std::optional<uint64_t> RemoteEvaluator::take_rollback() {
+Withdrawals RemoteEvaluator::withdrawals() {
   std::lock_guard lock(mutex_);
-  return dispatcher_.take_rollback();
+  // taken once from the dispatcher, told until the caller goes back
+  if (const std::optional<uint64_t> first = dispatcher_.take_rollback())
+    withdrawn_from_ = std::min(withdrawn_from_.value_or(*first), *first);
+  return {dispatcher_.settings().verify_fraction > 0, dispatcher_.batch_id(), withdrawn_from_,
+          dispatcher_.unchecked_since()};
 }
 
-uint64_t RemoteEvaluator::batch_id() {
+void RemoteEvaluator::went_back(uint64_t last_batch) {
   std::lock_guard lock(mutex_);
-  return dispatcher_.batch_id();
-}
-
-std::vector<uint64_t> RemoteEvaluator::unchecked_since() {
-  std::lock_guard lock(mutex_);
-  return dispatcher_.unchecked_since();
-}
-
-void RemoteEvaluator::forget_batches_from(uint64_t batch) {
-  std::lock_guard lock(mutex_);
-  dispatcher_.forget_batches_from(batch);
+  dispatcher_.forget_batches_from(last_batch + 1);
+  withdrawn_from_.reset();
 }
 
 void RemoteEvaluator::on_snapshot(std::function<void(DispatchView)> publish) {
@@ -161,19 +158,32 @@ void RemoteEvaluator::shutdown_workers(const std::string& reason) {
 }
 
 std::vector<RolloutResult> RemoteEvaluator::evaluate(std::span<const RolloutTask> tasks, const ResultsReady& ready) {
+  // Registered before the lock is taken, as it runs at once when the stop came first; destroyed after the lock is
+  // released, as its destructor waits for a run on another thread that may be waiting for the lock.
+  const std::stop_callback wake_on_stop(stop_, [this] {
+    { std::lock_guard lock(mutex_); }  // a waiter is either not yet waiting (it sees the stop) or is woken
+    changed_.notify_all();
+  });
   std::unique_lock lock(mutex_);
   dispatcher_.start_batch(tasks);
   wake_.notify();
-  ready_ = ready ? &ready : nullptr;
-  struct Unlisten {  // however evaluate() ends, the socket thread calls `ready` no more
-    const ResultsReady*& listener;
-    ~Unlisten() { listener = nullptr; }
-  } unlisten{ready_};
+  collect_ready_ = static_cast<bool>(ready);
+  struct StopCollecting {  // however evaluate() ends (with the lock held), nothing more is collected for it
+    RemoteEvaluator& self;
+    ~StopCollecting() {
+      self.collect_ready_ = false;
+      self.ready_results_.clear();
+    }
+  } stop_collecting{*this};
   changed_.notify_all();
   Millis waiting_since = now_ms();
   bool said_waiting = false;
   for (;;) {
-    changed_.wait_for(lock, std::chrono::milliseconds(100));
+    // woken by the socket thread or a stop; otherwise when it is time to say the run waits for workers
+    const Millis patience = said_waiting ? 60'000 : 2'000;
+    changed_.wait_for(lock, std::chrono::milliseconds(std::max<Millis>(0, waiting_since + patience - now_ms())), [&] {
+      return stop_.stop_requested() || !ready_results_.empty() || dispatcher_.failure() || dispatcher_.batch_done();
+    });
     if (stop_.stop_requested()) {
       dispatcher_.abandon_batch();
       throw EvaluationStopped();
@@ -183,18 +193,35 @@ std::vector<RolloutResult> RemoteEvaluator::evaluate(std::span<const RolloutTask
       dispatcher_.abandon_batch();
       throw std::runtime_error(message);
     }
+    if (!ready_results_.empty()) {
+      tell_ready(lock, ready);
+      continue;
+    }
     if (dispatcher_.batch_done()) return dispatcher_.take_results();
     // say so when the run waits for workers, then every minute while it still does
     if (dispatcher_.ready_workers() > 0) {
       waiting_since = now_ms();
       said_waiting = false;
-    } else if (now_ms() - waiting_since > (said_waiting ? 60'000 : 2'000)) {
+    } else if (now_ms() - waiting_since >= patience) {
       spdlog::warn("waiting for workers: none is connected to {} ({} jobs queued)", endpoint_,
                    dispatcher_.queue_depth());
       waiting_since = now_ms();
       said_waiting = true;
     }
   }
+}
+
+void RemoteEvaluator::tell_ready(std::unique_lock<std::mutex>& lock, const ResultsReady& ready) {
+  const std::vector<ReadyResults> told = std::exchange(ready_results_, {});
+  lock.unlock();
+  try {
+    for (const ReadyResults& range : told) ready(range.first, range.results);
+  } catch (...) {
+    lock.lock();
+    dispatcher_.abandon_batch();
+    throw;
+  }
+  lock.lock();
 }
 
 void RemoteEvaluator::loop() {
@@ -227,8 +254,11 @@ void RemoteEvaluator::serve(Millis now) {
   }
   const int64_t demoted_before = dispatcher_.workers_demoted();
   receive_all(now);
-  for (const auto& [first, end] : dispatcher_.take_ready_ranges())
-    if (ready_) (*ready_)(first, dispatcher_.results(first, end));
+  for (const auto& [first, end] : dispatcher_.take_ready_ranges()) {
+    if (!collect_ready_) continue;  // nobody listens
+    const std::span<const RolloutResult> results = dispatcher_.results(first, end);
+    ready_results_.push_back({first, {results.begin(), results.end()}});
+  }
   for (const WorkerId& dead : dispatcher_.expire(now)) {
     if (const auto held_back = log_lost_.admit(now))
       spdlog::warn("worker {} silent for {} ms: removed, its jobs go back to the queue{}", peer_id_text(dead),
@@ -255,7 +285,7 @@ void RemoteEvaluator::serve(Millis now) {
       spdlog::warn("{} job(s) held far longer than this batch's jobs take: sent to a second worker too{}", backups,
                    LogThrottle::held_back_note(*held_back));
   }
-  if (dispatcher_.batch_done() || dispatcher_.failure()) changed_.notify_all();
+  if (!ready_results_.empty() || dispatcher_.batch_done() || dispatcher_.failure()) changed_.notify_all();
 }
 
 void RemoteEvaluator::send_shutdowns() {

@@ -58,9 +58,14 @@ class RemoteEvaluator final : public Evaluator {
   // Blocks until every task has a result (waiting for workers as long as it takes, and saying so in the log).
   // Throws EvaluationStopped on a stop request, and std::runtime_error naming the task when a task killed
   // settings.max_attempts workers or a worker refused it.
-  // `ready` hears of each job's results as they arrive, on the socket thread.
+  // Waits on a condition the socket thread (and a stop request) notifies; `ready` hears of each job's results as
+  // they become final, on this thread with the lock released, so the socket thread keeps serving meanwhile.
   std::vector<RolloutResult> evaluate(std::span<const RolloutTask> tasks, const ResultsReady& ready) override;
   using Evaluator::evaluate;
+  // With verification (Dispatcher::take_rollback and the rest): the batches whose final results a worker found
+  // wrong later may have lied in.
+  Withdrawals withdrawals() override;
+  void went_back(uint64_t last_batch) override;
 
   // The endpoint bound, with its port ("tcp://127.0.0.1:41235").
   const std::string& endpoint() const { return endpoint_; }
@@ -69,19 +74,21 @@ class RemoteEvaluator final : public Evaluator {
   void shutdown_workers(const std::string& reason);
   // Logs what the run's workers cost and did beyond their jobs: checks, demotions, refusals, going back.
   void log_summary();
-  bool verifies() const { return dispatcher_.settings().verify_fraction > 0; }  // settings never change
-  // Going back (Dispatcher::take_rollback and the rest, under the lock), for the loop that keeps checkpoints.
-  std::optional<uint64_t> take_rollback();
-  uint64_t batch_id();
-  std::vector<uint64_t> unchecked_since();
-  void forget_batches_from(uint64_t batch);
   // Called on the socket thread about twice a second with the dispatcher's view of itself (for the status board).
   void on_snapshot(std::function<void(DispatchView)> publish);
 
  private:
+  // A range of final results taken from the dispatcher for evaluate()'s thread to tell its listener.
+  struct ReadyResults {
+    size_t first = 0;
+    std::vector<RolloutResult> results;
+  };
+
   RemoteEvaluator(DispatchSettings settings, std::stop_token stop);
+  // Tells `ready` of the results collected so far, with the lock released; on a throw the batch is abandoned.
+  void tell_ready(std::unique_lock<std::mutex>& lock, const ResultsReady& ready);
   void loop();
-  // One round of the socket thread, under the lock: the messages in, the results out to `ready`, workers lost,
+  // One round of the socket thread, under the lock: the messages in, the final results collected, workers lost,
   // Shutdowns, refused keys, the messages out, the coordinator's checks, and the log of what changed.
   void serve(Millis now);
   void send_shutdowns();                // to every known worker, once shutdown_workers() asks
@@ -105,10 +112,12 @@ class RemoteEvaluator final : public Evaluator {
   std::stop_token stop_;
 
   std::mutex mutex_;
-  std::condition_variable changed_;
+  std::condition_variable changed_;  // results collected, the batch done or failed, a stop requested, quit
   Dispatcher dispatcher_;
   std::function<void(DispatchView)> publish_;
-  const ResultsReady* ready_ = nullptr;  // the batch's listener, while evaluate() runs
+  bool collect_ready_ = false;  // while evaluate() runs with a listener: final results are copied for it
+  std::vector<ReadyResults> ready_results_;
+  std::optional<uint64_t> withdrawn_from_;  // Dispatcher::take_rollback's, standing until went_back
   bool quit_ = false;
   std::string shutdown_reason_;
   bool shutdown_requested_ = false;

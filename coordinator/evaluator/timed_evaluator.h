@@ -28,6 +28,9 @@ class TimedEvaluator final : public Evaluator {
     }
   }
 
+  Withdrawals withdrawals() override { return inner_.withdrawals(); }
+  void went_back(uint64_t last_batch) override { inner_.went_back(last_batch); }
+
   // The seconds spent in evaluate() since the last take (or the start), and a fresh count.
   double take() { return std::exchange(seconds_, 0.0); }
 

@@ -1,6 +1,7 @@
 // CachingEvaluator: an unperturbed task seen before, or repeated within a batch, is not run again and gets the
 // result it had; perturbed tasks always run; every index is reported ready once with its final result; the memory
-// bound evicts the oldest; clear() forgets; an inner evaluator's stop or wrong count passes through.
+// bound evicts the oldest; clear() forgets; an inner evaluator's stop or wrong count passes through, and so do its
+// withdrawals, the cache forgetting everything when the run goes back.
 
 #include "coordinator/evaluator/caching_evaluator.h"
 
@@ -27,6 +28,20 @@ class CountingEvaluator final : public Evaluator {
   }
   LocalEvaluator threads{1};
   int ran = 0;
+};
+
+// The same, withdrawing results as a verifying remote evaluator does, and remembering where the caller went back to.
+class WithdrawingEvaluator final : public Evaluator {
+ public:
+  using Evaluator::evaluate;
+  std::vector<RolloutResult> evaluate(std::span<const RolloutTask> tasks, const ResultsReady& ready) override {
+    return counting.evaluate(tasks, ready);
+  }
+  Withdrawals withdrawals() override { return told; }
+  void went_back(uint64_t last_batch) override { went_back_to = last_batch; }
+  CountingEvaluator counting;
+  Withdrawals told{true, 7, 5, {3, 5}};
+  std::optional<uint64_t> went_back_to;
 };
 
 std::shared_ptr<const std::vector<double>> theta(uint64_t seed) {
@@ -96,6 +111,29 @@ TEST(CachingEvaluator, AKnownOrRepeatedEpisodeIsNotRunAgainAndHasTheSameResult) 
   EXPECT_EQ(cache.size(), 0u);
   cache.evaluate(std::vector<RolloutTask>{first[0]});
   EXPECT_EQ(inner.ran, 9) << "forgotten";
+}
+
+TEST(CachingEvaluator, WithdrawalsPassThroughAndGoingBackForgetsEveryResult) {
+  CountingEvaluator never;
+  EXPECT_FALSE(CachingEvaluator(never, kScoreCacheBytes).withdrawals().possible) << "by default nothing is withdrawn";
+
+  WithdrawingEvaluator inner;
+  CachingEvaluator cache(inner, kScoreCacheBytes);
+  const std::vector<RolloutTask> batch = {task(theta(1), "flat", 0)};
+  cache.evaluate(batch);
+  cache.evaluate(batch);
+  EXPECT_EQ(inner.counting.ran, 1);
+  const Withdrawals told = cache.withdrawals();
+  EXPECT_TRUE(told.possible);
+  EXPECT_EQ(told.last_batch, 7u);
+  EXPECT_EQ(told.withdrawn_from, std::optional<uint64_t>(5));
+  EXPECT_EQ(told.reachable, (std::vector<uint64_t>{3, 5}));
+
+  cache.went_back(4);
+  EXPECT_EQ(inner.went_back_to, std::optional<uint64_t>(4));
+  EXPECT_EQ(cache.size(), 0u);
+  cache.evaluate(batch);
+  EXPECT_EQ(inner.counting.ran, 2) << "the result remembered before going back may be a lie";
 }
 
 TEST(CachingEvaluator, TheMemoryBoundEvictsTheOldest) {

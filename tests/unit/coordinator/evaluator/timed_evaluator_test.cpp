@@ -1,5 +1,5 @@
 // TimedEvaluator: the seconds spent in evaluate() on the given clock, summed until take(), a stop's included; the
-// results and the ready calls are the inner evaluator's.
+// results, the ready calls and the withdrawals are the inner evaluator's.
 
 #include "coordinator/evaluator/timed_evaluator.h"
 
@@ -21,7 +21,10 @@ class SlowEvaluator final : public Evaluator {
     if (ready) ready(0, out);
     return out;
   }
+  Withdrawals withdrawals() override { return {true, 4, 2, {2}}; }
+  void went_back(uint64_t last_batch) override { went_back_to = last_batch; }
   bool stop = false;
+  uint64_t went_back_to = 0;
 
  private:
   double& clock_;
@@ -47,6 +50,19 @@ TEST(TimedEvaluator, CountsTheSecondsInEvaluateUntilTaken) {
   inner.stop = true;  // a stopped batch was waited for all the same
   EXPECT_THROW(timed.evaluate(tasks), EvaluationStopped);
   EXPECT_DOUBLE_EQ(timed.take(), 2.5);
+}
+
+TEST(TimedEvaluator, WithdrawalsAndGoingBackPassThrough) {
+  double clock = 0;
+  SlowEvaluator inner(clock, 1);
+  TimedEvaluator timed(inner, [&] { return clock; });
+  const Withdrawals told = timed.withdrawals();
+  EXPECT_TRUE(told.possible);
+  EXPECT_EQ(told.last_batch, 4u);
+  EXPECT_EQ(told.withdrawn_from, std::optional<uint64_t>(2));
+  timed.went_back(1);
+  EXPECT_EQ(inner.went_back_to, 1u);
+  EXPECT_DOUBLE_EQ(timed.take(), 0.0) << "no time in evaluate()";
 }
 
 }  // namespace
