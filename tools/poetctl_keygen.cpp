@@ -1,4 +1,4 @@
-#include "poetctl_keygen.h"
+#include "tools/poetctl_keygen.h"
 
 #include <zmq.h>
 
@@ -7,7 +7,7 @@
 
 #include "common/curve_keys.h"
 #include "common/tool_flags.h"
-#include "poetctl_exit.h"
+#include "tools/poetctl_exit.h"
 
 namespace poet {
 

@@ -19,16 +19,16 @@
 #include <optional>
 #include <string>
 
+#include "common/status_defaults.h"
 #include "common/tool_flags.h"
 #include "common/utf8.h"
-#include "coordinator/status_client/status_defaults.h"
-#include "coordinator/status_client/status_request.h"
-#include "coordinator/status_client/status_tables.h"
-#include "poetctl_exit.h"
-#include "poetctl_keygen.h"
-#include "poetctl_pack.h"
-#include "poetctl_pictures.h"
 #include "status.pb.h"
+#include "tools/poetctl_exit.h"
+#include "tools/poetctl_keygen.h"
+#include "tools/poetctl_pack.h"
+#include "tools/poetctl_pictures.h"
+#include "tools/status_client/status_request.h"
+#include "tools/status_client/status_tables.h"
 
 namespace poet {
 namespace {

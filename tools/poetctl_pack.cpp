@@ -1,11 +1,11 @@
-#include "poetctl_pack.h"
+#include "tools/poetctl_pack.h"
 
 #include <cstdio>
 #include <string>
 
-#include "poetctl_exit.h"
 #include "run_directory/files/run_directory.h"
 #include "run_directory/files/run_pack.h"
+#include "tools/poetctl_exit.h"
 
 namespace poet {
 namespace {

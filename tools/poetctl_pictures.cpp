@@ -1,4 +1,4 @@
-#include "poetctl_pictures.h"
+#include "tools/poetctl_pictures.h"
 
 #include <algorithm>
 #include <cctype>
@@ -7,9 +7,9 @@
 #include "common/tool_flags.h"
 #include "common/utf8.h"
 #include "pictures/canvas.h"
-#include "poetctl_exit.h"
 #include "report/run_pictures.h"
 #include "run_directory/reading/run_snapshot.h"
+#include "tools/poetctl_exit.h"
 
 namespace poet {
 

@@ -7,8 +7,8 @@
 #include <string_view>
 
 #include "common/expected.h"
-#include "coordinator/status_client/status_request.h"
 #include "report/picture_request.h"
+#include "tools/status_client/status_request.h"
 
 namespace poet {
 

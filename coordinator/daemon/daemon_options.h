@@ -8,8 +8,8 @@
 #include <thread>
 #include <vector>
 
+#include "common/status_defaults.h"
 #include "common/wire_timing.h"
-#include "coordinator/status_client/status_defaults.h"
 
 namespace poet {
 

@@ -20,9 +20,9 @@
 #include <string_view>
 
 #include "common/expected.h"
+#include "common/status_defaults.h"
 #include "coordinator/status/board_view.h"
 #include "coordinator/status/run_picture_cache.h"
-#include "coordinator/status_client/status_defaults.h"
 #include "engine/run_state.h"
 #include "run_directory/reading/pair_stats_log.h"
 #include "status.pb.h"

@@ -11,7 +11,7 @@
 #include <string>
 #include <string_view>
 
-#include "coordinator/status_client/status_defaults.h"
+#include "common/status_defaults.h"
 #include "report/picture_request.h"
 
 namespace poet {

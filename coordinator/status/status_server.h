@@ -26,10 +26,10 @@
 #include <string>
 
 #include "common/expected.h"
+#include "common/host_port.h"
+#include "common/status_defaults.h"
 #include "coordinator/status/connection_shedder.h"
 #include "coordinator/status/status_board.h"
-#include "coordinator/status_client/host_port.h"
-#include "coordinator/status_client/status_defaults.h"
 
 namespace poet {
 

@@ -16,10 +16,10 @@
 #include <zmq.hpp>
 
 #include "common/build_fingerprint.h"
-#include "coordinator/status_client/status_request.h"
 #include "coordinator_run_fixture.h"
 #include "rogue_peer.h"
 #include "status.pb.h"
+#include "tools/status_client/status_request.h"
 
 namespace {
 

@@ -1,6 +1,6 @@
-// Tests coordinator/status_client/host_port.cpp: HOST:PORT and [IPv6]:PORT read, anything else refused.
+// Tests common/host_port.cpp: HOST:PORT and [IPv6]:PORT read, anything else refused.
 
-#include "coordinator/status_client/host_port.h"
+#include "common/host_port.h"
 
 #include <gtest/gtest.h>
 

@@ -1,7 +1,7 @@
-// Tests coordinator/status_client/status_tables.cpp's event_view: an /events entry becomes the same line shape as
+// Tests tools/status_client/status_tables.cpp's event_view: an /events entry becomes the same line shape as
 // the coordinator's log (common/event_text), its fields sorted by name and whole numbers written out in full.
 
-#include "coordinator/status_client/status_tables.h"
+#include "tools/status_client/status_tables.h"
 
 #include <google/protobuf/util/json_util.h>
 #include <gtest/gtest.h>

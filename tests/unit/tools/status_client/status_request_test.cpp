@@ -1,10 +1,10 @@
-// Tests coordinator/status_client/status_request.cpp against hostile servers on loopback (tests/support's
+// Tests tools/status_client/status_request.cpp against hostile servers on loopback (tests/support's
 // ScriptedHttpServer): an answer trickled a byte at a time is cut off at the deadline for the whole answer; a body
 // past the cap is refused, declared or streamed; garbage, a Content-Length that is not a number and broken chunks
 // are called malformed, not slow; and a good answer comes back with its status, type and body. Small limits keep
 // each case within a second or two.
 
-#include "coordinator/status_client/status_request.h"
+#include "tools/status_client/status_request.h"
 
 #include <gtest/gtest.h>
 

@@ -12,7 +12,7 @@
 #include <string>
 
 #include "common/expected.h"
-#include "coordinator/status_client/host_port.h"
+#include "common/host_port.h"
 
 namespace poet {
 

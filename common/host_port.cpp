@@ -1,4 +1,4 @@
-#include "coordinator/status_client/host_port.h"
+#include "common/host_port.h"
 
 #include <charconv>
 

@@ -1,4 +1,4 @@
-#include "coordinator/status_client/status_request.h"
+#include "tools/status_client/status_request.h"
 
 #include <httplib.h>
 

@@ -1,4 +1,4 @@
-#include "coordinator/status_client/status_tables.h"
+#include "tools/status_client/status_tables.h"
 
 #include <google/protobuf/util/json_util.h>
 
