@@ -19,6 +19,9 @@ namespace {
 // ---------------------------------------------------------------------------------------------------------
 // formatting
 
+// Text to stdout as it is: only for text made printable already.
+void write_out(const std::string& text) { std::fwrite(text.data(), 1, text.size(), stdout); }
+
 // printf to stdout, the text made printable first: what it prints comes from the server, whose strings may hold
 // escape sequences meant for the terminal.
 [[gnu::format(printf, 1, 2)]] void say(const char* format, ...) {
@@ -31,8 +34,7 @@ namespace {
   std::string text(static_cast<size_t>(std::max(size, 0)), '\0');
   if (size > 0) std::vsnprintf(text.data(), text.size() + 1, format, args);
   va_end(args);
-  const std::string printable = printable_text(text);
-  std::fwrite(printable.data(), 1, printable.size(), stdout);
+  write_out(printable_text(text));
 }
 
 // A value as people read it in a table: whole numbers written out in full, others as number_text writes them.
@@ -72,7 +74,8 @@ size_t display_width(const std::string& text) {
 class Table {
  public:
   explicit Table(std::vector<std::string> header) { rows_.push_back(std::move(header)); }
-  // the cells made printable here, so that the columns are sized as they will show
+  // the cells made printable here, so that the columns are sized as they will show (and print() writes them as
+  // they are); the header is ours
   void add(std::vector<std::string> row) {
     for (std::string& cell : row) cell = printable_text(cell);
     rows_.push_back(std::move(row));
@@ -97,7 +100,7 @@ class Table {
         const std::string pad(width[i] - display_width(row[i]), ' ');
         line += (i ? "  " : "") + (numeric[i] ? pad + row[i] : row[i] + (i + 1 < row.size() ? pad : ""));
       }
-      say("%s\n", line.c_str());
+      write_out(line + "\n");
     }
   }
 
