@@ -117,11 +117,11 @@ struct StatusServer::Impl {
   static MHD_Result access(void* self, MHD_Connection* connection, const char* url, const char* method, const char*,
                            const char*, size_t* upload_data_size, void** state) {
     const Impl& impl = *static_cast<const Impl*>(self);
-    if (*state == nullptr) *state = new RequestState;  // screen_uri made one, unless libmicrohttpd skipped it
+    // screen_uri made the state: libmicrohttpd calls it once for every request, before this handler
     auto& request = *static_cast<RequestState*>(*state);
     if (!request.headers_in) {
       request.headers_in = true;
-      if (request.refusal == 414 || std::strlen(url) > kMaxUriBytes)
+      if (request.refusal == 414)
         return queue(connection,
                      error_response(414, "request URI too long (at most " + std::to_string(kMaxUriBytes) + " bytes)"));
       if (request.refusal == 400)
