@@ -6,6 +6,8 @@
 #include <cerrno>
 #include <charconv>
 #include <cmath>
+#include <optional>
+#include <string>
 #include <string_view>
 #include <system_error>
 #include <vector>
@@ -42,13 +44,13 @@ std::string wall_times_text(const std::vector<WallTime>& lines) {
 
 namespace {
 
-// parse_wall_times, with the lines read before an error left in `out`.
-Expected<std::vector<WallTime>> parse_lines(std::string_view text, std::vector<WallTime>& out) {
+// parse_wall_times into `out`, which holds the lines read before the error when there is one (its message).
+std::optional<std::string> parse_lines(std::string_view text, std::vector<WallTime>& out) {
   size_t line_number = 0;
   size_t most_fields = 2;  // the header's
   while (!text.empty()) {
     const size_t end = text.find('\n');
-    if (end == std::string_view::npos) return Unexpected{"line " + std::to_string(line_number + 1) + " is cut short"};
+    if (end == std::string_view::npos) return "line " + std::to_string(line_number + 1) + " is cut short";
     const std::string_view line = text.substr(0, end);
     text.remove_prefix(end + 1);
     line_number += 1;
@@ -57,8 +59,7 @@ Expected<std::vector<WallTime>> parse_lines(std::string_view text, std::vector<W
       const std::string header = std::string(line) + "\n";
       if (header != kWallTimesHeader && header != kWallTimesHeaderWithoutWaiting &&
           header != kWallTimesHeaderWithoutPhases)
-        return Unexpected{where + ": expected the header " +
-                          std::string(kWallTimesHeader, sizeof kWallTimesHeader - 2)};
+        return where + ": expected the header " + std::string(kWallTimesHeader, sizeof kWallTimesHeader - 2);
       most_fields = header == kWallTimesHeader ? 7 : header == kWallTimesHeaderWithoutWaiting ? 6 : 2;
       continue;
     }
@@ -71,41 +72,42 @@ Expected<std::vector<WallTime>> parse_lines(std::string_view text, std::vector<W
     }
     // a line has the fields of its build: iteration,wall_s; then every phase's seconds; then waiting_s
     if ((fields.size() != 2 && fields.size() != 6 && fields.size() != 7) || fields.size() > most_fields)
-      return Unexpected{where + ": expected " +
-                        std::string(most_fields == 7   ? "iteration,wall_s, every phase's seconds too, or waiting_s too"
-                                    : most_fields == 6 ? "iteration,wall_s or every phase's seconds too"
-                                                       : "iteration,wall_s")};
+      return where + ": expected " +
+             std::string(most_fields == 7   ? "iteration,wall_s, every phase's seconds too, or waiting_s too"
+                         : most_fields == 6 ? "iteration,wall_s or every phase's seconds too"
+                                            : "iteration,wall_s");
     WallTime w;
     const auto [it_end, it_ec] = std::from_chars(fields[0].data(), fields[0].data() + fields[0].size(), w.iteration);
     if (it_ec != std::errc() || it_end != fields[0].data() + fields[0].size() || w.iteration < 0)
-      return Unexpected{where + ": the iteration is not a non-negative integer"};
-    if (!parse_seconds(fields[1], w.seconds))
-      return Unexpected{where + ": wall_s is not a finite, non-negative number"};
+      return where + ": the iteration is not a non-negative integer";
+    if (!parse_seconds(fields[1], w.seconds)) return where + ": wall_s is not a finite, non-negative number";
     if (fields.size() >= 6) {
       w.phases.emplace();
       for (size_t p = 0; p < 4; ++p)
         if (!parse_seconds(fields[2 + p], (*w.phases)[p]))
-          return Unexpected{where + ": field " + std::to_string(3 + p) + " is not a finite, non-negative number"};
+          return where + ": field " + std::to_string(3 + p) + " is not a finite, non-negative number";
     }
     if (fields.size() == 7 && !parse_seconds(fields[6], w.waiting.emplace()))
-      return Unexpected{where + ": waiting_s is not a finite, non-negative number"};
+      return where + ": waiting_s is not a finite, non-negative number";
     if (!out.empty() && w.iteration <= out.back().iteration)
-      return Unexpected{where + ": iteration " + std::to_string(w.iteration) + " does not follow " +
-                        std::to_string(out.back().iteration)};
-    if (!out.empty() && w.seconds < out.back().seconds) return Unexpected{where + ": the time goes back"};
+      return where + ": iteration " + std::to_string(w.iteration) + " does not follow " +
+             std::to_string(out.back().iteration);
+    if (!out.empty() && w.seconds < out.back().seconds) return where + ": the time goes back";
     out.push_back(w);
   }
-  if (line_number == 0) return Unexpected{"empty (no header)"};
-  return out;
+  if (line_number == 0) return "empty (no header)";
+  return std::nullopt;
 }
 
 }  // namespace
 
 Expected<std::vector<WallTime>> parse_wall_times(std::string_view text, std::vector<WallTime>* valid_prefix) {
   std::vector<WallTime> lines;
-  Expected<std::vector<WallTime>> parsed = parse_lines(text, lines);
-  if (!parsed && valid_prefix) *valid_prefix = std::move(lines);
-  return parsed;
+  if (std::optional<std::string> error = parse_lines(text, lines)) {
+    if (valid_prefix) *valid_prefix = std::move(lines);
+    return Unexpected{std::move(*error)};
+  }
+  return lines;
 }
 
 Expected<std::vector<WallTime>> read_wall_times(const std::filesystem::path& path,
