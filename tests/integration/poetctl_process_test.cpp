@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "child_process.h"
+#include "poetctl_child.h"
 #include "scratch_dir.h"
 #include "scripted_http_server.h"
 
@@ -32,14 +33,8 @@ constexpr char kPng[] = "\x89PNG\r\n\x1a\n";  // a PNG's signature
 
 class PoetctlProcessTest : public ::testing::Test {
  protected:
-  // Runs poetctl with args in root_, stdout and stderr to root_/name.out and .err, for at most 30 s.
   Outcome poetctl(const std::vector<std::string>& args, const std::string& name) {
-    std::vector<std::string> all = {POETCTL_BIN};
-    all.insert(all.end(), args.begin(), args.end());
-    return children_.run(std::move(all), root_ / name, 30s,
-                         {.default_signals = true,
-                          .environment = poet::testing::environment_without({"POET_STATUS"}),
-                          .directory = root_});
+    return poet::testing::run_poetctl(children_, root_, args, name);
   }
 
   // the children go first, the directory after them
@@ -50,7 +45,7 @@ class PoetctlProcessTest : public ::testing::Test {
 
 TEST_F(PoetctlProcessTest, AnAnswerTrickledAByteAtATimeEndsAtTheDeadline) {
   // each byte comes within any read timeout; the whole answer would take some 53 s
-  const ScriptedHttpServer server(HttpScript{poet::testing::byte_by_byte(http_answer(R"({"run_dir": "x"})")), 500ms});
+  const ScriptedHttpServer server(poet::testing::trickled_answer(500ms));
   const auto started = Clock::now();
   const Outcome o = poetctl({"--address", server.address(), "status"}, "trickle");
   const auto took = Clock::now() - started;
@@ -68,22 +63,20 @@ TEST_F(PoetctlProcessTest, ABodyPastTheCapIsRefusedAtOnce) {
   EXPECT_TRUE(contains(o.err, "larger than 16 MB")) << o.err;
   EXPECT_LT(Clock::now() - started, 5s);
   // streamed without a length past the cap
-  const ScriptedHttpServer endless(
-      HttpScript{{"HTTP/1.1 200 OK\r\nContent-Type: application/json\r\n\r\n", std::string(65536, ' ')}, 0ms, 400});
+  const ScriptedHttpServer endless(poet::testing::streamed_answer(400));
   const Outcome streamed = poetctl({"--address", endless.address(), "pairs"}, "endless");
   EXPECT_EQ(streamed.code, 1) << streamed.err;
   EXPECT_TRUE(contains(streamed.err, "larger than 16 MB")) << streamed.err;
 }
 
 TEST_F(PoetctlProcessTest, MalformedAnswersAreCalledMalformed) {
-  for (const std::string& script :
-       {std::string("\x00\xffgarbage\r\n\r\n", 13), std::string("HTTP/1.1 200 OK\r\nContent-Length: -1\r\n\r\n{}"),
-        std::string("HTTP/1.1 200 OK\r\nTransfer-Encoding: chunked\r\n\r\nfffffffffffffff\r\n{}")}) {
+  for (const auto& [script, said] : poet::testing::kMalformedAnswers) {
     const ScriptedHttpServer server(HttpScript{{script}});
     const auto started = Clock::now();
     const Outcome o = poetctl({"--address", server.address(), "status"}, "malformed");
     EXPECT_EQ(o.code, 1) << o.err;
     EXPECT_TRUE(contains(o.err, "malformed")) << o.err;
+    EXPECT_TRUE(contains(o.err, said)) << o.err;
     EXPECT_FALSE(contains(o.err, "within")) << o.err;
     EXPECT_LT(Clock::now() - started, 5s);
   }

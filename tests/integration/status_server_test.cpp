@@ -29,6 +29,7 @@
 #include "coordinator/status/status_board.h"
 #include "engine/run_state.h"
 #include "loopback_port.h"
+#include "poetctl_child.h"
 #include "raw_client.h"
 #include "run_directory/files/run_directory.h"
 #include "scratch_dir.h"
@@ -171,16 +172,9 @@ class StatusServerTest : public ::testing::Test {
     return response;
   }
 
-  // Runs poetctl with args, stdout and stderr to files in root_, for at most 30 s; extra_env is added to this
-  // process's environment.
   Outcome poetctl(const std::vector<std::string>& args, const std::string& name,
                   const std::vector<std::string>& extra_env = {}) {
-    std::vector<std::string> all = {POETCTL_BIN};
-    all.insert(all.end(), args.begin(), args.end());
-    std::vector<std::string> environment = poet::testing::environment_without({"POET_STATUS"});
-    environment.insert(environment.begin(), extra_env.begin(), extra_env.end());
-    // the child starts with default signal handling, whatever this process ignores or blocks
-    return children_.run(std::move(all), root_ / name, 30s, {.default_signals = true, .environment = environment});
+    return poet::testing::run_poetctl(children_, root_, args, name, extra_env);
   }
 
   std::string address() const { return "127.0.0.1:" + std::to_string(port_); }

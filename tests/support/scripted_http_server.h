@@ -1,5 +1,6 @@
 #pragma once
-// A hostile HTTP server for the status clients' tests: it listens on 127.0.0.1 (a port the kernel chooses) and
+// A hostile HTTP server for the status clients' tests, and the hostile answers they script for it (the unit tests of
+// tools/status_client and poetctl's process tests share them): it listens on 127.0.0.1 (a port the kernel chooses) and
 // answers every connection, once its request has come, with scripted bytes — in pieces with a pause between them
 // (an answer trickled a byte at a time), the last piece repeated (a body streamed without end) — then hangs up.
 // One connection at a time, on a thread of its own; the destructor stops it within a pause and closes everything.
@@ -49,6 +50,33 @@ inline HttpScript huge_declared_answer(size_t repeat) {
                     std::chrono::milliseconds{0},
                     repeat};
 }
+
+// A small JSON answer a byte each, `pause` apart: every read is on time, the whole answer takes some 106 pauses.
+inline HttpScript trickled_answer(std::chrono::milliseconds pause) {
+  return HttpScript{byte_by_byte(http_answer(R"({"run_dir": "x"})")), pause};
+}
+
+// An answer without a length whose body is 64 KB, then the same again `repeat` more times (while the client takes
+// it): what a client with a size cap refuses once the body outgrows it.
+inline HttpScript streamed_answer(size_t repeat) {
+  return HttpScript{{"HTTP/1.1 200 OK\r\nContent-Type: application/json\r\n\r\n", std::string(65536, ' ')},
+                    std::chrono::milliseconds{0},
+                    repeat};
+}
+
+// Answers that are not well-formed HTTP, each with what a status client says of it (after "malformed").
+struct MalformedAnswer {
+  std::string script;
+  std::string_view said;
+};
+inline const std::vector<MalformedAnswer> kMalformedAnswers = {
+    {std::string("\x00\xffgarbage\r\n\r\n", 13), "no well-formed HTTP status line"},
+    {"", "no well-formed HTTP status line"},  // hangs up without a word
+    {"HTTP/1.1 200 OK\r\nContent-Length: -1\r\n\r\n{}", "Content-Length \"-1\" is not a number"},
+    {"HTTP/1.1 200 OK\r\nContent-Length: 12abc\r\n\r\n{}", "Content-Length \"12abc\" is not a number"},
+    {"HTTP/1.1 200 OK\r\nTransfer-Encoding: chunked\r\n\r\nfffffffffffffff\r\n{}", "body is cut short"},
+    {"HTTP/1.1 200 OK\r\nContent-Length: 100\r\n\r\n{}", "body is cut short"},
+};
 
 class ScriptedHttpServer {
  public:

@@ -41,8 +41,7 @@ TEST(StatusRequest, AGoodAnswerComesBackWhole) {
 
 TEST(StatusRequest, AnAnswerTrickledAByteAtATimeIsCutOffAtTheDeadline) {
   // every read is on time (a byte each 100 ms), the whole would take some 10.6 s
-  const ScriptedHttpServer server(
-      HttpScript{poet::testing::byte_by_byte(poet::testing::http_answer(R"({"run_dir": "x"})")), 100ms});
+  const ScriptedHttpServer server(poet::testing::trickled_answer(100ms));
   const auto started = Clock::now();
   const Expected<StatusAnswer> answer = ask(server);
   const auto took = Clock::now() - started;
@@ -60,8 +59,7 @@ TEST(StatusRequest, ABodyPastTheCapIsRefused) {
   EXPECT_TRUE(contains(big.error(), "larger than 1 MB")) << big.error();
   EXPECT_LT(Clock::now() - started, 1s);
   // streamed without a length, or in chunks: refused when it outgrows the cap
-  const ScriptedHttpServer streamed(
-      HttpScript{{"HTTP/1.1 200 OK\r\nContent-Type: application/json\r\n\r\n", std::string(65536, ' ')}, 0ms, 40});
+  const ScriptedHttpServer streamed(poet::testing::streamed_answer(40));
   const Expected<StatusAnswer> endless = ask(streamed);
   ASSERT_FALSE(endless);
   EXPECT_TRUE(contains(endless.error(), "larger than 1 MB")) << endless.error();
@@ -75,15 +73,7 @@ TEST(StatusRequest, ABodyPastTheCapIsRefused) {
 }
 
 TEST(StatusRequest, MalformedAnswersAreCalledMalformed) {
-  const std::pair<std::string, std::string> cases[] = {
-      {std::string("\x00\xffgarbage\r\n\r\n", 13), "no well-formed HTTP status line"},
-      {"", "no well-formed HTTP status line"},  // hangs up without a word
-      {"HTTP/1.1 200 OK\r\nContent-Length: -1\r\n\r\n{}", "Content-Length \"-1\" is not a number"},
-      {"HTTP/1.1 200 OK\r\nContent-Length: 12abc\r\n\r\n{}", "Content-Length \"12abc\" is not a number"},
-      {"HTTP/1.1 200 OK\r\nTransfer-Encoding: chunked\r\n\r\nfffffffffffffff\r\n{}", "body is cut short"},
-      {"HTTP/1.1 200 OK\r\nContent-Length: 100\r\n\r\n{}", "body is cut short"},
-  };
-  for (const auto& [script, message] : cases) {
+  for (const auto& [script, message] : poet::testing::kMalformedAnswers) {
     const ScriptedHttpServer server(HttpScript{{script}});
     const auto started = Clock::now();
     const Expected<StatusAnswer> answer = ask(server);
