@@ -71,7 +71,7 @@ Expected<std::string> read_text_file(const std::filesystem::path& path, std::uin
   struct stat before {};
   if (::stat(path.c_str(), &before) != 0) {
     const int err = errno;
-    if (err == ENOENT || err == ENOTDIR) return Unexpected{"does not exist"};
+    if (err == ENOENT || err == ENOTDIR) return Unexpected{kDoesNotExist};
     return Unexpected{"cannot access: " + errno_text(err)};
   }
   if (auto why = refusal(before.st_mode)) return Unexpected{*why};
@@ -81,7 +81,7 @@ Expected<std::string> read_text_file(const std::filesystem::path& path, std::uin
   const int fd = ::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC | O_NOCTTY);
   if (fd < 0) {
     const int err = errno;
-    if (err == ENOENT || err == ENOTDIR) return Unexpected{"does not exist"};
+    if (err == ENOENT || err == ENOTDIR) return Unexpected{kDoesNotExist};
     return Unexpected{"cannot open: " + errno_text(err)};
   }
   const FdCloser closer{fd};

@@ -14,7 +14,11 @@
 
 namespace poet {
 
-// The whole file, or an error: "does not exist", "is a directory", "is not a regular file (a FIFO)" (or a
+// read_text_file's error when the path names nothing: absence, told apart from a file that cannot be read, so that
+// a caller for whom a missing file is an outcome of its own needs no separate check (and no race with the read).
+inline constexpr char kDoesNotExist[] = "does not exist";
+
+// The whole file, or an error: kDoesNotExist, "is a directory", "is not a regular file (a FIFO)" (or a
 // character device, a block device, a socket), "is larger than N bytes", or an I/O error. The type is checked
 // before the file is opened and again on the open descriptor (the path may change in between), and the open does
 // not block, so no file, not even a FIFO swapped in between the two checks, makes the call wait. Symbolic links

@@ -223,13 +223,11 @@ Expected<std::pair<RunDirectory, RunState>> RunDirectory::resume(const fs::path&
   Expected<RunLock> lock = RunLock::acquire(dir);
   if (!lock) return Unexpected{lock.error()};
   const fs::path checkpoint_path = dir / kCheckpointFile;
-  const Expected<bool> has_checkpoint = path_exists(checkpoint_path);
-  if (!has_checkpoint) return Unexpected{checkpoint_path.string() + ": " + has_checkpoint.error()};
-  if (!*has_checkpoint)
-    return Unexpected{checkpoint_path.string() + ": does not exist (" + dir.string() + " holds no run to resume)"};
 
   // the checkpoint: the file's integrity, the directory's own fields, then the state's checks
   Expected<pb::Checkpoint> checkpoint = read_checkpoint_file(checkpoint_path);
+  if (!checkpoint && checkpoint.error() == checkpoint_path.string() + ": " + kDoesNotExist)
+    return Unexpected{checkpoint.error() + " (" + dir.string() + " holds no run to resume)"};
   if (!checkpoint) return Unexpected{checkpoint.error()};
   for (const auto& [name, present, value] :
        {std::tuple{"events_bytes", checkpoint->has_events_bytes(), checkpoint->events_bytes()},

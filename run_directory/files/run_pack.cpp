@@ -262,24 +262,18 @@ Expected<PackSummary> write_run_pack(const fs::path& run_dir, const fs::path& pa
   entries.push_back({kStatsFile, std::move(*stats)});
   // the machine's record: a damaged file is refused (its times would be lost on the other machine unsaid)
   const fs::path wall_path = run_dir / kWallTimesFile;
-  const Expected<bool> has_wall = path_exists(wall_path);
-  if (!has_wall) return Unexpected{wall_path.string() + ": " + has_wall.error()};
-  if (*has_wall) {
-    Expected<std::vector<WallTime>> lines = read_wall_times(wall_path);
-    if (!lines)
-      return Unexpected{wall_path.string() + ": " + lines.error() +
-                        " (move it away to pack the run without its times)"};
+  if (Expected<std::vector<WallTime>> lines = read_wall_times(wall_path)) {
     std::erase_if(*lines, [&](const WallTime& w) { return w.iteration >= next_iteration; });
     entries.push_back({kWallTimesFile, wall_times_text(*lines)});
+  } else if (lines.error() != kDoesNotExist) {
+    return Unexpected{wall_path.string() + ": " + lines.error() + " (move it away to pack the run without its times)"};
   }
   // with CURVE, the keys of workers refused for wrong results: they stay refused where the run goes on
   const fs::path keys_path = run_dir / kRefusedKeysFile;
-  const Expected<bool> has_keys = path_exists(keys_path);
-  if (!has_keys) return Unexpected{keys_path.string() + ": " + has_keys.error()};
-  if (*has_keys) {
-    Expected<std::string> keys = read_text_file(keys_path, kMaxRefusedKeysBytes);
-    if (!keys) return Unexpected{keys_path.string() + ": " + keys.error()};
+  if (Expected<std::string> keys = read_text_file(keys_path, kMaxRefusedKeysBytes)) {
     entries.push_back({kRefusedKeysFile, refused_keys_text(*keys)});
+  } else if (keys.error() != kDoesNotExist) {
+    return Unexpected{keys_path.string() + ": " + keys.error()};
   }
 
   const std::string bytes = encode_pack(entries);

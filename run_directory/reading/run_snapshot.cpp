@@ -18,16 +18,10 @@ namespace {
 // wall_times.csv's lines of the iterations the checkpoint has seen.
 void load_wall_times(RunSnapshot& snapshot) {
   const fs::path path = snapshot.dir / kWallTimesFile;
-  const Expected<bool> exists = path_exists(path);
-  if (!exists) {
-    snapshot.wall_times_problem = path.string() + ": " + exists.error();
-    return;
-  }
-  if (!*exists) return;
   Expected<std::vector<WallTime>> lines = read_wall_times(path);
   if (!lines) {
-    snapshot.wall_times_problem = path.string() + ": " + lines.error();
-    return;
+    if (lines.error() != kDoesNotExist) snapshot.wall_times_problem = path.string() + ": " + lines.error();
+    return;  // no file: no times, and nothing wrong
   }
   for (const WallTime& w : *lines)
     if (w.iteration < snapshot.state.next_iteration) snapshot.wall_times.push_back(w);
@@ -39,15 +33,13 @@ Expected<RunSnapshot> read_run_snapshot(const fs::path& dir) {
   std::error_code ec;
   if (!fs::is_directory(dir, ec)) return Unexpected{dir.string() + ": no such directory"};
   const fs::path checkpoint_path = dir / kCheckpointFile;
-  const Expected<bool> has_checkpoint = path_exists(checkpoint_path);
-  if (!has_checkpoint) return Unexpected{checkpoint_path.string() + ": " + has_checkpoint.error()};
-  if (!*has_checkpoint) {
+  Expected<pb::Checkpoint> checkpoint = read_checkpoint_file(checkpoint_path);
+  if (!checkpoint && checkpoint.error() == checkpoint_path.string() + ": " + kDoesNotExist) {
     const bool started = fs::exists(dir / kConfigFile, ec);
     return Unexpected{
-        checkpoint_path.string() + ": does not exist (" + dir.string() +
+        checkpoint.error() + " (" + dir.string() +
         (started ? " holds a run that has not saved its first checkpoint yet)" : " is not a run directory)")};
   }
-  Expected<pb::Checkpoint> checkpoint = read_checkpoint_file(checkpoint_path);
   if (!checkpoint) return Unexpected{checkpoint.error()};
   if (!checkpoint->has_events_bytes() || !checkpoint->has_stats_bytes())
     return Unexpected{checkpoint_path.string() + ": no log sizes recorded (not a run directory's checkpoint)"};
