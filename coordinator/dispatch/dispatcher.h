@@ -117,7 +117,6 @@ class Dispatcher {
   // to before `batch`; answers of that batch and later ones no longer count.
   uint64_t batch_id() const { return batch_id_; }
   std::optional<uint64_t> take_rollback() { return trust_.take_rollback(); }
-  std::vector<uint64_t> unchecked_since() const { return trust_.unchecked_since(); }
   void forget_batches_from(uint64_t batch) { trust_.forget_batches_from(batch); }
 
   // Workers silent for liveness_ms are removed (their jobs re-queued, counted as a death for each job).
@@ -154,8 +153,6 @@ class Dispatcher {
   const std::map<std::string, int64_t>& dropped() const { return dropped_; }
   int64_t workers_lost() const { return lost_; }           // workers removed for silence or a failed send
   int64_t backup_jobs() const { return jobs_.backups(); }  // jobs sent to a second worker
-  int64_t leases_expired() const { return jobs_.leases_expired(); }  // jobs taken back from workers not yet proven
-  int64_t rollbacks() const { return trust_.rollbacks(); }          // times take_rollback asked to go back
   int64_t workers_demoted() const { return trust_.demoted(); }
   int64_t verified_jobs() const { return trust_.verified(); }  // answers found right by a second worker or the coordinator
   // Jobs whose answer waits for the coordinator's own (no connected worker may check or decide).
@@ -163,7 +160,9 @@ class Dispatcher {
   int64_t coordinator_checks() const { return trust_.coordinator_checks(); }  // jobs settled by the coordinator's answer
   // Workers refused for a wrong result, with their names and why, in order (the log and /metrics read them).
   const std::vector<Refusal>& wrong_workers() const { return trust_.refusals(); }
-  const std::set<WorkerId>& refused_workers() const { return trust_.refused_ids(); }  // the same, by routing id
+  // What trust has recorded: the workers refused, by routing id; for each worker that may still be found wrong, the
+  // first batch in which an unchecked answer of its became final; its counters.
+  const WorkerTrust& trust() const { return trust_; }
   void count_drop(DropReason reason) { dropped_[name(reason)] += 1; }
   const DispatchSettings& settings() const { return settings_; }
 

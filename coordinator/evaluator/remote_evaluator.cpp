@@ -119,7 +119,7 @@ Withdrawals RemoteEvaluator::withdrawals() {
   if (const std::optional<uint64_t> first = dispatcher_.take_rollback())
     withdrawn_from_ = std::min(withdrawn_from_.value_or(*first), *first);
   return {dispatcher_.settings().verify_fraction > 0, dispatcher_.batch_id(), withdrawn_from_,
-          dispatcher_.unchecked_since()};
+          dispatcher_.trust().unchecked_since()};
 }
 
 void RemoteEvaluator::went_back(uint64_t last_batch) {
@@ -135,15 +135,15 @@ void RemoteEvaluator::on_snapshot(std::function<void(DispatchView)> publish) {
 
 void RemoteEvaluator::log_summary() {
   std::lock_guard lock(mutex_);
-  const Dispatcher& d = dispatcher_;
-  if (d.settings().verify_fraction > 0)
+  const DispatchView d = dispatcher_.view(now_ms());
+  if (dispatcher_.settings().verify_fraction > 0)
     spdlog::info(
         "verification: {} answers checked ({} by the coordinator itself), {} worker(s) refused for wrong results, "
         "{} time(s) gone back to a checkpoint",
-        d.verified_jobs(), d.coordinator_checks(), d.wrong_workers().size(), d.rollbacks());
-  if (d.workers_demoted() > 0 || d.leases_expired() > 0)
+        d.verified_jobs, d.coordinator_checks, d.wrong_workers, d.rollbacks);
+  if (d.workers_demoted > 0 || d.leases_expired > 0)
     spdlog::info("{} worker(s) demoted, {} lease(s) expired on workers that had returned no result",
-                 d.workers_demoted(), d.leases_expired());
+                 d.workers_demoted, d.leases_expired);
 }
 
 void RemoteEvaluator::shutdown_workers(const std::string& reason) {
@@ -304,14 +304,14 @@ void RemoteEvaluator::send_shutdowns() {
 void RemoteEvaluator::refuse_keys_of_wrong_workers() {
   for (bool refused_more = true; refused_more;) {  // a peer refused for its key joins the refused
     refused_more = false;
-    const std::set<WorkerId> refused = dispatcher_.refused_workers();
+    const std::set<WorkerId> refused = dispatcher_.trust().refused_ids();
     for (const WorkerId& id : refused) {
       if (!keys_refused_for_.insert(id).second) continue;
       const auto key = peer_keys_.find(id);
       if (key == peer_keys_.end()) continue;
       authenticator_->refuse(key->second);
       for (const auto& [peer, peer_key] : peer_keys_) {
-        if (peer_key != key->second || dispatcher_.refused_workers().contains(peer)) continue;
+        if (peer_key != key->second || dispatcher_.trust().refused_ids().contains(peer)) continue;
         dispatcher_.refuse(peer, "holds the CURVE key of a worker refused for wrong results");
         refused_more = true;
       }
