@@ -13,6 +13,9 @@ trials=${4:-5}
 fraction=${5:-0.05}
 coordinator=$build/coordinator/poet-coordinator
 worker=$build/worker/poet-worker
+# the liar: the tests' poet-test-worker (poet-worker with a fault), built with the tests (POET_BUILD_TESTS)
+liar=$build/tests/support/test_worker/poet-test-worker
+[[ -x $liar ]] || { echo "liars.sh: no $liar (build the target poet-test-worker)" >&2; exit 2; }
 work=$(mktemp -d)
 trap 'kill $(jobs -p) 2>/dev/null || true; rm -rf "$work"' EXIT
 port=$(python3 -c 'import socket; s=socket.socket(); s.bind(("127.0.0.1", 0)); print(s.getsockname()[1])')
@@ -27,7 +30,7 @@ shapes=(
 
 # run DIR LOG [LIAR_FLAGS...]: the config with two honest workers (and a liar when flags are given); prints seconds
 run() {
-  local dir=$1 log=$2 liar=$3
+  local dir=$1 log=$2 with_liar=$3
   shift 3
   local start end pid
   start=$(date +%s.%N)
@@ -35,8 +38,8 @@ run() {
     --listen "tcp://127.0.0.1:$port" --verify-fraction "$fraction" > /dev/null 2> "$log" &
   pid=$!
   for name in honest-a honest-b; do "$worker" --connect "tcp://127.0.0.1:$port" --threads 1 --log-level warn 2>/dev/null & done
-  if [[ $liar == yes ]]; then
-    "$worker" --connect "tcp://127.0.0.1:$port" --threads 1 --fault wrong-results --name the-liar "$@" 2> "$log.liar" &
+  if [[ $with_liar == yes ]]; then
+    "$liar" --connect "tcp://127.0.0.1:$port" --threads 1 --fault wrong-results --name the-liar "$@" 2> "$log.liar" &
   fi
   wait "$pid"
   end=$(date +%s.%N)

@@ -6,59 +6,41 @@
 // coordinator or a stop; an abandoned job is never reported.
 
 #include <condition_variable>
-#include <cstdint>
 #include <deque>
 #include <functional>
 #include <mutex>
-#include <optional>
 #include <stop_token>
-#include <string>
 #include <thread>
 #include <vector>
 
-#include "simulation/rollout_task.h"
+#include "worker/job_executor.h"
 
 namespace poet::worker {
-
-// A job decoded from the wire, ready to run. Its tasks hold their θ (shared pointers), so a queued job needs
-// nothing from the worker's θ cache and the cache can drop a batch's θs while its jobs wait.
-struct WorkerJob {
-  uint64_t job_id = 0;
-  uint64_t batch_id = 0;
-  std::vector<RolloutTask> tasks;
-};
-
-// What became of a job: one result per task in task order, or (results empty) the error of a task that could not
-// run, naming it ("tasks[3]: ...").
-struct JobOutcome {
-  uint64_t job_id = 0;
-  std::vector<RolloutResult> results;
-  std::optional<std::string> error;
-};
 
 // Runs one job on the calling thread with up to `threads` episodes at once. A stop request on `stop` cuts it
 // short; the outcome is then meaningless (the caller discards it).
 JobOutcome run_job(const WorkerJob& job, int threads, std::stop_token stop = {});
 
-// Thread-safe: every member may be called from any thread (the worker calls them from its socket thread).
-class JobRunner {
+// The worker's JobExecutor. Thread-safe: every member may be called from any thread (the worker calls them from
+// its socket thread).
+class JobRunner final : public JobExecutor {
  public:
   // threads ≥ 1: episodes run at once. on_finished is called on the runner's thread each time an outcome is
   // ready to take; it must not block (the worker writes a byte to its wake-up pipe).
   JobRunner(int threads, std::function<void()> on_finished);
-  ~JobRunner();  // abandons the work and joins the thread
+  ~JobRunner() override;  // abandons the work and joins the thread
   JobRunner(const JobRunner&) = delete;
   JobRunner& operator=(const JobRunner&) = delete;
 
   // Queues a job behind those already queued.
-  void submit(WorkerJob job);
+  void submit(WorkerJob job) override;
 
   // The outcomes finished since the last call, in the order they finished (which is arrival order).
-  std::vector<JobOutcome> take_finished();
+  std::vector<JobOutcome> take_finished() override;
 
   // Stops the running job (its episodes end within 64 steps), drops the queued jobs and the outcomes not yet
   // taken. Returns at once; the runner takes new jobs afterwards.
-  void abandon();
+  void abandon() override;
 
   // Jobs queued or running (for logs and tests).
   size_t pending() const;

@@ -6,7 +6,6 @@
 
 #include <algorithm>
 #include <cerrno>
-#include <cstdlib>
 #include <cstring>
 #include <optional>
 #include <system_error>
@@ -14,7 +13,6 @@
 #include <zmq.hpp>
 
 #include "worker/handshake_failure.h"
-#include "worker/job_runner.h"
 
 namespace poet::worker {
 namespace {
@@ -47,10 +45,8 @@ const char* kind_name(const wire::WorkerMessage& message) {
 
 class SocketLoop {
  public:
-  SocketLoop(const LoopSettings& settings, WakePipe& wake, const std::atomic<bool>& stop)
-      : settings_(settings), wake_(wake), stop_(stop), session_(settings.session), runner_(settings.threads, [&wake] {
-          wake.notify();
-        }) {}
+  SocketLoop(const LoopSettings& settings, JobExecutor& jobs, WakePipe& wake, const std::atomic<bool>& stop)
+      : settings_(settings), jobs_(jobs), wake_(wake), stop_(stop), session_(settings.session) {}
   ~SocketLoop() { close_socket(); }
 
   int run() {
@@ -67,7 +63,7 @@ class SocketLoop {
       code = read_handshakes();
       if (!code) code = receive();
       if (code) break;
-      for (const JobOutcome& outcome : runner_.take_finished()) {
+      for (const JobOutcome& outcome : jobs_.take_finished()) {
         code = apply(session_.on_job_finished(outcome, Clock::now()));
         if (code) break;
       }
@@ -235,17 +231,12 @@ class SocketLoop {
 
   // Does what the session asked, in the order Actions documents.
   std::optional<int> apply(Actions actions) {
-    if (actions.crash) {
-      spdlog::critical("a Job arrived and --fault crash-on-job is set: aborting");
-      spdlog::default_logger()->flush();
-      std::abort();
-    }
     if (actions.still_trying) {
       spdlog::warn("still trying to reach the coordinator at {}: no Welcome for {} s{}", settings_.endpoint,
                    std::chrono::duration_cast<std::chrono::seconds>(*actions.still_trying).count(),
                    last_problem_.empty() ? "" : " (" + last_problem_ + ")");
     }
-    if (actions.abandon_jobs) runner_.abandon();
+    if (actions.abandon_jobs) jobs_.abandon();
     if (actions.close_socket) close_socket();
     if (actions.open_socket && !connect()) return apply(session_.on_connect_failed(Clock::now()));
     bool sent = false;
@@ -256,7 +247,7 @@ class SocketLoop {
         session_.on_send_failed(message, Clock::now());
       }
     }
-    for (WorkerJob& job : actions.run) runner_.submit(std::move(job));
+    for (WorkerJob& job : actions.run) jobs_.submit(std::move(job));
     if (actions.exit_code) {
       // the last message (a Goodbye) gets a moment to leave; linger 0 would discard it
       if (socket_ && sent) socket_->set(zmq::sockopt::linger, kGoodbyeLingerMs);
@@ -267,6 +258,7 @@ class SocketLoop {
   }
 
   const LoopSettings& settings_;
+  JobExecutor& jobs_;
   WakePipe& wake_;
   const std::atomic<bool>& stop_;
   zmq::context_t context_{1};
@@ -277,13 +269,12 @@ class SocketLoop {
   std::string logged_failure_;  // the last handshake failure logged, until one succeeds
   std::string last_problem_;    // what happened last on the way to a Welcome, for the still-trying lines
   WorkerSession session_;
-  JobRunner runner_;  // last: its thread is joined first
 };
 
 }  // namespace
 
-int run_worker(const LoopSettings& settings, WakePipe& wake, const std::atomic<bool>& stop) {
-  SocketLoop loop(settings, wake, stop);
+int run_worker(const LoopSettings& settings, JobExecutor& jobs, WakePipe& wake, const std::atomic<bool>& stop) {
+  SocketLoop loop(settings, jobs, wake, stop);
   return loop.run();
 }
 

@@ -2,16 +2,18 @@
 // The worker's socket loop: a ZeroMQ DEALER connected to the coordinator's ROUTER, one serialized WorkerMessage
 // per frame out, one CoordinatorMessage per frame in. It only moves bytes and jobs: every decision is the
 // WorkerSession's. It polls the socket and a wake-up pipe with a short timeout (never blocking on a job, which
-// runs on the JobRunner's thread), so heartbeats go out on time while a job runs. It also watches the socket's
-// connections and handshakes, so a worker the coordinator refuses at the security layer (a CURVE key it does not
-// accept, CURVE on one side only), or whose peer speaks another protocol, says so (handshake_failure.h) and tries
-// again on a fresh socket; and while no Welcome comes it says now and then that it is still trying, and where.
+// runs in the JobExecutor its caller gives it: a JobRunner's thread in poet-worker), so heartbeats go out on time
+// while a job runs. It also watches the socket's connections and handshakes, so a worker the coordinator refuses
+// at the security layer (a CURVE key it does not accept, CURVE on one side only), or whose peer speaks another
+// protocol, says so (handshake_failure.h) and tries again on a fresh socket; and while no Welcome comes it says now
+// and then that it is still trying, and where.
 
 #include <atomic>
 #include <optional>
 #include <string>
 
 #include "common/wake_pipe.h"
+#include "worker/job_executor.h"
 #include "worker/worker_session.h"
 
 namespace poet::worker {
@@ -25,13 +27,13 @@ struct CurveClient {
 
 struct LoopSettings {
   std::string endpoint;  // tcp://HOST:PORT of the coordinator's ROUTER
-  int threads = 1;       // episodes the job runner runs at once
   SessionSettings session;
   std::optional<CurveClient> curve;  // none: no authentication
 };
 
 // Runs the worker until the session ends (Refused: 2, Shutdown: 0) or `stop` is set (Goodbye, 0), and returns
-// the process exit code. Whoever sets `stop` must then call wake.notify().
-int run_worker(const LoopSettings& settings, WakePipe& wake, const std::atomic<bool>& stop);
+// the process exit code. The jobs the session accepts go to `jobs`, which must call wake.notify() when an outcome
+// is ready (JobRunner's on_finished); whoever sets `stop` must then call wake.notify() too.
+int run_worker(const LoopSettings& settings, JobExecutor& jobs, WakePipe& wake, const std::atomic<bool>& stop);
 
 }  // namespace poet::worker

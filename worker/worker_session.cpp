@@ -7,7 +7,6 @@
 #include <utility>
 
 #include "common/build_fingerprint.h"
-#include "simulation/rng.h"
 
 namespace poet::worker {
 namespace {
@@ -152,27 +151,10 @@ Actions WorkerSession::on_message(const wire::CoordinatorMessage& message, TimeP
 }
 
 void WorkerSession::accept_job(const wire::Job& job, Actions& actions, TimePoint now) {
-  if (settings_.fault == Fault::kCrashOnJob) {
-    actions.crash = true;
-    return;
-  }
   if (!job.has_job_id()) {
     drop(&DropCounts::unexpected, "a Job with no job_id", now);
     return;
   }
-  if (settings_.fault == Fault::kIgnoreJobs) {
-    spdlog::debug("job {}: ignored (--fault ignore-jobs)", job.job_id());
-    return;
-  }
-  if (settings_.fault == Fault::kErrorOnJob) {
-    spdlog::debug("job {}: refused on purpose (--fault error-on-job)", job.job_id());
-    wire::WorkerMessage message;
-    message.mutable_result()->set_job_id(job.job_id());
-    message.mutable_result()->set_error("refused on purpose (--fault error-on-job)");
-    send(actions, std::move(message), now);
-    return;
-  }
-
   // a job of another batch: the previous batch's θs go (jobs already queued hold theirs)
   if (!batch_ || *batch_ != job.batch_id()) {
     thetas_.clear();
@@ -223,23 +205,10 @@ Actions WorkerSession::on_job_finished(const JobOutcome& outcome, TimePoint now)
     spdlog::warn("job {} failed: {}", outcome.job_id, *outcome.error);
     result.set_error(*outcome.error);
   } else {
-    const bool lie = settings_.fault == Fault::kWrongResults && lies_on(outcome.job_id);
-    if (lie) spdlog::info("--fault wrong-results: a wrong answer to job {}", outcome.job_id);
-    for (const RolloutResult& r : outcome.results) {
-      *result.add_results() = to_wire(r);
-      if (lie) result.mutable_results()->rbegin()->set_total_reward(r.total_reward + 1);
-    }
+    for (const RolloutResult& r : outcome.results) *result.add_results() = to_wire(r);
   }
   send(actions, std::move(message), now);
   return actions;
-}
-
-bool WorkerSession::lies_on(uint64_t job_id) {
-  const LieShape& shape = settings_.lie;
-  if (jobs_answered_++ < shape.honest_jobs) return false;
-  const auto unit = [](uint64_t key) { return static_cast<double>(key >> 11) * 0x1.0p-53; };
-  if (shape.fraction < 1 && unit(stream_key(0, "lie", {job_id})) >= shape.fraction) return false;
-  return !shape.where_predicted_unchecked || unit(stream_key(1, "verify", {batch_.value_or(0), job_id})) >= 0.05;
 }
 
 Actions WorkerSession::on_send_failed(const wire::WorkerMessage& message, TimePoint now) {

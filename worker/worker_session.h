@@ -32,7 +32,7 @@
 #include "common/rollout_task_proto.h"
 #include "common/wire_timing.h"
 #include "wire.pb.h"
-#include "worker/job_runner.h"
+#include "worker/job_executor.h"
 
 namespace poet::worker {
 
@@ -44,27 +44,9 @@ using Millis = std::chrono::milliseconds;
 // a megabyte, so 64 MB only ever stops a hostile or broken peer.
 inline constexpr size_t kMaxFrameBytes = size_t{64} << 20;
 
-// Test-only misbehaviour, for the coordinator's tests (--fault).
-enum class Fault {
-  kNone,
-  kCrashOnJob,    // abort() on receiving a Job: the coordinator's poison-job rule must stop it killing every worker
-  kIgnoreJobs,    // never answer a Job, but keep heartbeating: the coordinator's lease must expire
-  kErrorOnJob,    // answer every Job with an error Result: one such peer must not stop the run
-  kWrongResults,  // answer every Job with well-formed results whose returns are off by one: verification's liar
-};
-
-// How a kWrongResults worker chooses the answers it lies on: the shapes of liar verification must catch.
-struct LieShape {
-  int64_t honest_jobs = 0;  // answers its first this many jobs honestly (sitting out a probation)
-  double fraction = 1;      // then lies on this fraction of its jobs, drawn from the job id
-  // and only where a public rule of the batch and job ids (the kind a coordinator without a secret might use,
-  // at 5 %) predicts no check
-  bool where_predicted_unchecked = false;
-};
-
 struct SessionSettings {
   uint32_t threads = 1;     // told to the coordinator in Hello
-  std::string name;         // for people: "host:pid" by default (main.cpp)
+  std::string name;         // for people: "host:pid" by default (worker_command.cpp)
   std::string local_token;  // told in Hello: from the coordinator that started this worker (--local-workers)
   Millis hello_interval{1000};
   // A connection that brings no Welcome this long is replaced by a fresh one (a handshake libzmq left hanging).
@@ -75,14 +57,11 @@ struct SessionSettings {
   Millis still_trying_first{2000};  // no Welcome this long after losing (or never having) one: say so
   Millis still_trying_max{60000};   // the gap between such lines doubles up to this
   size_t max_frame_bytes = kMaxFrameBytes;
-  Fault fault = Fault::kNone;
-  LieShape lie;  // with kWrongResults
 };
 
 // What the socket loop must do after a call, in this order. A call that ends the session sets exit_code; the
 // loop performs the rest (e.g. sends the Goodbye) first.
 struct Actions {
-  bool crash = false;         // --fault crash-on-job: abort() now
   bool abandon_jobs = false;  // stop the running job, drop the queued jobs and the outcomes not yet sent
   bool close_socket = false;  // the coordinator is gone: close the socket
   bool open_socket = false;   // make a fresh socket and connect it (before the sends below)
@@ -164,8 +143,6 @@ class WorkerSession {
   void finish(Actions& actions, int exit_code);
   void drop(uint64_t DropCounts::*reason, std::string_view what, TimePoint now);
 
-  bool lies_on(uint64_t job_id);  // --fault wrong-results: whether this job's answer is a lie (LieShape)
-
   SessionSettings settings_;
   SessionState state_ = SessionState::kGreeting;
   Millis heartbeat_{wire_timing::kHeartbeatMs};  // from Welcome
@@ -183,7 +160,6 @@ class WorkerSession {
   // θs of the current batch only: a Job of another batch clears them (queued jobs hold their own θs)
   ThetaCache thetas_;
   std::optional<uint64_t> batch_;
-  int64_t jobs_answered_ = 0;  // for --fault wrong-results' LieShape
   DropCounts drops_;
   uint64_t drops_unlogged_ = 0;
   std::optional<TimePoint> last_drop_log_;

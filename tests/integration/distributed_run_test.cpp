@@ -143,7 +143,7 @@ TEST_F(DistributedRunTest, AWorkerThatNeverAnswersOnlyDelaysTheRun) {
   ASSERT_FALSE(endpoint.empty());
   // it joins first, so the first jobs of the run are its
   const pid_t silent =
-      spawn(POET_WORKER_BIN,
+      spawn(POET_TEST_WORKER_BIN,
             {"--connect", endpoint, "--threads", "1", "--fault", "ignore-jobs", "--log-level", "debug"}, "silent");
   await_log("silent", "(welcomed) by the coordinator");
   const pid_t healthy = spawn(POET_WORKER_BIN, {"--connect", endpoint, "--threads", "2"}, "healthy");
@@ -170,8 +170,10 @@ TEST_F(DistributedRunTest, ACppnRunOnWorkersKilledAndResumedEndsAsOnThreads) {
 }
 
 TEST_F(DistributedRunTest, AJobThatKillsEveryWorkerStopsTheRunNamingTheTask) {
-  const pid_t pid =
-      coordinator(root_ / "P", {"--local-workers", "2", "--worker-arg=--fault", "--worker-arg=crash-on-job"}, "P");
+  const pid_t pid = coordinator(root_ / "P",
+                                {"--local-workers", "2", "--worker-binary", POET_TEST_WORKER_BIN,
+                                 "--worker-arg=--fault", "--worker-arg=crash-on-job"},
+                                "P");
   EXPECT_EQ(wait(pid), 1);
   const std::string err = read(root_ / "P.err");
   EXPECT_TRUE(contains(err, "of the batch (course")) << err;

@@ -237,7 +237,7 @@ TEST_F(HostilePeersTest, AWorkerRefusedForWrongResultsStaysRefusedByItsKey) {
   const pid_t honest =
       spawn(POET_WORKER_BIN, {"--connect", endpoint, "--curve-keys", keys.string(), "--threads", "1"}, "honest");
   await_log("honest", "(welcomed) by the coordinator");
-  const pid_t liar = spawn(POET_WORKER_BIN,
+  const pid_t liar = spawn(POET_TEST_WORKER_BIN,
                            {"--connect", endpoint, "--curve-keys", liar_keys.string(), "--threads", "1", "--fault",
                             "wrong-results", "--name", "the-liar"},
                            "liar");
@@ -293,7 +293,7 @@ TEST_F(HostilePeersTest, ARefusedKeyEndsEveryConnectionThatHoldsItAtOnce) {
     std::vector<std::string> args = {"--connect", endpoint, "--curve-keys", key_dir.string(),
                                      "--threads", "1",      "--name",       name};
     args.insert(args.end(), extra.begin(), extra.end());
-    return spawn(POET_WORKER_BIN, args, name);
+    return spawn(extra.empty() ? POET_WORKER_BIN : POET_TEST_WORKER_BIN, args, name);  // a fault: the test worker
   };
   const pid_t honest = worker(keys, "honest");
   await_log("honest", "(welcomed) by the coordinator");

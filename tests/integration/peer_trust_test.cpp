@@ -31,7 +31,7 @@ class PeerTrustTest : public CoordinatorRunTest {
  protected:
   // A worker that returns wrong results (a reward off by one), named the-liar.
   pid_t spawn_liar(const std::string& endpoint) {
-    return spawn(POET_WORKER_BIN,
+    return spawn(POET_TEST_WORKER_BIN,
                  {"--connect", endpoint, "--threads", "1", "--fault", "wrong-results", "--name", "the-liar"}, "liar");
   }
   // Where the coordinator started as `name` takes workers, and its status port, from its log (empty: not found).
@@ -164,8 +164,8 @@ TEST_F(PeerTrustTest, AFloodAndALostJobDelayABatchByAboutOneLease) {
       silent.emplace(endpoint, 200, 4096);
       for (int i = 0; i < 200 && metrics(std::stoi(port))["poet_workers_joined_total"] < 200; ++i)
         std::this_thread::sleep_for(50ms);
-      dying =
-          spawn(POET_WORKER_BIN, {"--connect", endpoint, "--threads", "1", "--fault", "crash-on-job"}, name + "-dies");
+      dying = spawn(POET_TEST_WORKER_BIN, {"--connect", endpoint, "--threads", "1", "--fault", "crash-on-job"},
+                    name + "-dies");
       await_log(name + "-dies", "(welcomed) by the coordinator");
     }
     const auto started = std::chrono::steady_clock::now();
@@ -191,12 +191,12 @@ TEST_F(PeerTrustTest, PeersThatReturnErrorsOrVanishCannotStopTheRun) {
   const std::string endpoint = endpoint_of("E");
   ASSERT_FALSE(endpoint.empty());
   std::vector<pid_t> faulty;
-  faulty.push_back(spawn(POET_WORKER_BIN,
+  faulty.push_back(spawn(POET_TEST_WORKER_BIN,
                          {"--connect", endpoint, "--threads", "1", "--fault", "error-on-job", "--log-level", "debug"},
                          "erring"));
   await_log("erring", "(welcomed) by the coordinator");
   for (const char* name : {"vanish-a", "vanish-b", "vanish-c"}) {
-    faulty.push_back(spawn(POET_WORKER_BIN,
+    faulty.push_back(spawn(POET_TEST_WORKER_BIN,
                            {"--connect", endpoint, "--threads", "1", "--fault", "crash-on-job", "--log-level", "debug"},
                            name));
     await_log(name, "(welcomed) by the coordinator");
@@ -390,7 +390,7 @@ TEST_F(PeerTrustTest, ALiarPastItsProbationIsCaughtAndTheRunGoesBackToBeforeItsL
     const pid_t pid = coordinator(root_ / name, {"--listen", "tcp://127.0.0.1:*"}, name);  // 5 % checked
     const std::string endpoint = endpoint_of(name);
     ASSERT_FALSE(endpoint.empty());
-    const pid_t liar = spawn(POET_WORKER_BIN,
+    const pid_t liar = spawn(POET_TEST_WORKER_BIN,
                              {"--connect", endpoint, "--threads", "1", "--fault", "wrong-results", "--lie-after", "40",
                               "--lie-fraction", "0.3", "--name", "the-liar", "--log-level", "debug"},
                              name + "liar");

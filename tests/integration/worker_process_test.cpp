@@ -2,9 +2,10 @@
 // ephemeral loopback port and starts real worker processes: Hello carries this build's fingerprint and repeats
 // until Welcome; jobs come back bit for bit equal to run_task in this process; θ travels once per batch;
 // heartbeats flow while idle and while a job runs; hostile frames are survived; Refused exits 2 and Shutdown 0;
-// a restarted coordinator is found again; SIGTERM abandons a long job with a Goodbye; the test-only faults do
-// what the coordinator's tests need; an unreachable coordinator and a peer that speaks another protocol are
-// reported for what they are. The fixture kills its children and removes its files even on failure.
+// a restarted coordinator is found again; SIGTERM abandons a long job with a Goodbye; poet-test-worker's faults
+// do what the coordinator's tests need, and poet-worker has none of them; an unreachable coordinator and a peer
+// that speaks another protocol are reported for what they are. The fixture kills its children and removes its
+// files even on failure.
 
 #include <gtest/gtest.h>
 #include <poll.h>
@@ -163,11 +164,11 @@ class WorkerProcessTest : public ::testing::Test {
   }
 
   // Starts poet-worker (2 threads, named "test-worker", connected to the ROUTER) with extra args; its output
-  // goes to files named after `name`.
+  // goes to files named after `name`. A test of a fault starts poet-test-worker (`binary`) the same way.
   pid_t spawn(const std::vector<std::string>& extra = {}, const std::string& name = "worker",
-              std::optional<std::string> endpoint = std::nullopt) {
-    std::vector<std::string> all = {POET_WORKER_BIN, "--connect",  endpoint.value_or(endpoint_), "--threads", "2",
-                                    "--name",        "test-worker"};
+              std::optional<std::string> endpoint = std::nullopt, const char* binary = POET_WORKER_BIN) {
+    std::vector<std::string> all = {binary,   "--connect",  endpoint.value_or(endpoint_), "--threads", "2",
+                                    "--name", "test-worker"};
     all.insert(all.end(), extra.begin(), extra.end());
     return spawn_raw(all, name);
   }
@@ -544,7 +545,7 @@ TEST_F(WorkerProcessTest, CrashOnJobFaultDiesBySigabrtOnItsFirstJob) {
   rlimit none = saved;
   none.rlim_cur = 0;
   ::setrlimit(RLIMIT_CORE, &none);
-  const pid_t pid = spawn({"--fault", "crash-on-job"});
+  const pid_t pid = spawn({"--fault", "crash-on-job"}, "worker", std::nullopt, POET_TEST_WORKER_BIN);
   ::setrlimit(RLIMIT_CORE, &saved);
   const std::string peer = welcome_worker();
   ASSERT_FALSE(peer.empty());
@@ -556,7 +557,7 @@ TEST_F(WorkerProcessTest, CrashOnJobFaultDiesBySigabrtOnItsFirstJob) {
 }
 
 TEST_F(WorkerProcessTest, IgnoreJobsFaultHeartbeatsButNeverAnswers) {
-  const pid_t pid = spawn({"--fault", "ignore-jobs"});
+  const pid_t pid = spawn({"--fault", "ignore-jobs"}, "worker", std::nullopt, POET_TEST_WORKER_BIN);
   const std::string peer = welcome_worker();
   ASSERT_FALSE(peer.empty());
   const auto shared = std::make_shared<const std::vector<double>>(test_theta(15));
@@ -616,13 +617,39 @@ TEST_F(WorkerProcessTest, APeerSendingGarbageIsReportedAsSuch) {
   EXPECT_EQ(children_.ended(pid), std::nullopt) << "the worker keeps trying";
 }
 
+// The faults live in poet-test-worker only: poet-worker neither offers them in --help nor takes them.
+TEST_F(WorkerProcessTest, TheProductionWorkerHasNoFaults) {
+  const pid_t help = spawn_raw({POET_WORKER_BIN, "--help"}, "help");
+  EXPECT_EQ(wait_exit(help, 10s), 0);
+  const std::string text = read_file(root_ / "help.out");
+  EXPECT_TRUE(contains(text, "--connect")) << text;
+  for (const char* option : {"--fault", "--lie-after", "--lie-fraction", "--lie-where-predicted-unchecked"}) {
+    EXPECT_FALSE(contains(text, option)) << option << " in\n" << text;
+  }
+  const std::vector<std::vector<std::string>> refused = {
+      {"--fault", "wrong-results"}, {"--fault", "crash-on-job"},         {"--lie-after", "8"},
+      {"--lie-fraction", "0.1"},    {"--lie-where-predicted-unchecked"},
+  };
+  for (size_t i = 0; i < refused.size(); ++i) {
+    std::vector<std::string> args = {POET_WORKER_BIN, "--connect", endpoint_};
+    args.insert(args.end(), refused[i].begin(), refused[i].end());
+    const std::string name = "refused" + std::to_string(i);
+    const pid_t pid = spawn_raw(args, name);
+    EXPECT_EQ(wait_exit(pid, 10s), 2) << refused[i].front() << "\n" << err(name);
+    EXPECT_TRUE(contains(err(name), "not expected: " + refused[i].back())) << err(name);
+  }
+  const pid_t test_help = spawn_raw({POET_TEST_WORKER_BIN, "--help"}, "test-help");
+  EXPECT_EQ(wait_exit(test_help, 10s), 0);
+  EXPECT_TRUE(contains(read_file(root_ / "test-help.out"), "--fault")) << "the test worker offers them";
+}
+
 TEST_F(WorkerProcessTest, BadCommandLinesExit2AndFingerprintMatchesThisBuild) {
   const std::vector<std::vector<std::string>> bad = {
       {POET_WORKER_BIN},
       {POET_WORKER_BIN, "--connect", "localhost:5555"},
       {POET_WORKER_BIN, "--connect", "tcp://localhost:99999"},
       {POET_WORKER_BIN, "--connect", endpoint_, "--threads", "0"},
-      {POET_WORKER_BIN, "--connect", endpoint_, "--fault", "explode"},
+      {POET_TEST_WORKER_BIN, "--connect", endpoint_, "--fault", "explode"},
       {POET_WORKER_BIN, "--connect", endpoint_, "--log-level", "loud"},
       {POET_WORKER_BIN, "--connect", endpoint_, "--no-such-flag"},
   };

@@ -16,12 +16,11 @@ using namespace std::chrono_literals;
 
 const TimePoint kT0 = TimePoint{} + 1000s;  // the fake clock's origin
 
-SessionSettings settings(Fault fault = Fault::kNone) {
+SessionSettings settings() {
   SessionSettings s;
   s.threads = 3;
   s.name = "test-host:42";
   s.max_frame_bytes = 4096;
-  s.fault = fault;
   return s;
 }
 
@@ -59,8 +58,8 @@ wire::Task task_message(uint64_t hash, const std::string& course = "flat") {
 }
 
 // A welcomed session at kT0.
-WorkerSession welcomed(Fault fault = Fault::kNone) {
-  WorkerSession session(settings(fault));
+WorkerSession welcomed() {
+  WorkerSession session(settings());
   session.start(kT0);
   session.on_message(welcome(), kT0);
   return session;
@@ -521,20 +520,6 @@ TEST(WorkerSession, StopSaysGoodbyeWhenWelcomed) {
   a = greeting.on_stop(kT0, "SIGTERM");
   EXPECT_EQ(a.exit_code, 0);
   EXPECT_TRUE(a.send.empty());  // nobody to say goodbye to
-}
-
-TEST(WorkerSession, Faults) {
-  WorkerSession crashing = welcomed(Fault::kCrashOnJob);
-  wire::CoordinatorMessage job;
-  job.mutable_job()->set_job_id(1);
-  EXPECT_TRUE(crashing.on_message(job, kT0).crash);
-
-  WorkerSession ignoring = welcomed(Fault::kIgnoreJobs);
-  const Actions a = ignoring.on_message(job, kT0);
-  EXPECT_FALSE(a.crash);
-  EXPECT_TRUE(a.send.empty());
-  EXPECT_TRUE(a.run.empty());
-  EXPECT_TRUE(only_heartbeat(ignoring.on_tick(kT0 + 100ms)));
 }
 
 }  // namespace
