@@ -1,4 +1,4 @@
-#include "course_spec.h"
+#include "python/course_spec.h"
 
 #include <filesystem>
 #include <stdexcept>

@@ -1,4 +1,4 @@
-#include "episode_env.h"
+#include "python/episode_env.h"
 
 #include <stdexcept>
 

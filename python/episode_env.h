@@ -7,7 +7,7 @@
 #include <memory>
 #include <optional>
 
-#include "course_spec.h"
+#include "python/course_spec.h"
 #include "simulation/walker/terrain.h"
 #include "simulation/walker/walker_env.h"
 

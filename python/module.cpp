@@ -1,33 +1,34 @@
 // The Python module poet._poet (the package poet re-exports it): the walker as a Gymnasium-style environment,
-// policies and their evaluation. Arguments from Python are hostile input: wrong shapes, dtypes and non-finite
-// actions are ValueError, and so are integers out of range, whatever their size (int_args.h); a step outside an
-// episode is RuntimeError, unreadable files give the tools' messages. The GIL is released while episodes run.
+// policies and their evaluation — bindings only, over EpisodeEnv, VectorEnv and the simulation. Arguments from
+// Python are hostile input, checked by the helpers: wrong shapes, dtypes and non-finite actions are ValueError
+// (array_args.h), and so are integers out of range, whatever their size (int_args.h); a step outside an episode is
+// RuntimeError, unreadable files give the tools' messages. The GIL is released while episodes run.
 
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
 #include <algorithm>
-#include <climits>
 #include <cmath>
-#include <limits>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
 #include "common/policy/policy_file.h"
 #include "common/suite_score_json.h"
-#include "course_spec.h"
-#include "episode_env.h"
-#include "int_args.h"
 #include "pictures/walker_frame.h"
-#include "run_view.h"
+#include "python/array_args.h"
+#include "python/course_spec.h"
+#include "python/episode_env.h"
+#include "python/int_args.h"
+#include "python/run_view.h"
+#include "python/vector_env.h"
 #include "simulation/course_sweep.h"
 #include "simulation/policy/mlp.h"
 #include "simulation/rollout.h"
 #include "simulation/suite/course_suite.h"
 #include "simulation/walker/walker_constants.h"
-#include "thread_team.h"
 
 namespace py = pybind11;
 
@@ -35,27 +36,6 @@ namespace poet::python {
 namespace {
 
 using FloatArray = py::array_t<float, py::array::c_style | py::array::forcecast>;
-
-// The most walkers one VectorWalkerEnv steps. Each holds its own Box2D world and course (about 220 KB), so 4096
-// of them take some 900 MB: a bound well past what one machine's cores step usefully (a few walkers per core),
-// which keeps a mistyped num_envs (10**9) a ValueError rather than an out-of-memory kill.
-constexpr int64_t kMaxVectorEnvs = 4096;
-// Threads for episodes, as the tools' --threads.
-constexpr int64_t kMaxThreads = 4096;
-constexpr int64_t kLastSeed = int64_t{kMaxEnvSeed} - 1;
-
-// A terrain seed from Python, of any size: in [0, kMaxEnvSeed), else ValueError.
-uint32_t terrain_seed(const py::int_& seed) { return static_cast<uint32_t>(int_in_range(seed, 0, kLastSeed, "seed")); }
-
-// The steps of an episode stepped from Python: at least one, at most what an int holds.
-int episode_steps(const py::int_& max_steps) {
-  return static_cast<int>(int_in_range(max_steps, 1, INT_MAX, "max_steps"));
-}
-
-// A frame's width or height as render() takes it.
-int frame_pixels(const py::int_& value, const char* name) {
-  return static_cast<int>(int_in_range(value, kMinFramePixels, kMaxFramePixels, name));
-}
 
 LidarRule lidar_rule(const std::string& name) {
   if (name == "nearest") return LidarRule::kNearest;
@@ -72,27 +52,10 @@ WalkerOptions walker_options(const std::string& lidar, double push_scale) {
   return options;
 }
 
-// A 1-D floating-point array of n finite values, as doubles; anything else is ValueError naming `what`.
-template <size_t N>
-std::array<double, N> finite_vector(const py::handle& value, const char* what) {
-  if (!py::isinstance<py::array>(value))
-    throw std::invalid_argument(std::string(what) + " must be a numpy array of shape (" + std::to_string(N) + ",)");
-  const py::array array = py::reinterpret_borrow<py::array>(value);
-  if (array.dtype().kind() != 'f')
-    throw std::invalid_argument(std::string(what) + " must hold floating-point numbers, got dtype " +
-                                std::string(py::str(array.dtype())));
-  if (array.ndim() != 1 || array.shape(0) != static_cast<py::ssize_t>(N))
-    throw std::invalid_argument(std::string(what) + " must have shape (" + std::to_string(N) + ",), got " +
-                                std::string(py::str(py::tuple(
-                                    py::cast(std::vector<py::ssize_t>(array.shape(), array.shape() + array.ndim()))))));
-  const auto doubles = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(array);
-  std::array<double, N> out{};
-  for (size_t i = 0; i < N; ++i) {
-    out[i] = doubles.at(static_cast<py::ssize_t>(i));
-    if (!std::isfinite(out[i]))
-      throw std::invalid_argument(std::string(what) + "[" + std::to_string(i) + "] is not finite");
-  }
-  return out;
+// reset()'s options: Gymnasium's, none of which the walker takes; only their type is checked.
+void check_reset_options(const py::object& options) {
+  if (!options.is_none() && !py::isinstance<py::dict>(options))
+    throw std::invalid_argument("options must be a dict or None");
 }
 
 // A 1-D array of n values, value(i) each: the one way results become numpy columns here.
@@ -136,8 +99,7 @@ class PyWalkerEnv {
   }
 
   py::tuple reset(const std::optional<py::int_>& seed, const py::object& options) {
-    if (!options.is_none() && !py::isinstance<py::dict>(options))
-      throw std::invalid_argument("options must be a dict or None");
+    check_reset_options(options);
     const Observation& obs = env_.reset(seed ? std::optional(terrain_seed(*seed)) : std::nullopt);
     return py::make_tuple(float_array(obs), episode_info(env_, false, false));
   }
@@ -190,132 +152,65 @@ class PyPolicy {
   Mlp mlp_;
 };
 
-// num_envs walkers stepped together on C++ threads. Gymnasium's next-step autoreset: the step after an episode
-// ends resets that walker (its action ignored) and reports the first observation with reward 0, neither
-// terminated nor truncated. Walker i runs courses[i % len(courses)].
+// VectorEnv's face: arguments checked and converted, the GIL released while the walkers step, results as numpy.
 class PyVectorWalkerEnv {
  public:
   PyVectorWalkerEnv(const std::vector<CourseSpec>& courses, const py::int_& num_envs, const py::int_& threads,
                     const std::string& lidar, double push_scale, const py::int_& max_steps)
-      : team_(team_size(courses, num_envs, threads)) {
-    const WalkerOptions options = walker_options(lidar, push_scale);
-    const int64_t count = num_envs.cast<int64_t>();  // checked by team_size
-    const int steps = episode_steps(max_steps);
-    for (int64_t i = 0; i < count; ++i)
-      envs_.emplace_back(courses[static_cast<size_t>(i) % courses.size()], std::nullopt, options, steps);
-    ended_.assign(envs_.size(), 0);
-  }
+      : env_(courses, vector_size(num_envs), thread_count(threads), walker_options(lidar, push_scale),
+             episode_steps(max_steps)) {}
 
-  // seed: walker i gets seed + i, so the seed leaves room for every walker's below kMaxEnvSeed.
   py::tuple reset(const std::optional<py::int_>& seed, const py::object& options) {
-    if (!options.is_none() && !py::isinstance<py::dict>(options))
-      throw std::invalid_argument("options must be a dict or None");
-    std::vector<std::optional<uint32_t>> seeds(envs_.size());
-    if (seed) {
-      const int64_t last = kLastSeed - static_cast<int64_t>(envs_.size() - 1);
-      if (*seed < py::int_(0) || *seed > py::int_(last))
-        throw std::invalid_argument("seed must be in [0, " + std::to_string(last) +
-                                    "] (walker i gets seed + i, each below " + std::to_string(kMaxEnvSeed) + "), got " +
-                                    int_text(*seed));
-      for (size_t i = 0; i < envs_.size(); ++i)
-        seeds[i] = static_cast<uint32_t>(seed->cast<int64_t>() + static_cast<int64_t>(i));
-    }
+    check_reset_options(options);
+    const std::optional<uint32_t> first =
+        seed ? std::optional(first_terrain_seed(*seed, static_cast<size_t>(env_.size()))) : std::nullopt;
     {
       py::gil_scoped_release release;
-      team_.run(size(), [&](int i) { envs_[static_cast<size_t>(i)].reset(seeds[static_cast<size_t>(i)]); });
+      env_.reset(first);
     }
-    ended_.assign(envs_.size(), 0);
-    started_ = true;
-    std::vector<EpisodeStep> none(envs_.size());
-    return py::make_tuple(observations(), infos(none));
+    return py::make_tuple(observations(), infos());
   }
 
+  // Before reset(), RuntimeError from VectorEnv::step once the actions are found well formed.
   py::tuple step(const py::handle& actions) {
-    if (!started_) throw std::logic_error("step() before reset(): call reset() first");
-    const std::vector<Action> a = action_rows(actions);
-    std::vector<EpisodeStep> steps(envs_.size());
+    const std::vector<Action> rows = finite_rows<kActDim>(actions, "actions", static_cast<size_t>(env_.size()));
     {
       py::gil_scoped_release release;
-      team_.run(size(), [&](int k) {
-        const auto i = static_cast<size_t>(k);
-        if (ended_[i]) {
-          envs_[i].reset();
-          return;
-        }
-        steps[i] = envs_[i].step(a[i]);
-      });
+      env_.step(rows);
     }
-    // written here, not by the threads: the flags of neighbouring walkers share a cache line
-    for (size_t i = 0; i < envs_.size(); ++i) ended_[i] = steps[i].terminated || steps[i].truncated ? 1 : 0;
+    const std::vector<EpisodeStep>& steps = env_.last_steps();
     return py::make_tuple(observations(), column<double>(steps.size(), [&](size_t i) { return steps[i].reward; }),
                           column<bool>(steps.size(), [&](size_t i) { return steps[i].terminated; }),
-                          column<bool>(steps.size(), [&](size_t i) { return steps[i].truncated; }), infos(steps));
+                          column<bool>(steps.size(), [&](size_t i) { return steps[i].truncated; }), infos());
   }
 
-  int size() const { return static_cast<int>(envs_.size()); }
+  int size() const { return env_.size(); }
 
  private:
-  // The threads of the team for the arguments, checked before any walker is made: no more threads than walkers.
-  static int team_size(const std::vector<CourseSpec>& courses, const py::int_& num_envs, const py::int_& threads) {
-    if (courses.empty()) throw std::invalid_argument("courses must name at least one course");
-    const int64_t walkers = int_in_range(num_envs, 1, kMaxVectorEnvs, "num_envs");
-    return static_cast<int>(std::min(int_in_range(threads, 1, kMaxThreads, "threads"), walkers));
-  }
-
-  // (num_envs, 4) floating-point finite actions; anything else is ValueError.
-  std::vector<Action> action_rows(const py::handle& value) const {
-    const std::string shape = "(" + std::to_string(envs_.size()) + ", " + std::to_string(kActDim) + ")";
-    if (!py::isinstance<py::array>(value))
-      throw std::invalid_argument("actions must be a numpy array of shape " + shape);
-    const py::array array = py::reinterpret_borrow<py::array>(value);
-    if (array.dtype().kind() != 'f')
-      throw std::invalid_argument("actions must hold floating-point numbers, got dtype " +
-                                  std::string(py::str(array.dtype())));
-    if (array.ndim() != 2 || array.shape(0) != static_cast<py::ssize_t>(envs_.size()) || array.shape(1) != kActDim)
-      throw std::invalid_argument("actions must have shape " + shape);
-    const auto doubles = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(array);
-    const auto view = doubles.unchecked<2>();
-    std::vector<Action> rows(envs_.size());
-    for (size_t i = 0; i < rows.size(); ++i)
-      for (size_t j = 0; j < kActDim; ++j) {
-        rows[i][j] = view(static_cast<py::ssize_t>(i), static_cast<py::ssize_t>(j));
-        if (!std::isfinite(rows[i][j]))
-          throw std::invalid_argument("actions[" + std::to_string(i) + ", " + std::to_string(j) + "] is not finite");
-      }
-    return rows;
-  }
-
   py::array_t<float> observations() const {
-    py::array_t<float> out({static_cast<py::ssize_t>(envs_.size()), static_cast<py::ssize_t>(kObsDim)});
+    const auto n = static_cast<size_t>(env_.size());
+    py::array_t<float> out({static_cast<py::ssize_t>(n), static_cast<py::ssize_t>(kObsDim)});
     auto view = out.mutable_unchecked<2>();
-    for (size_t i = 0; i < envs_.size(); ++i)
+    for (size_t i = 0; i < n; ++i)
       for (size_t j = 0; j < kObsDim; ++j)
-        view(static_cast<py::ssize_t>(i), static_cast<py::ssize_t>(j)) = static_cast<float>(envs_[i].observation()[j]);
+        view(static_cast<py::ssize_t>(i), static_cast<py::ssize_t>(j)) =
+            static_cast<float>(env_.walker(i).observation()[j]);
     return out;
   }
 
-  py::dict infos(const std::vector<EpisodeStep>& steps) const {
-    const size_t n = envs_.size();
+  py::dict infos() const {
+    const auto n = static_cast<size_t>(env_.size());
+    const std::vector<EpisodeStep>& steps = env_.last_steps();
     py::dict info;
-    info["seed"] = column<int64_t>(n, [&](size_t i) { return envs_[i].seed(); });
-    info["steps"] = column<int64_t>(n, [&](size_t i) { return envs_[i].steps(); });
+    info["seed"] = column<int64_t>(n, [&](size_t i) { return env_.walker(i).seed(); });
+    info["steps"] = column<int64_t>(n, [&](size_t i) { return env_.walker(i).steps(); });
     info["finished"] = column<bool>(n, [&](size_t i) { return steps[i].finished; });
     info["fell"] = column<bool>(n, [&](size_t i) { return steps[i].fell; });
     return info;
   }
 
-  std::vector<EpisodeEnv> envs_;
-  std::vector<char> ended_;  // ended at the last step: reset at the next
-  ThreadTeam team_;          // kept between steps: starting threads each step would cost a fifth of a step
-  bool started_ = false;
+  VectorEnv env_;
 };
-
-// evaluate's and evaluate_suite's episodes run to their end inside one call: their length is bounded as the tools'.
-int time_limit(const py::int_& max_steps) {
-  return static_cast<int>(int_in_range(max_steps, 1, walker::kMaxTimeLimit, "max_steps"));
-}
-
-int thread_count(const py::int_& threads) { return static_cast<int>(int_in_range(threads, 1, kMaxThreads, "threads")); }
 
 py::dict evaluate(const PyPolicy& policy, const CourseSpec& course, const std::vector<py::int_>& seeds,
                   const py::int_& threads_arg, const std::string& lidar, double push_scale,

@@ -1,4 +1,4 @@
-#include "run_view.h"
+#include "python/run_view.h"
 
 #include <stdexcept>
 

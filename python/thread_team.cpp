@@ -1,4 +1,4 @@
-#include "thread_team.h"
+#include "python/thread_team.h"
 
 #include <unistd.h>
 

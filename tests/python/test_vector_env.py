@@ -79,6 +79,42 @@ def test_hostile_actions_and_order():
         poet.VectorWalkerEnv([], 2)
 
 
+def test_hostile_actions_are_named_with_their_shape_and_index():
+    env = poet.VectorWalkerEnv("flat", 3)
+    env.reset(seed=0)
+    for actions, message in [
+        ([[0.0] * 4] * 3, r"actions must be a numpy array of shape \(3, 4\)"),
+        (np.zeros((4, 3), dtype=np.float32), r"actions must have shape \(3, 4\), got \(4, 3\)"),
+        (np.zeros((3, 4, 1), dtype=np.float32), r"got \(3, 4, 1\)"),
+        (np.zeros((3, 4), dtype=bool), "floating-point numbers, got dtype bool"),
+        (np.array([[0, 0, 0, 0]] * 2 + [[0, 0, 0, -np.inf]]), r"actions\[2, 3\] is not finite"),
+    ]:
+        with pytest.raises(ValueError, match=message):
+            env.step(actions)
+
+
+def test_any_floating_layout_steps_as_float64_in_c_order():
+    # float16, float32 and a transposed (non-contiguous) float64 array are the same actions to the walkers
+    actions = np.random.default_rng(5).uniform(-1, 1, (3, poet.ACT_DIM)).astype(np.float16)
+    results = []
+    for batch in (actions, actions.astype(np.float32), np.asfortranarray(actions.astype(np.float64)),
+                  actions.astype(np.float64).T.copy().T):
+        env = poet.VectorWalkerEnv(COURSES, 3, threads=2, max_steps=20)
+        env.reset(seed=4)
+        results.append([env.step(batch)[0] for _ in range(5)])
+    for other in results[1:]:
+        assert np.array_equal(np.array(other), np.array(results[0]))
+
+
+def test_more_threads_than_walkers_and_one_walker_up_to_the_last_seed():
+    env = poet.VectorWalkerEnv("flat", 1, threads=8)
+    _, info = env.reset(seed=999999)  # one walker: every seed below 1000000 leaves it room
+    assert info["seed"].tolist() == [999999]
+    obs, reward, terminated, truncated, info = env.step(np.zeros((1, poet.ACT_DIM)))
+    assert obs.shape == (1, poet.OBS_DIM) and reward.shape == terminated.shape == truncated.shape == (1,)
+    assert info["steps"].tolist() == [1]
+
+
 def test_num_envs_threads_and_max_steps_are_bounded_at_any_size():
     for kwargs, message in [
         ({"num_envs": 10**9}, r"num_envs must be in \[1, 4096\], got 1000000000"),
