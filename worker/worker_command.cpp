@@ -15,7 +15,6 @@
 #include <filesystem>
 #include <memory>
 #include <optional>
-#include <regex>
 #include <string>
 #include <thread>
 
@@ -24,6 +23,7 @@
 #include "common/local_token.h"
 #include "common/stop_signals.h"
 #include "common/tool_flags.h"
+#include "common/zmq_endpoint.h"
 #include "worker/job_runner.h"
 #include "worker/worker_loop.h"
 
@@ -35,19 +35,6 @@ std::string default_name() {
   char host[256] = {};
   if (::gethostname(host, sizeof host - 1) != 0) host[0] = '\0';
   return std::string(host[0] != '\0' ? host : "worker") + ":" + std::to_string(::getpid());
-}
-
-// CLI11 check of --connect: tcp://HOST:PORT (a host name, IPv4 or [IPv6]) or ipc://PATH.
-std::string check_endpoint(const std::string& endpoint) {
-  static const std::regex kTcp(R"(tcp://([A-Za-z0-9._-]+|\[[0-9A-Fa-f:.]+\]):([0-9]{1,5}))");
-  std::smatch match;
-  if (std::regex_match(endpoint, match, kTcp)) {
-    const int port = std::stoi(match[2].str());
-    if (port >= 1 && port <= 65535) return {};
-    return "port out of range: " + endpoint;
-  }
-  if (endpoint.starts_with("ipc://") && endpoint.size() > 6) return {};
-  return "expected tcp://HOST:PORT or ipc://PATH, got " + endpoint;
 }
 
 // poet-worker's command line; --connect goes straight into the loop's settings.
@@ -65,7 +52,11 @@ std::optional<int> parse_options(int argc, char** argv, Options& o, const Worker
   CLI::App app{"A POET worker: runs the rollouts a poet-coordinator sends it"};
   app.add_option("--connect", o.settings.endpoint, "The coordinator's job endpoint, tcp://HOST:PORT")
       ->required()
-      ->check(CLI::Validator(check_endpoint, "ENDPOINT"));
+      ->check(CLI::Validator(
+          [](const std::string& endpoint) {
+            return zmq_endpoint_problem(endpoint, EndpointUse::kConnect).value_or(std::string());
+          },
+          "ENDPOINT"));
   app.add_option("--threads", o.threads, "Episodes run at once (default: hardware concurrency)")
       ->check(CLI::Range(1, 4096));
   app.add_option("--name", o.name, "Name in the coordinator's logs (default: host:pid)");
