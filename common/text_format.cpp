@@ -38,4 +38,21 @@ std::string peer_id_text(std::string_view id) {
   return out;
 }
 
+std::string vprintf_text(const char* format, va_list args) {
+  va_list measure;
+  va_copy(measure, args);
+  const int size = std::vsnprintf(nullptr, 0, format, measure);
+  va_end(measure);
+  std::string text(static_cast<size_t>(std::max(size, 0)), '\0');
+  if (size > 0) std::vsnprintf(text.data(), text.size() + 1, format, args);  // its '\0' on the string's own
+  return text;
+}
+
+void append_printf(std::string& out, const char* format, ...) {
+  va_list args;
+  va_start(args, format);
+  out += vprintf_text(format, args);
+  va_end(args);
+}
+
 }  // namespace poet

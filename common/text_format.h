@@ -1,6 +1,7 @@
 #pragma once
 // Numbers and ids as text, each written one way everywhere: in files, messages and logs.
 
+#include <cstdarg>
 #include <cstdint>
 #include <string>
 #include <string_view>
@@ -19,5 +20,10 @@ std::string hex_text(uint64_t value, int digits = 16);
 
 // A peer's id (ZeroMQ routing ids are bytes): as is when printable ASCII, else "0x" and its bytes in hex.
 std::string peer_id_text(std::string_view id);
+
+// printf's format into a string: the tables people read (poet-report's, poetctl's), checked by the compiler as
+// printf is.
+std::string vprintf_text(const char* format, va_list args);
+[[gnu::format(printf, 2, 3)]] void append_printf(std::string& out, const char* format, ...);
 
 }  // namespace poet

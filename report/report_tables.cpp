@@ -7,6 +7,7 @@
 #include <optional>
 #include <vector>
 
+#include "common/text_format.h"
 #include "engine/engine.h"
 #include "run_directory/reading/goal_switching.h"
 #include "run_directory/reading/report_json.h"
@@ -16,14 +17,6 @@ namespace {
 
 // printf's formatting appended to out, at any length: the tables keep the widths and precisions the tool always
 // printed, and a long run directory is never cut short.
-template <class... Args>
-void appendf(std::string& out, const char* format, Args... args) {
-  const int size = std::snprintf(nullptr, 0, format, args...);
-  if (size <= 0) return;
-  const size_t at = out.size();
-  out.resize(at + static_cast<size_t>(size));
-  std::snprintf(out.data() + at, static_cast<size_t>(size) + 1, format, args...);  // its '\0' on the string's own
-}
 
 std::string describe_link(const LineageLink& l) {
   std::string text = "pair " + std::to_string(l.pair) + " " + l.env + " (" + level_name(static_cast<size_t>(l.level)) +
@@ -51,24 +44,24 @@ void goal_switching(std::string& out, const RunSnapshot& run, const RunMetrics& 
   const std::vector<int> ids = lineage_pairs(run);
   if (ids.empty()) return;
   const bool beyond_easy = difficulty(run.state.find(ids[0])->env.encoding) != Difficulty::kEasy;
-  appendf(out, "Lineage of %s (first environment first; goal switching: who solved each, and the transfers taken)\n",
+  append_printf(out, "Lineage of %s (first environment first; goal switching: who solved each, and the transfers taken)\n",
               beyond_easy ? "each environment solved at challenging or above" : "the deepest solved environment");
   for (int id : ids) {
     const std::vector<LineageLink> chain = lineage_chain(run, m, id);
     const auto through =
         std::count_if(chain.begin(), chain.end(), [](const LineageLink& l) { return l.solved_through_transfer; });
-    appendf(out, "  pair %d: %zu environments, %td of them solved by an agent that came through a transfer\n", id,
+    append_printf(out, "  pair %d: %zu environments, %td of them solved by an agent that came through a transfer\n", id,
                 chain.size(), through);
-    for (const LineageLink& l : chain) appendf(out, "    %s\n", describe_link(l).c_str());
+    for (const LineageLink& l : chain) append_printf(out, "    %s\n", describe_link(l).c_str());
   }
-  appendf(out, "\n");
+  append_printf(out, "\n");
 }
 
 void milestones(std::string& out, const RunSnapshot& run, const RunMetrics& m) {
-  appendf(out, 
+  append_printf(out,
       "When each level was first reached (the run's rollouts and environment steps by that iteration's ES steps; "
       "wall time by the checkpoint that saved it)\n");
-  appendf(out, "  %-22s %-9s %9s %10s %11s %10s\n", "level", "first", "iteration", "rollouts", "env steps", "wall time");
+  append_printf(out, "  %-22s %-9s %9s %10s %11s %10s\n", "level", "first", "iteration", "rollouts", "env steps", "wall time");
   for (size_t l = 0; l < kLevels; ++l) {
     const LevelFirsts& f = m.firsts[l];
     const std::pair<const char*, const std::optional<Milestone>*> rows[] = {
@@ -83,34 +76,34 @@ void milestones(std::string& out, const RunSnapshot& run, const RunMetrics& m) {
         const long total = std::lround(*ms.wall_s);
         std::snprintf(wall, sizeof wall, "%ld:%02ld:%02ld", total / 3600, total / 60 % 60, total % 60);
       }
-      appendf(out, "  %-22s %-9s %9d %10s %11s %10s\n", level_name(l).c_str(), what, ms.iteration, rollouts, steps,
+      append_printf(out, "  %-22s %-9s %9d %10s %11s %10s\n", level_name(l).c_str(), what, ms.iteration, rollouts, steps,
                   wall);
     }
   }
   if (run.wall_times.empty())
-    appendf(out, "  (no wall times: %s)\n", run.wall_times_problem.empty() ? "the run directory has no wall_times.csv"
+    append_printf(out, "  (no wall times: %s)\n", run.wall_times_problem.empty() ? "the run directory has no wall_times.csv"
                                                                           : run.wall_times_problem.c_str());
   else if (!run.wall_times_problem.empty())
-    appendf(out, "  (wall times: %s)\n", run.wall_times_problem.c_str());
-  appendf(out, "\n");
+    append_printf(out, "  (wall times: %s)\n", run.wall_times_problem.c_str());
+  append_printf(out, "\n");
 }
 
 void phase_times(std::string& out, const RunMetrics& m) {
   if (m.phase_blocks.empty()) return;
-  appendf(out, 
+  append_printf(out,
       "Where the time went (wall_times.csv: each block's wall time, and the share of each phase of an iteration; "
       "other is saving and logging between iterations; waiting: the share the run loop waited for rollouts, the "
       "rest being the coordinator's own serial work)\n");
-  appendf(out, "  %-13s %10s %9s %13s %9s %12s %9s %7s %8s\n", "iterations", "wall time", "per hour", "reproduction",
+  append_printf(out, "  %-13s %10s %9s %13s %9s %12s %9s %7s %8s\n", "iterations", "wall time", "per hour", "reproduction",
               "ES steps", "evaluations", "transfer", "other", "waiting");
   for (const PhaseBlock& b : m.phase_blocks) {
     char range[32], wall[32], rate[32];
     std::snprintf(range, sizeof range, "%d-%d", b.first, b.last);
     std::snprintf(wall, sizeof wall, "%.1f min", b.wall_s / 60);
     std::snprintf(rate, sizeof rate, "%.0f", b.wall_s > 0 ? b.lines / (b.wall_s / 3600) : 0.0);
-    appendf(out, "  %-13s %10s %9s", range, wall, rate);
+    append_printf(out, "  %-13s %10s %9s", range, wall, rate);
     if (b.timed == 0 || b.wall_s <= 0) {
-      appendf(out, "   (phases not timed by the build that ran these iterations)\n");
+      append_printf(out, "   (phases not timed by the build that ran these iterations)\n");
       continue;
     }
     double phases = 0;
@@ -119,78 +112,78 @@ void phase_times(std::string& out, const RunMetrics& m) {
     char waiting[32] = "       -";  // builds before waiting_s
     if (b.waited > 0 && b.waited_wall_s > 0)
       std::snprintf(waiting, sizeof waiting, "%6.0f %%", 100 * b.waiting_s / b.waited_wall_s);
-    appendf(out, " %11.0f %% %7.0f %% %10.0f %% %7.0f %% %5.0f %% %s%s\n", share(b.phases[0]), share(b.phases[1]),
+    append_printf(out, " %11.0f %% %7.0f %% %10.0f %% %7.0f %% %5.0f %% %s%s\n", share(b.phases[0]), share(b.phases[1]),
                 share(b.phases[2]), share(b.phases[3]), share(std::max(0.0, b.wall_s - phases)), waiting,
                 b.timed < b.lines ? "  (some iterations not timed)" : "");
   }
-  appendf(out, "\n");
+  append_printf(out, "\n");
 }
 
 // The run: its directory, mode, progress and counters.
 void run_header(std::string& out, const RunSnapshot& run, const RunMetrics& m) {
   const RunState& state = run.state;
-  appendf(out, "Run %s: %s, seed %llu, %d of %d iterations done%s\n", run.dir.c_str(),
+  append_printf(out, "Run %s: %s, seed %llu, %d of %d iterations done%s\n", run.dir.c_str(),
               std::string(mode_words(state.settings.mode)).c_str(),
               static_cast<unsigned long long>(state.settings.seed), m.iterations_done, state.settings.iterations,
               run.live ? " (live: reported as of its last checkpoint)" : "");
-  appendf(out, "%lld rollouts, %.1f M environment steps", static_cast<long long>(state.counters.rollouts),
+  append_printf(out, "%lld rollouts, %.1f M environment steps", static_cast<long long>(state.counters.rollouts),
               static_cast<double>(state.counters.env_steps) / 1e6);
   if (state.settings.env_step_budget > 0)
-    appendf(out, " (budget %.1f M%s)", static_cast<double>(state.settings.env_step_budget) / 1e6,
+    append_printf(out, " (budget %.1f M%s)", static_cast<double>(state.settings.env_step_budget) / 1e6,
                 budget_reached(state) ? ", reached" : "");
-  appendf(out, "\n\n");
+  append_printf(out, "\n\n");
   if (const auto level = state.settings.episodes.random_courses)
-    appendf(out, 
+    append_printf(out,
         "Domain randomisation: every rollout ran on a course drawn at the level %s, not on the pair's "
         "environment, which only names the run (its level below is that name's)\n\n",
         std::string(to_string(*level)).c_str());
 }
 
 void levels(std::string& out, const RunState& state, const RunMetrics& m) {
-  appendf(out, 
+  append_printf(out,
       "Environments by difficulty level (spec §1.4; the first environment counts as admitted at iteration 0)\n");
-  appendf(out, "  %-22s %8s %10s %9s %7s   %s\n", "level", "created", "passed MC", "admitted", "solved",
+  append_printf(out, "  %-22s %8s %10s %9s %7s   %s\n", "level", "created", "passed MC", "admitted", "solved",
               "iterations from creation to solution");
   for (size_t l = 0; l < kLevels; ++l) {
     const LevelSolveSummary& s = m.solve_summary[l];
     char solve[96] = "-";
     if (s.count > 0)
       std::snprintf(solve, sizeof solve, "%.1f ± %.1f (min %d, max %d, n %d)", s.mean, s.sd, s.min, s.max, s.count);
-    appendf(out, "  %-22s %8lld %10lld %9lld %7lld   %s\n", level_name(l).c_str(),
+    append_printf(out, "  %-22s %8lld %10lld %9lld %7lld   %s\n", level_name(l).c_str(),
                 static_cast<long long>(m.total.created[l]), static_cast<long long>(m.total.passed_mc[l]),
                 static_cast<long long>(m.total.admitted[l]), static_cast<long long>(m.total.solved[l]), solve);
   }
-  appendf(out, "  (%lld mutation attempts, %lld of them duplicates of an archived environment)\n\n",
+  append_printf(out, "  (%lld mutation attempts, %lld of them duplicates of an archived environment)\n\n",
               static_cast<long long>(state.counters.children_tried), static_cast<long long>(m.duplicates));
   if (state.settings.poet.environments == EnvironmentKind::kCppnTerrain)
-    appendf(out, 
+    append_printf(out,
         "  (CPPN terrain: Table 1's levels describe obstacle courses; every CPPN course counts as easy here, "
         "and ANNECS is this run's measure)\n\n");
 }
 
 void transfers(std::string& out, const RunMetrics& m) {
-  appendf(out, "Transfers: %lld replacement attempts, %lld accepted", static_cast<long long>(m.transfer_attempts),
+  append_printf(out, "Transfers: %lld replacement attempts, %lld accepted", static_cast<long long>(m.transfer_attempts),
               static_cast<long long>(m.transfer_successes));
   if (m.transfer_attempts > 0)
-    appendf(out, " (%.1f %%)",
+    append_printf(out, " (%.1f %%)",
                 100.0 * static_cast<double>(m.transfer_successes) / static_cast<double>(m.transfer_attempts));
-  appendf(out, "\n");
+  append_printf(out, "\n");
   const AcceptedTransfer* largest = nullptr;
   for (const AcceptedTransfer& t : m.accepted_transfers)
     if (!largest || t.score - t.previous_score > largest->score - largest->previous_score) largest = &t;
   if (largest)
-    appendf(out, "  largest gain: %+.1f (pair %d from pair %d, %s, iteration %d: %.1f → %.1f)\n",
+    append_printf(out, "  largest gain: %+.1f (pair %d from pair %d, %s, iteration %d: %.1f → %.1f)\n",
                 largest->score - largest->previous_score, largest->target, largest->source,
                 largest->proposal ? "proposal" : "direct", largest->iteration, largest->previous_score, largest->score);
-  appendf(out, "\n");
+  append_printf(out, "\n");
 }
 
 void annecs_and_frontier(std::string& out, const RunMetrics& m) {
-  appendf(out, "ANNECS at admission: %d — %s\n", m.annecs.at_admission, kAnnecsAtAdmission);
-  appendf(out, "ANNECS at archiving: %d — %s\n\n", m.annecs.at_archiving, kAnnecsAtArchiving);
+  append_printf(out, "ANNECS at admission: %d — %s\n", m.annecs.at_admission, kAnnecsAtAdmission);
+  append_printf(out, "ANNECS at archiving: %d — %s\n\n", m.annecs.at_archiving, kAnnecsAtArchiving);
   if (!m.frontier_over_time.empty()) {
     const FrontierPoint& f = m.frontier_over_time.back();
-    appendf(out, 
+    append_printf(out,
         "Obstacle frontier (the hardest value solved; admitted in brackets; Table 1's conditions: roughness "
         "≥ 4.5, gap top ≥ 6.0, stump top ≥ 2.4)\n  roughness %.1f (%.1f), gap top %.1f (%.1f), stump top "
         "%.1f (%.1f)\n\n",
@@ -200,34 +193,34 @@ void annecs_and_frontier(std::string& out, const RunMetrics& m) {
 
 // Coverage of the levels by what was solved, and the solved environment closest to the target.
 void coverage_section(std::string& out, const RunMetrics& m, const Coverage& coverage, const std::string& samples_file) {
-  appendf(out, 
+  append_printf(out,
       "Coverage (seed %llu, %d samples per level; sum of normalised distances to the nearest environment "
       "solved at challenging or above, lower is better)\n",
       static_cast<unsigned long long>(coverage.seed), coverage.per_level);
   if (coverage.solved.empty()) {
-    appendf(out, "  not defined: the run solved no environment at challenging or above\n");
+    append_printf(out, "  not defined: the run solved no environment at challenging or above\n");
   } else {
     for (size_t l = 0; l < 3; ++l)
-      appendf(out, "  %-22s sum %.1f (mean %.3f)\n", level_name(l + 1).c_str(), *coverage.sum[l],
+      append_printf(out, "  %-22s sum %.1f (mean %.3f)\n", level_name(l + 1).c_str(), *coverage.sum[l],
                   *coverage.sum[l] / coverage.per_level);
   }
-  if (!samples_file.empty()) appendf(out, "  samples and per-sample distances: %s\n", samples_file.c_str());
+  if (!samples_file.empty()) append_printf(out, "  samples and per-sample distances: %s\n", samples_file.c_str());
   if (m.closest_to_target) {
     const TargetDistance& t = *m.closest_to_target;
     if (t.distance)
-      appendf(out, "\nClosest solved environment to the target %s: %s, normalised distance %.4f\n",
+      append_printf(out, "\nClosest solved environment to the target %s: %s, normalised distance %.4f\n",
                   t.target_name.c_str(), t.closest_env.c_str(), *t.distance);
     else
-      appendf(out, "\nClosest solved environment to the target %s: none solved\n", t.target_name.c_str());
+      append_printf(out, "\nClosest solved environment to the target %s: none solved\n", t.target_name.c_str());
   }
 }
 
 void pairs(std::string& out, const RunState& state) {
-  appendf(out, "\nPairs\n  %4s %-28s %-12s %7s %6s %6s %7s %7s %8s %8s %8s %5s\n", "id", "environment", "level",
+  append_printf(out, "\nPairs\n  %4s %-28s %-12s %7s %6s %6s %7s %7s %8s %8s %8s %5s\n", "id", "environment", "level",
               "created", "parent", "from", "solved", "retired", "best", "latest", "ES steps", "xfers");
   for (const Pair& p : state.pairs) {
     const std::string level(level_label(p.env.encoding));
-    appendf(out, "  %4d %-28.28s %-12.12s %7d %6s %6s %7s %7s %8.1f %8.1f %8lld %5zu\n", p.id,
+    append_printf(out, "  %4d %-28.28s %-12.12s %7d %6s %6s %7s %7s %8.1f %8.1f %8lld %5zu\n", p.id,
                 p.env.encoding.name.c_str(), level.c_str(), p.created_iteration,
                 p.parent_id == kNone ? "-" : std::to_string(p.parent_id).c_str(),
                 p.initial_source_pair == kNone ? "-" : std::to_string(p.initial_source_pair).c_str(),
@@ -261,9 +254,9 @@ std::string report_suite_section(const std::string& suite_name, const RunSuite& 
 std::string coverage_samples_csv(const Coverage& coverage) {
   std::string text = "level,roughness,gap_lo,gap_hi,stump_lo,stump_hi,distance\n";
   for (const CoverageSample& s : coverage.samples) {
-    appendf(text, "%s,%.17g,%.17g,%.17g,%.17g,%.17g,", level_name(static_cast<size_t>(s.level)).c_str(), s.e[0],
+    append_printf(text, "%s,%.17g,%.17g,%.17g,%.17g,%.17g,", level_name(static_cast<size_t>(s.level)).c_str(), s.e[0],
             s.e[1], s.e[2], s.e[3], s.e[4]);
-    if (s.distance) appendf(text, "%.17g", *s.distance);
+    if (s.distance) append_printf(text, "%.17g", *s.distance);
     text += "\n";
   }
   return text;

@@ -48,6 +48,12 @@ void WorkerTrust::checked_since(Standing& worker) const {
   if (worker.answers_taken_unchecked > 0) worker.answers_taken_unchecked -= 1;
 }
 
+JobTrust WorkerTrust::new_job(uint64_t batch, size_t begin, size_t end) const {
+  JobTrust job;
+  job.chosen = verification_.chosen(batch, begin, end);
+  return job;
+}
+
 Eligibility WorkerTrust::may_take(const JobTrust& job, const WorkerId& id, const Standing& worker) const {
   if (job.failed.contains(id) || job.answered_by(id)) return Eligibility::kNo;
   if (!job.answers.empty() && !worker.proven) return Eligibility::kNo;  // a check: one that never answered may sit on it

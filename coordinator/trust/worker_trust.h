@@ -113,7 +113,7 @@ class WorkerTrust {
   void checked_since(Standing& worker) const;  // one taken unchecked was compared since, and found right
 
   // Jobs.
-  JobTrust new_job(uint64_t batch, size_t begin, size_t end) const { return {verification_.chosen(batch, begin, end)}; }
+  JobTrust new_job(uint64_t batch, size_t begin, size_t end) const;  // chosen for a check or not, by the secret
   Eligibility may_take(const JobTrust& job, const WorkerId& id, const Standing& worker) const;
   // A holder died with the job: whether that counts towards the poison rule (a proven worker's death); a worker not
   // proven proves nothing by dying, and taints the job.

@@ -27,12 +27,7 @@ void write_out(const std::string& text) { std::fwrite(text.data(), 1, text.size(
 [[gnu::format(printf, 1, 2)]] void say(const char* format, ...) {
   va_list args;
   va_start(args, format);
-  va_list measure;
-  va_copy(measure, args);
-  const int size = std::vsnprintf(nullptr, 0, format, measure);
-  va_end(measure);
-  std::string text(static_cast<size_t>(std::max(size, 0)), '\0');
-  if (size > 0) std::vsnprintf(text.data(), text.size() + 1, format, args);
+  const std::string text = vprintf_text(format, args);
   va_end(args);
   write_out(printable_text(text));
 }

@@ -39,5 +39,15 @@ TEST(TextFormat, PeerIdsArePrintedAsIsOrInHex) {
   EXPECT_EQ(peer_id_text(""), "0x");
 }
 
+TEST(TextFormat, PrintfAppendsItsTextWholeHoweverLong) {
+  std::string out = "a";
+  append_printf(out, " %d %s", 7, "b");
+  EXPECT_EQ(out, "a 7 b");
+  append_printf(out, "%s", std::string(5000, 'x').c_str());
+  EXPECT_EQ(out.size(), 5u + 5000u);
+  append_printf(out, "%s", "");
+  EXPECT_EQ(out.size(), 5005u);
+}
+
 }  // namespace
 }  // namespace poet
