@@ -7,7 +7,7 @@
 #include <functional>
 #include <string>
 
-#include "common/expected.h"
+#include "plumbing/expected.h"
 
 namespace poet {
 

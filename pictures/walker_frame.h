@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "common/expected.h"
+#include "plumbing/expected.h"
 #include "simulation/walker/terrain.h"
 #include "simulation/walker/walker_env.h"
 

@@ -5,7 +5,7 @@
 #include <string>
 #include <vector>
 
-#include "common/expected.h"
+#include "plumbing/expected.h"
 #include "run_directory/reading/run_metrics.h"
 #include "run_directory/reading/run_snapshot.h"
 

@@ -12,7 +12,7 @@
 
 #include <string>
 
-#include "common/expected.h"
+#include "plumbing/expected.h"
 #include "report/picture_request.h"
 #include "run_directory/reading/run_snapshot.h"
 

@@ -5,8 +5,8 @@
 #include <array>
 #include <cstdio>
 
-#include "common/curve_keys.h"
-#include "common/tool_flags.h"
+#include "formats/tool_flags.h"
+#include "plumbing/curve_keys.h"
 #include "tools/poetctl_exit.h"
 
 namespace poet {

@@ -19,10 +19,10 @@
 #include <optional>
 #include <string>
 
-#include "common/status_defaults.h"
-#include "common/tool_flags.h"
-#include "common/utf8.h"
+#include "formats/tool_flags.h"
+#include "plumbing/status_defaults.h"
 #include "status.pb.h"
+#include "text/utf8.h"
 #include "tools/poetctl_exit.h"
 #include "tools/poetctl_keygen.h"
 #include "tools/poetctl_pack.h"

@@ -11,10 +11,10 @@
 #include <string>
 #include <vector>
 
-#include "common/expected.h"
-#include "common/text_file.h"
-#include "common/tool_flags.h"
 #include "coordinator/status/status_reference.h"
+#include "formats/tool_flags.h"
+#include "plumbing/expected.h"
+#include "plumbing/text_file.h"
 #include "run_directory/config/config_reference.h"
 
 namespace {

@@ -18,10 +18,10 @@
 #include <optional>
 #include <thread>
 
-#include "common/envgen/env_json.h"
-#include "common/text_file.h"
-#include "common/tool_flags.h"
+#include "formats/envgen/env_json.h"
+#include "formats/tool_flags.h"
 #include "pictures/canvas.h"
+#include "plumbing/text_file.h"
 #include "report/report_plot_files.h"
 #include "report/report_tables.h"
 #include "run_directory/reading/coverage.h"

@@ -18,12 +18,12 @@
 #include <string>
 #include <thread>
 
-#include "common/build_fingerprint.h"
-#include "common/curve_keys.h"
-#include "common/local_token.h"
-#include "common/stop_signals.h"
-#include "common/tool_flags.h"
-#include "common/zmq_endpoint.h"
+#include "formats/build_fingerprint.h"
+#include "formats/tool_flags.h"
+#include "plumbing/curve_keys.h"
+#include "plumbing/local_token.h"
+#include "plumbing/stop_signals.h"
+#include "plumbing/zmq_endpoint.h"
 #include "worker/job_runner.h"
 #include "worker/worker_loop.h"
 

@@ -6,7 +6,7 @@
 #include <algorithm>
 #include <utility>
 
-#include "common/build_fingerprint.h"
+#include "formats/build_fingerprint.h"
 
 namespace poet::worker {
 namespace {

@@ -29,8 +29,8 @@
 #include <string_view>
 #include <vector>
 
-#include "common/rollout_task_proto.h"
-#include "common/wire_timing.h"
+#include "formats/rollout_task_proto.h"
+#include "plumbing/wire_timing.h"
 #include "wire.pb.h"
 #include "worker/job_executor.h"
 

@@ -8,8 +8,8 @@
 #include <thread>
 #include <vector>
 
-#include "common/status_defaults.h"
-#include "common/wire_timing.h"
+#include "plumbing/status_defaults.h"
+#include "plumbing/wire_timing.h"
 
 namespace poet {
 

@@ -38,7 +38,6 @@
 #include <utility>
 #include <vector>
 
-#include "common/wire_timing.h"
 #include "coordinator/dispatch/batch_results.h"
 #include "coordinator/dispatch/dispatch_view.h"
 #include "coordinator/dispatch/drop_reason.h"
@@ -47,6 +46,7 @@
 #include "coordinator/dispatch/outgoing.h"
 #include "coordinator/dispatch/worker_registry.h"
 #include "coordinator/trust/worker_trust.h"
+#include "plumbing/wire_timing.h"
 #include "simulation/rollout_task.h"
 #include "wire.pb.h"
 

@@ -2,7 +2,7 @@
 
 #include <algorithm>
 
-#include "common/text_format.h"
+#include "text/text_format.h"
 
 namespace poet {
 

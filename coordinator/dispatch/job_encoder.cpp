@@ -1,6 +1,6 @@
 #include "coordinator/dispatch/job_encoder.h"
 
-#include "common/rollout_task_proto.h"
+#include "formats/rollout_task_proto.h"
 
 namespace poet {
 

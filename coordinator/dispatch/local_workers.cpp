@@ -10,7 +10,7 @@
 #include <filesystem>
 #include <string_view>
 
-#include "common/local_token.h"
+#include "plumbing/local_token.h"
 
 extern char** environ;
 

@@ -4,7 +4,7 @@
 #include <string>
 #include <utility>
 
-#include "common/rollout_task_proto.h"
+#include "formats/rollout_task_proto.h"
 
 namespace poet {
 

@@ -7,8 +7,8 @@
 #include <sstream>
 #include <vector>
 
-#include "common/curve_keys.h"
-#include "common/text_file.h"
+#include "plumbing/curve_keys.h"
+#include "plumbing/text_file.h"
 #include "run_directory/files/run_directory.h"
 
 namespace poet {

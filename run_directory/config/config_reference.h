@@ -8,7 +8,7 @@
 #include <filesystem>
 #include <string>
 
-#include "common/expected.h"
+#include "plumbing/expected.h"
 
 namespace poet {
 

@@ -14,10 +14,10 @@
 #include <utility>
 #include <vector>
 
-#include "common/envgen/env_proto.h"
-#include "common/text_file.h"
-#include "common/text_format.h"
+#include "formats/envgen/env_proto.h"
+#include "plumbing/text_file.h"
 #include "run_directory/config/config_rules.h"
+#include "text/text_format.h"
 
 namespace poet {
 namespace {

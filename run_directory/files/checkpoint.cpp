@@ -8,11 +8,11 @@
 #include <utility>
 #include <vector>
 
-#include "common/envgen/env_proto.h"
-#include "common/text_format.h"
 #include "engine/state_consistency.h"
+#include "formats/envgen/env_proto.h"
 #include "run_directory/config/run_config.h"
 #include "simulation/policy/mlp.h"
+#include "text/text_format.h"
 
 namespace poet {
 namespace {

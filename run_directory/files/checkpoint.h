@@ -3,8 +3,8 @@
 // states serialise to equal bytes; doubles travel as IEEE bits, so from_checkpoint(to_checkpoint(s)) is s
 // exactly. events_bytes and stats_bytes belong to the run directory and are left unset here.
 
-#include "common/expected.h"
 #include "engine/run_state.h"
+#include "plumbing/expected.h"
 #include "poet.pb.h"
 
 namespace poet {

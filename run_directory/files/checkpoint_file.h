@@ -13,7 +13,7 @@
 #include <string>
 #include <string_view>
 
-#include "common/expected.h"
+#include "plumbing/expected.h"
 #include "poet.pb.h"
 
 namespace poet {

@@ -6,7 +6,7 @@
 #include <filesystem>
 #include <string_view>
 
-#include "common/expected.h"
+#include "plumbing/expected.h"
 
 namespace poet {
 

@@ -7,7 +7,7 @@
 #include <optional>
 #include <string>
 
-#include "common/expected.h"
+#include "plumbing/expected.h"
 
 namespace poet {
 

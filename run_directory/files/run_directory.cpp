@@ -11,15 +11,15 @@
 #include <system_error>
 #include <tuple>
 
-#include "common/envgen/env_json.h"
-#include "common/policy/policy_file.h"
-#include "common/text_file.h"
-#include "common/text_format.h"
+#include "formats/envgen/env_json.h"
+#include "formats/policy/policy_file.h"
+#include "plumbing/text_file.h"
 #include "run_directory/config/run_config.h"
 #include "run_directory/files/annecs_log.h"
 #include "run_directory/files/checkpoint.h"
 #include "run_directory/files/crc32.h"
 #include "run_directory/files/event_json.h"
+#include "text/text_format.h"
 
 namespace poet {
 namespace {

@@ -12,7 +12,7 @@
 #include <system_error>
 #include <vector>
 
-#include "common/text_file.h"
+#include "plumbing/text_file.h"
 
 namespace poet {
 namespace {

@@ -2,7 +2,7 @@
 
 #include <fstream>
 
-#include "common/text_file.h"
+#include "plumbing/text_file.h"
 #include "run_directory/reading/log_lines.h"
 
 namespace poet {

@@ -2,7 +2,7 @@
 
 #include <optional>
 
-#include "common/text_file.h"
+#include "plumbing/text_file.h"
 #include "run_directory/config/run_config.h"
 #include "run_directory/files/checkpoint.h"
 #include "run_directory/files/checkpoint_file.h"

@@ -25,9 +25,9 @@
 #include <vector>
 
 #include "child_process.h"
-#include "common/build_fingerprint.h"
 #include "coordinator/status/status_board.h"
 #include "engine/run_state.h"
+#include "formats/build_fingerprint.h"
 #include "loopback_port.h"
 #include "poetctl_child.h"
 #include "raw_client.h"
@@ -109,13 +109,16 @@ class StatusServerTest : public ::testing::Test {
 
     board_ = std::make_unique<StatusBoard>(root_ / "run");
     board_->publish_run(demo_state(), 5);
-    board_->publish_dispatch({.workers = {{.id = "w-1",
-                                           .name = "10.1.2.3",
-                                           .threads = 2,
-                                           .fingerprint_digest = 0x1234,
-                                           .jobs_done = 40,
-                                           .results_done = 38,
-                                           .last_heard = 750}},
+    WorkerView worker;
+    worker.id = "w-1";
+    worker.name = "10.1.2.3";
+    worker.threads = 2;
+    worker.fingerprint_digest = 0x1234;
+    worker.jobs_done = 40;
+    worker.results_done = 38;
+    worker.last_heard = 750;
+    board_->publish_dispatch({.workers = {worker},
+                              .refused = {},
                               .at = 1'000,
                               .queue_depth = 6,
                               .in_flight_jobs = 2,

@@ -14,7 +14,7 @@
 #include <vector>
 
 #include "child_process.h"
-#include "common/build_fingerprint.h"
+#include "formats/build_fingerprint.h"
 #include "scratch_dir.h"
 
 namespace {

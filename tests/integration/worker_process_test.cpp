@@ -28,8 +28,8 @@
 #include <zmq.hpp>
 
 #include "child_process.h"
-#include "common/build_fingerprint.h"
-#include "common/rollout_task_proto.h"
+#include "formats/build_fingerprint.h"
+#include "formats/rollout_task_proto.h"
 #include "loopback_port.h"
 #include "scratch_dir.h"
 #include "simulation/envgen/named_courses.h"

@@ -11,8 +11,8 @@
 #include <optional>
 #include <string>
 
-#include "common/expected.h"
-#include "common/host_port.h"
+#include "plumbing/expected.h"
+#include "plumbing/host_port.h"
 
 namespace poet {
 

@@ -9,9 +9,9 @@
 #include <string>
 #include <vector>
 
-#include "common/event_text.h"
-#include "common/text_format.h"
-#include "common/utf8.h"
+#include "text/event_text.h"
+#include "text/text_format.h"
+#include "text/utf8.h"
 
 namespace poet {
 namespace {

@@ -8,8 +8,8 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 
-#include "common/envgen/env_json.h"
-#include "common/policy/policy_file.h"
+#include "formats/envgen/env_json.h"
+#include "formats/policy/policy_file.h"
 #include "simulation/envgen/env_distance.h"
 #include "simulation/rollout_task.h"
 #include "walker_manifest.h"

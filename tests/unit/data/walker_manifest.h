@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "common/policy/policy_file.h"
+#include "formats/policy/policy_file.h"
 
 namespace poet::test {
 

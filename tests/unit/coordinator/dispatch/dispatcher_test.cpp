@@ -13,7 +13,7 @@
 #include <span>
 #include <tuple>
 
-#include "common/rollout_task_proto.h"
+#include "formats/rollout_task_proto.h"
 #include "simulation/envgen/named_courses.h"
 #include "simulation/policy/mlp.h"
 #include "simulation/rng.h"

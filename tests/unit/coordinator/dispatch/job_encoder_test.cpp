@@ -8,7 +8,7 @@
 #include <set>
 #include <vector>
 
-#include "common/rollout_task_proto.h"
+#include "formats/rollout_task_proto.h"
 #include "simulation/envgen/named_courses.h"
 
 namespace poet {

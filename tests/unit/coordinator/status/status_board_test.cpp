@@ -18,10 +18,10 @@
 #include <thread>
 
 #include "../../engine/engine_test_support.h"
-#include "common/utf8.h"
 #include "coordinator/status/status_json.h"
 #include "run_directory/files/run_directory.h"
 #include "scratch_dir.h"
+#include "text/utf8.h"
 
 namespace poet {
 namespace {
@@ -274,15 +274,20 @@ TEST_F(StatusBoardTest, UptimeAndHeartbeatAgesFollowTheClock) {
   StatusBoard board(dir_, clock_.function());
   DispatchView dispatch;
   dispatch.at = 10'000;  // the dispatcher's clock: a-worker was last heard 1.5 s before
-  dispatch.workers.push_back({.id = "worker-a",
-                              .name = "10.0.0.2",
-                              .threads = 4,
-                              .fingerprint_digest = 0x00ab'cdef'0123'4567ULL,
-                              .jobs_done = 12,
-                              .results_done = 11,
-                              .last_heard = 8'500});
-  dispatch.workers.push_back(
-      {.id = std::string("\x00\x01\xfe", 3), .name = "", .threads = 1, .fingerprint_digest = 1, .last_heard = 10'000});
+  WorkerView a;  // a view's standing is trust's: only what the dispatcher knows is set here
+  a.id = "worker-a";
+  a.name = "10.0.0.2";
+  a.threads = 4;
+  a.fingerprint_digest = 0x00ab'cdef'0123'4567ULL;
+  a.jobs_done = 12;
+  a.results_done = 11;
+  a.last_heard = 8'500;
+  WorkerView b;
+  b.id = std::string("\x00\x01\xfe", 3);
+  b.threads = 1;
+  b.fingerprint_digest = 1;
+  b.last_heard = 10'000;
+  dispatch.workers = {a, b};
   dispatch.queue_depth = 7;
   dispatch.in_flight_jobs = 3;
   dispatch.dropped_frames = {{"malformed", 2}};

@@ -22,7 +22,7 @@
 #include <utility>
 #include <vector>
 
-#include "common/envgen/env_proto.h"
+#include "formats/envgen/env_proto.h"
 #include "scratch_dir.h"
 
 namespace poet {

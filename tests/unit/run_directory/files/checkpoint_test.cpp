@@ -13,7 +13,7 @@
 #include <string>
 #include <vector>
 
-#include "common/envgen/env_proto.h"
+#include "formats/envgen/env_proto.h"
 #include "run_directory/config/run_config.h"
 #include "simulation/policy/mlp.h"
 #include "simulation/rng.h"

@@ -17,8 +17,8 @@
 #include <string>
 #include <vector>
 
-#include "common/envgen/env_json.h"
-#include "common/policy/policy_file.h"
+#include "formats/envgen/env_json.h"
+#include "formats/policy/policy_file.h"
 #include "run_directory/config/run_config.h"
 #include "run_directory/files/annecs_log.h"
 #include "run_directory/files/checkpoint.h"

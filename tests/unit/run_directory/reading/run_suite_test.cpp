@@ -6,7 +6,7 @@
 
 #include <gtest/gtest.h>
 
-#include "common/policy/policy_file.h"
+#include "formats/policy/policy_file.h"
 
 namespace poet {
 namespace {

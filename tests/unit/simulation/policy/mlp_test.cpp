@@ -13,7 +13,7 @@
 #include <string>
 #include <vector>
 
-#include "common/policy/policy_file.h"
+#include "formats/policy/policy_file.h"
 #include "simulation/rng.h"
 
 namespace poet {
