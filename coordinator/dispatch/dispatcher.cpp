@@ -293,7 +293,8 @@ void Dispatcher::expire_leases(Millis now, bool unproven_holding) {
     }
   }
   // a job it held ended with its batch, unanswered, and the lease has run out since
-  for (RegisteredWorker* stale : workers_.stale_trials(now, jobs_.lease_ms())) trust_.demote(stale->view);
+  for (RegisteredWorker* worker : workers_.in_order())
+    trust_.trial_ran_out(worker->view, worker->trial_since, !worker->jobs.empty(), now, jobs_.lease_ms());
 }
 
 bool Dispatcher::proven_can_take(const OpenJob& job) const {
@@ -351,15 +352,11 @@ void Dispatcher::check_unanswerable(Millis now) {
   const auto& connected = workers_.in_order();
   for (auto& [id, job] : jobs_.open()) {
     if (job.trust.answers.empty()) continue;
-    // queued with no connected worker able to check it, or held for a check past the lease (a proven worker that
-    // answered once may still sit on it, and proven holders' leases do not expire): the coordinator checks it
-    const bool stuck = job.queued ? std::none_of(connected.begin(), connected.end(),
-                                                 [&](const RegisteredWorker* w) { return eligible_checker(job, *w); })
-                                  : std::all_of(job.leases.begin(), job.leases.end(),
-                                                [&](const Lease& l) { return now - l.since >= lease; });
-    if (!stuck) continue;
-    coordinator_checks_waiting_ += 1;
-    trust_.needs_coordinator(id, job.trust);
+    const bool checker = job.queued && std::any_of(connected.begin(), connected.end(), [&](const RegisteredWorker* w) {
+                           return eligible_checker(job, *w);
+                         });
+    if (trust_.coordinator_must_check(id, job.trust, job.queued, checker, job.newest_lease(), now, lease))
+      coordinator_checks_waiting_ += 1;
   }
 }
 
@@ -422,10 +419,9 @@ void Dispatcher::outgoing(Millis now, const std::function<void(Outgoing&&)>& del
     assigned = false;
     for (RegisteredWorker* held : workers_.in_order()) {
       RegisteredWorker& worker = *held;
-      // a demoted worker holds none (below), one not proven or on probation one at a time
-      const size_t room = trust_.jobs_at_once(worker.view, static_cast<size_t>(settings_.jobs_ahead));
-      if (!worker.ready || worker.view.demoted || worker.jobs.size() >= room) continue;
-      if (!worker.view.proven && worker.trial_since) continue;  // a job of an earlier batch still unanswered
+      const size_t room =
+          trust_.jobs_at_once(worker.view, worker.trial_since.has_value(), static_cast<size_t>(settings_.jobs_ahead));
+      if (!worker.ready || worker.jobs.size() >= room) continue;
       for (size_t places = fill_at_once ? room - worker.jobs.size() : 1; places > 0; --places) {
         OpenJob* job = next_job(worker, now);
         if (job == nullptr) break;

@@ -4,9 +4,9 @@
 // or departed worker, results matched by job id with duplicates and strangers dropped, the poison-job rule, and
 // backup jobs. Time is a parameter (milliseconds on any monotonic clock), so tests drive it with a fake clock. Not
 // thread-safe: the remote evaluator's socket thread owns it under its lock. It composes the pieces with one job
-// each — WorkerRegistry (who is trusted), JobQueue (the queue, its leases and backups), Verification (what is
-// verified), BatchResults (what is final), RefusalLedger (who was refused) and JobEncoder (the wire) — and keeps
-// the rules that join them: how a batch is cut, who may take which job, the poison-job and error rules.
+// each — WorkerRegistry (who is connected, what each holds, trials), JobQueue (the queue, its leases and backups),
+// BatchResults (what is final) and JobEncoder (the wire) — with WorkerTrust (coordinator/trust), and keeps the
+// rules that join them: how a batch is cut, whom a job goes to, the poison-job rule.
 //
 // Who may take which job, what an answer settles and when the run must go back are trust's to say
 // (coordinator/trust/worker_trust.h: proven workers, probation, verification, refusals, the coordinator's own checks
@@ -111,10 +111,9 @@ class Dispatcher {
 
   // Going back. batch_id() is the batch started last (0: none yet). take_rollback: the first batch whose final
   // results may hold a lie — a worker was refused after unchecked answers of its from that batch on became final —
-  // once; the caller goes back to a state computed before that batch started. unchecked_since: for each worker
-  // that may still be found wrong, the first batch in which an unchecked answer of its became final (what the
-  // caller must be able to go back to; a rollback not yet taken among them). forget_batches_from: the caller went back
-  // to before `batch`; answers of that batch and later ones no longer count.
+  // once; the caller goes back to a state computed before that batch started (what must stay reachable meanwhile
+  // is trust().unchecked_since()). forget_batches_from: the caller went back to before `batch`; answers of that
+  // batch and later ones no longer count.
   uint64_t batch_id() const { return batch_id_; }
   std::optional<uint64_t> take_rollback() { return trust_.take_rollback(); }
   void forget_batches_from(uint64_t batch) { trust_.forget_batches_from(batch); }
@@ -207,7 +206,7 @@ class Dispatcher {
   std::string describe_task(size_t index) const;
 
   DispatchSettings settings_;
-  WorkerRegistry workers_;     // who is connected, and how far each is trusted
+  WorkerRegistry workers_;     // who is connected, what each holds, trials
   JobQueue jobs_;              // the batch's open jobs, their queue and leases
   WorkerTrust trust_;          // how far each worker is trusted, what answers settle, refusals and rollbacks
 

@@ -65,15 +65,6 @@ void WorkerRegistry::sent_job(RegisteredWorker& worker, uint64_t job_id, Millis 
   worker.last_sent = now;
 }
 
-std::vector<RegisteredWorker*> WorkerRegistry::stale_trials(Millis now, Millis lease) const {
-  std::vector<RegisteredWorker*> out;
-  for (RegisteredWorker* worker : arrival_)
-    if (!worker->view.proven && !worker->view.demoted && worker->jobs.empty() && worker->trial_since &&
-        now - *worker->trial_since >= lease)
-      out.push_back(worker);
-  return out;
-}
-
 size_t WorkerRegistry::proven() const {
   return static_cast<size_t>(
       std::count_if(arrival_.begin(), arrival_.end(), [](const RegisteredWorker* w) { return w->view.proven; }));

@@ -52,9 +52,6 @@ class WorkerRegistry {
   std::vector<WorkerId> silent(Millis now, Millis liveness) const;  // heard from longer ago than liveness
   // A job sent to it; a worker not proven is on trial from its first one until it answers.
   void sent_job(RegisteredWorker& worker, uint64_t job_id, Millis now);
-  // Workers not proven, not demoted, whose trial ran a lease without an answer and that hold nothing now (its batch
-  // ended).
-  std::vector<RegisteredWorker*> stale_trials(Millis now, Millis lease) const;
 
   size_t proven() const;
   size_t ready() const;                   // those that may be sent jobs

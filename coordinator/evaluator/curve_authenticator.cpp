@@ -32,23 +32,20 @@ CurveAuthenticator::CurveAuthenticator(zmq::context_t& context, std::filesystem:
       key_dir_(std::move(key_dir)),
       skipped_key_file_(std::move(skipped_key_file)),
       refused_keys_file_(std::move(refused_keys_file)) {
-  const Expected<bool> has_refused_keys =
-      refused_keys_file_.empty() ? Expected<bool>(false) : path_exists(refused_keys_file_);
-  if (!has_refused_keys) {
-    spdlog::warn("CURVE: {}: {}; no worker key is refused from it", refused_keys_file_.string(),
-                 has_refused_keys.error());
-  } else if (*has_refused_keys) {
-    const Expected<std::string> text = read_text_file(refused_keys_file_, kMaxRefusedKeysBytes);
-    if (!text) {
+  // a run that refused no worker has no such file: absence is the read's own answer, not a problem
+  const Expected<std::string> text = refused_keys_file_.empty()
+                                         ? Expected<std::string>(Unexpected{kDoesNotExist})
+                                         : read_text_file(refused_keys_file_, kMaxRefusedKeysBytes);
+  if (!text) {
+    if (text.error() != kDoesNotExist)
       spdlog::warn("CURVE: {}: {}; no worker key is refused from it", refused_keys_file_.string(), text.error());
-    } else {
-      std::istringstream lines(*text);
-      for (std::string line; std::getline(lines, line);)
-        if (is_z85_key(line)) refused_keys_.insert(line);
-      if (!refused_keys_.empty())
-        spdlog::info("CURVE: {} worker key(s) refused for wrong results earlier in this run ({})", refused_keys_.size(),
-                     refused_keys_file_.string());
-    }
+  } else {
+    std::istringstream lines(*text);
+    for (std::string line; std::getline(lines, line);)
+      if (is_z85_key(line)) refused_keys_.insert(line);
+    if (!refused_keys_.empty())
+      spdlog::info("CURVE: {} worker key(s) refused for wrong results earlier in this run ({})", refused_keys_.size(),
+                   refused_keys_file_.string());
   }
   socket_.set(zmq::sockopt::linger, 0);
   socket_.bind(kZapEndpoint);

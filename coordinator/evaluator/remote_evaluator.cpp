@@ -115,17 +115,16 @@ void RemoteEvaluator::check_loop() {
 
 Withdrawals RemoteEvaluator::withdrawals() {
   std::lock_guard lock(mutex_);
-  // taken once from the dispatcher, told until the caller goes back
-  if (const std::optional<uint64_t> first = dispatcher_.take_rollback())
-    withdrawn_from_ = std::min(withdrawn_from_.value_or(*first), *first);
-  return {dispatcher_.settings().verify_fraction > 0, dispatcher_.batch_id(), withdrawn_from_,
-          dispatcher_.trust().unchecked_since()};
+  // a rollback asked for stands, and stays reachable, until the caller goes back
+  const WorkerTrust& trust = dispatcher_.trust();
+  return {dispatcher_.settings().verify_fraction > 0, dispatcher_.batch_id(), trust.rollback_asked(),
+          trust.unchecked_since()};
 }
 
 void RemoteEvaluator::went_back(uint64_t last_batch) {
   std::lock_guard lock(mutex_);
+  dispatcher_.take_rollback();  // done: counted once
   dispatcher_.forget_batches_from(last_batch + 1);
-  withdrawn_from_.reset();
 }
 
 void RemoteEvaluator::on_snapshot(std::function<void(DispatchView)> publish) {

@@ -62,7 +62,7 @@ class RemoteEvaluator final : public Evaluator {
   // they become final, on this thread with the lock released, so the socket thread keeps serving meanwhile.
   std::vector<RolloutResult> evaluate(std::span<const RolloutTask> tasks, const ResultsReady& ready) override;
   using Evaluator::evaluate;
-  // With verification (Dispatcher::take_rollback and the rest): the batches whose final results a worker found
+  // With verification (trust's rollback record): the batches whose final results a worker found
   // wrong later may have lied in.
   Withdrawals withdrawals() override;
   void went_back(uint64_t last_batch) override;
@@ -117,7 +117,6 @@ class RemoteEvaluator final : public Evaluator {
   std::function<void(DispatchView)> publish_;
   bool collect_ready_ = false;  // while evaluate() runs with a listener: final results are copied for it
   std::vector<ReadyResults> ready_results_;
-  std::optional<uint64_t> withdrawn_from_;  // Dispatcher::take_rollback's, standing until went_back
   bool quit_ = false;
   std::string shutdown_reason_;
   bool shutdown_requested_ = false;

@@ -33,6 +33,7 @@ class RefusalLedger {
   void forget_workers(const std::function<bool(const WorkerId&)>& gone);
   void forget_batches_from(uint64_t batch);  // the caller went back to before `batch`
   std::optional<uint64_t> take_rollback();   // the first batch to compute again, once
+  std::optional<uint64_t> rollback_asked() const { return rollback_from_; }  // the same, not taken yet
   // For each worker that may still be found wrong, the first batch of an unchecked final answer; and a rollback
   // asked for and not yet taken.
   std::vector<uint64_t> unchecked_since() const;

@@ -23,8 +23,16 @@ Trust WorkerTrust::level(const Standing& worker) const {
   return on_probation(worker) ? Trust::kProbation : Trust::kProven;
 }
 
-size_t WorkerTrust::jobs_at_once(const Standing& worker, size_t jobs_ahead) const {
+size_t WorkerTrust::jobs_at_once(const Standing& worker, bool trial_unanswered, size_t jobs_ahead) const {
+  if (worker.demoted || (!worker.proven && trial_unanswered)) return 0;
   return !worker.proven || on_probation(worker) ? 1 : jobs_ahead;
+}
+
+bool WorkerTrust::trial_ran_out(Standing& worker, std::optional<Millis> trial_since, bool holding, Millis now,
+                                Millis lease) {
+  if (worker.proven || worker.demoted || holding || !trial_since || now - *trial_since < lease) return false;
+  demote(worker);
+  return true;
 }
 
 void WorkerTrust::answered(Standing& worker, bool counted) const {
@@ -156,8 +164,13 @@ Settlement WorkerTrust::coordinator_answer(const JobTrust& job, std::vector<Roll
   return out;
 }
 
-void WorkerTrust::needs_coordinator(uint64_t job_id, JobTrust& job) {
+bool WorkerTrust::coordinator_must_check(uint64_t job_id, JobTrust& job, bool queued, bool checker_connected,
+                                         Millis newest_lease, Millis now, Millis lease) {
+  if (job.answers.empty()) return false;  // nothing held to check
+  const bool stuck = queued ? !checker_connected : now - newest_lease >= lease;
+  if (!stuck) return false;
   if (!std::exchange(job.to_coordinator, true)) to_coordinator_.push_back(job_id);
+  return true;
 }
 
 bool WorkerTrust::forget_answers_of(JobTrust& job, const WorkerId& id) const {

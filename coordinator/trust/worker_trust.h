@@ -59,8 +59,8 @@ enum class Eligibility {
   kIfNoProvenCan,  // a tainted job, to a worker not proven: only when no proven worker connected may take it
 };
 
-// What an answer settles. The dispatcher refuses `wrong` first (their results held back must not become final
-// with this job), credits `passed` with a check each, then acts on the kind.
+// What an answer settles. The dispatcher credits `passed` with a check each and refuses `wrong` (their results held
+// back must not become final with this job), then acts on the kind.
 struct Settlement {
   enum class Kind {
     kTake,       // take `results` from `credited`: final at once (final_now), or held back until the batch is whole
@@ -100,9 +100,13 @@ class WorkerTrust {
   Standing newcomer(bool local) const;  // a local worker is proven from the start
   Trust level(const Standing& worker) const;
   bool on_probation(const Standing& worker) const { return verification_.on_probation(worker); }
-  // Jobs it may hold at once: one while not proven or on probation (its answers wait for checks: its probation ends
-  // within about probation_checks of its jobs, not twice that), else jobs_ahead.
-  size_t jobs_at_once(const Standing& worker, size_t jobs_ahead) const;
+  // Jobs it may hold at once: none when demoted, or not proven with its trial (a job sent, in this batch or an
+  // earlier one) unanswered; one while not proven or on probation (its answers wait for checks: its probation ends
+  // within about probation_checks of its jobs, not twice that); else jobs_ahead.
+  size_t jobs_at_once(const Standing& worker, bool trial_unanswered, size_t jobs_ahead) const;
+  // A worker not proven whose trial, sent at `trial_since`, has run a lease without an answer and that holds nothing
+  // now (its batch ended): demoted; true if it was just now.
+  bool trial_ran_out(Standing& worker, std::optional<Millis> trial_since, bool holding, Millis now, Millis lease);
   // A valid answer: alive and answering, proven and no longer demoted (`counted`: an answer to a job it held, which
   // counts towards what it answered on probation).
   void answered(Standing& worker, bool counted) const;
@@ -131,9 +135,12 @@ class WorkerTrust {
   Settlement late_answer(Answer taken, bool taken_final, Answer late, bool late_local);
   Settlement coordinator_answer(const JobTrust& job, std::vector<RolloutResult> results);
 
-  // The coordinator's own checks: a job holding answers that no connected worker can check (or whose check was held
-  // past the lease) is handed to the coordinator, once; take_coordinator_jobs hands the ids over.
-  void needs_coordinator(uint64_t job_id, JobTrust& job);
+  // The coordinator's own checks: a job holding answers that waits in the queue with no connected worker able to
+  // check it, or whose every holder took it at least a lease ago (`newest_lease`: a proven worker that answered
+  // once may still sit on it, and proven holders' leases do not expire), waits for the coordinator's own answer:
+  // true while it does; it is handed over once (take_coordinator_jobs hands the ids over).
+  bool coordinator_must_check(uint64_t job_id, JobTrust& job, bool queued, bool checker_connected, Millis newest_lease,
+                              Millis now, Millis lease);
   std::vector<uint64_t> take_coordinator_jobs() { return std::exchange(to_coordinator_, {}); }
 
   // Refusing: a worker found wrong, or sharing a wrong one's identity, while batch `current` runs (false when it was
@@ -149,6 +156,7 @@ class WorkerTrust {
   // able to go back to); the caller went back to before `batch`; a batch starts (workers gone can no longer be
   // found wrong); it ends (the coordinator's checks waiting are void).
   std::optional<uint64_t> take_rollback() { return ledger_.take_rollback(); }
+  std::optional<uint64_t> rollback_asked() const { return ledger_.rollback_asked(); }  // the same, not taken yet
   std::vector<uint64_t> unchecked_since() const { return ledger_.unchecked_since(); }
   void forget_batches_from(uint64_t batch) { ledger_.forget_batches_from(batch); }
   void start_batch(const std::function<bool(const WorkerId&)>& gone) { ledger_.forget_workers(gone); }

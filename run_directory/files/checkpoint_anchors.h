@@ -1,6 +1,6 @@
 #pragma once
 // Checkpoints kept in memory so that a run can go back to one computed before a worker later found wrong had
-// unchecked answers taken (dispatcher.h: take_rollback). Each is a checkpoint file's bytes as saved, with the last
+// unchecked answers taken (engine/evaluator.h: Withdrawals). Each is a checkpoint file's bytes as saved, with the last
 // batch the evaluator had started by then; only those a rollback may still need are kept: the newest, and for each
 // worker that may yet be found wrong the newest saved before its first unchecked answer's batch.
 

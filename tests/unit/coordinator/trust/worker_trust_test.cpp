@@ -26,19 +26,34 @@ TEST(WorkerTrust, ANewcomerIsOnTrialUnlessLocalAndHoldsOneJobUntilProvenAndPastP
   Standing remote = trust.newcomer(false), local = trust.newcomer(true);
   EXPECT_EQ(trust.level(remote), Trust::kTrial);
   EXPECT_EQ(trust.level(local), Trust::kProven);
-  EXPECT_EQ(trust.jobs_at_once(remote, 2), 1u);
-  EXPECT_EQ(trust.jobs_at_once(local, 2), 2u);
+  EXPECT_EQ(trust.jobs_at_once(remote, false, 2), 1u);
+  EXPECT_EQ(trust.jobs_at_once(local, false, 2), 2u);
   trust.answered(remote, /*counted=*/true);
   EXPECT_EQ(trust.level(remote), Trust::kProbation);
   EXPECT_EQ(remote.probation_answers, 1);
-  EXPECT_EQ(trust.jobs_at_once(remote, 2), 1u);
+  EXPECT_EQ(trust.jobs_at_once(remote, false, 2), 1u);
   trust.passed_check(remote);
   trust.passed_check(remote);
   EXPECT_EQ(trust.level(remote), Trust::kProven);
-  EXPECT_EQ(trust.jobs_at_once(remote, 2), 2u);
+  EXPECT_EQ(trust.jobs_at_once(remote, false, 2), 2u);
   trust.answered(remote, /*counted=*/true);
   EXPECT_EQ(remote.probation_answers, 1);  // past probation: no longer counted
   EXPECT_EQ(trust.level(WorkerTrust({0, 0, 5}).newcomer(false)), Trust::kTrial);
+}
+
+TEST(WorkerTrust, AWorkerNotProvenHoldsNothingMoreWhileItsTrialIsUnansweredAndIsDemotedALeaseOn) {
+  WorkerTrust trust = checking();
+  Standing fresh = trust.newcomer(false);
+  EXPECT_EQ(trust.jobs_at_once(fresh, /*trial_unanswered=*/true, 2), 0u);
+  EXPECT_FALSE(trust.trial_ran_out(fresh, 100, /*holding=*/true, 1000, 500));  // it still holds it: the lease says
+  EXPECT_FALSE(trust.trial_ran_out(fresh, 100, false, 599, 500));
+  EXPECT_FALSE(trust.trial_ran_out(fresh, std::nullopt, false, 10'000, 500));  // never sent one
+  EXPECT_TRUE(trust.trial_ran_out(fresh, 100, false, 600, 500));
+  EXPECT_TRUE(fresh.demoted);
+  EXPECT_FALSE(trust.trial_ran_out(fresh, 100, false, 700, 500));  // once
+  EXPECT_EQ(trust.demoted(), 1);
+  EXPECT_EQ(trust.jobs_at_once(fresh, false, 2), 0u);  // demoted: nothing
+  EXPECT_EQ(trust.jobs_at_once(proven(), true, 2), 2u);
 }
 
 TEST(WorkerTrust, ATaintedJobGoesToAWorkerNotProvenOnlyWhenNoProvenOneCanAndNeverAsACheck) {
@@ -140,7 +155,10 @@ TEST(WorkerTrust, AnUncheckedAnswerIsHeldBackAndRefusingItsWorkerLaterSendsTheRu
   EXPECT_TRUE(trust.refuse("past", {"worker-past", "lied"}, batch + 2));
   EXPECT_FALSE(trust.refuse("past", {"worker-past", "lied"}, batch + 2));
   EXPECT_TRUE(trust.refused("past"));
+  EXPECT_EQ(trust.rollback_asked(), batch);
+  EXPECT_EQ(trust.unchecked_since(), (std::vector<uint64_t>{batch}));  // a checkpoint before it must stay reachable
   EXPECT_EQ(trust.take_rollback(), batch);
+  EXPECT_FALSE(trust.rollback_asked());
   EXPECT_FALSE(trust.take_rollback());  // once
   EXPECT_EQ(trust.rollbacks(), 1);
 
@@ -173,9 +191,12 @@ TEST(WorkerTrust, ALateAnswerConfirmsTheResultsTakenOrReopensThemAndFinalResults
 TEST(WorkerTrust, TheCoordinatorsOwnAnswerDecidesAndAJobIsHandedToItOnce) {
   WorkerTrust trust = checking();
   JobTrust job;
+  EXPECT_FALSE(trust.coordinator_must_check(7, job, true, false, 0, 0, 1000));  // no answer held
   job.answers = {{"right", returns(1)}, {"wrong", returns(2)}};
-  trust.needs_coordinator(7, job);
-  trust.needs_coordinator(7, job);
+  EXPECT_FALSE(trust.coordinator_must_check(7, job, /*queued=*/true, /*checker_connected=*/true, 0, 0, 1000));
+  EXPECT_FALSE(trust.coordinator_must_check(7, job, false, false, /*newest_lease=*/500, 1499, 1000));  // held
+  EXPECT_TRUE(trust.coordinator_must_check(7, job, false, false, 500, 1500, 1000));  // held past the lease
+  EXPECT_TRUE(trust.coordinator_must_check(7, job, true, false, 0, 0, 1000));        // no one can check it
   EXPECT_EQ(trust.take_coordinator_jobs(), (std::vector<uint64_t>{7}));
   EXPECT_TRUE(trust.take_coordinator_jobs().empty());
   Settlement settled = trust.coordinator_answer(job, returns(1));
@@ -187,7 +208,8 @@ TEST(WorkerTrust, TheCoordinatorsOwnAnswerDecidesAndAJobIsHandedToItOnce) {
   EXPECT_EQ(trust.coordinator_checks(), 1);
 
   JobTrust other;
-  trust.needs_coordinator(8, other);
+  other.answers = job.answers;
+  trust.coordinator_must_check(8, other, true, false, 0, 0, 1000);
   trust.end_batch();
   EXPECT_TRUE(trust.take_coordinator_jobs().empty());  // a batch's checks end with it
   EXPECT_TRUE(trust.forget_answers_of(job, "wrong"));
