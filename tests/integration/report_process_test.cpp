@@ -140,7 +140,9 @@ TEST_F(ReportProcessTest, ReportsTheMetricsTableJsonAndPlotsOfAFinishedRunWithou
   std::string lines = "iteration,annecs_at_admission,annecs_at_archiving\n";
   for (size_t t = 0; t < annecs.size(); ++t) {
     EXPECT_EQ(annecs[t]["iteration"], t);
-    if (t > 0) EXPECT_GE(annecs[t]["at_admission"], annecs[t - 1]["at_admission"]);
+    if (t > 0) {
+      EXPECT_GE(annecs[t]["at_admission"], annecs[t - 1]["at_admission"]);
+    }
     lines += std::to_string(t) + "," + annecs[t]["at_admission"].dump() + "," + annecs[t]["at_archiving"].dump() + "\n";
   }
   EXPECT_EQ(read(run / "annecs.csv"), lines);
@@ -346,8 +348,9 @@ TEST_F(ReportProcessTest, LineageWritesRunnableControlConfigsWithTheLineagesBudg
     EXPECT_LE(control["es_steps"].get<int>(), budget);
     EXPECT_GT(control["env_steps"].get<int64_t>(), 0);
     // a solved control's closest environment is at distance 0 exactly when it solved the target
-    if (!control["normalized_distance"].is_null())
+    if (!control["normalized_distance"].is_null()) {
       EXPECT_EQ(control["normalized_distance"].get<double>() == 0, !control["solved_at_es_step"].is_null()) << control;
+    }
   }
   EXPECT_EQ(read(rose).substr(1, 3), "PNG");
   // the table for people; a control of another environment is refused
