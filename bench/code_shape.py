@@ -4,9 +4,9 @@ methods, repeated code outside tests, and the dependencies between top-level fol
 
     python3 bench/code_shape.py [REPO]        # REPO: a checkout (default: this one)
 
-Functions are measured from universal-ctags' start and end lines; repeated code is the `duplicates` tool's pairs
-when it is on PATH; a dependency is an include of a header of another folder ("text/utf8.h" in coordinator/ is
-coordinator → text). A folder's level is 0 when it includes no other folder, else one more than the highest it
+Functions are measured from universal-ctags' start and end lines; repeated code is the pairs of a `duplicates`
+program when one is on PATH (skipped, saying so, otherwise); a dependency is an include of a header of another
+folder ("text/utf8.h" in coordinator/ is coordinator → text). A folder's level is 0 when it includes no other folder, else one more than the highest it
 includes.
 """
 import collections
@@ -98,8 +98,8 @@ def levels(folders, edges):
 
 
 def duplicate_pairs(repo):
-    tool = shutil.which("duplicates") or "/work/.library/duplicates"
-    if not pathlib.Path(tool).exists():
+    tool = shutil.which("duplicates")  # a code-similarity tool, when installed; its figures are skipped otherwise
+    if tool is None:
         return None
     out = subprocess.run([tool, "--repo", str(repo), "--most", "200", "--seconds", "120"], capture_output=True,
                          text=True).stdout
@@ -122,7 +122,9 @@ def main():
     methods = public_methods(repo, "coordinator/dispatch/dispatcher.h", "Dispatcher")
     print(f"Dispatcher's public methods: {len(methods)} ({', '.join(methods)})")
     duplicates = duplicate_pairs(repo)
-    if duplicates is not None:
+    if duplicates is None:
+        print("repeated code: not measured (no duplicates program on PATH)")
+    else:
         total, outside = duplicates
         print(f"repeated code (duplicates --most 200): {total} pairs, {len(outside)} outside tests and experiments")
         for row in outside:
