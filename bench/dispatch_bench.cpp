@@ -491,7 +491,7 @@ void BM_EsStepRemoteVsLocal(benchmark::State& state) {
   DispatchSettings settings;
   settings.heartbeat_ms = 1000;
   settings.liveness_ms = 5000;
-  settings.fingerprint_digest = build_fingerprint_digest();
+  settings.build = {build_fingerprint_digest(), arithmetic_digest(), arithmetic_text()};
   Expected<std::unique_ptr<RemoteEvaluator>> bound = RemoteEvaluator::bind("tcp://127.0.0.1:*", settings, {});
   if (!bound) {
     state.SkipWithError(bound.error().c_str());

@@ -6,6 +6,7 @@
 #include <cfloat>
 #include <initializer_list>
 
+#include "simulation/arithmetic_probe.h"
 #include "simulation/rng.h"
 #include "simulation/walker/walker_constants.h"
 #include "text/text_format.h"
@@ -84,39 +85,51 @@ const char* target() {
 #if defined(__x86_64__)
   return "x86-64 (SSE2 doubles, no FMA)";
 #elif defined(__aarch64__)
-  return "aarch64 (compiler's default ISA)";
+  return "aarch64 (no FMA contraction)";
 #else
-  return "unknown processor (compiler's default ISA)";
+  return "unknown processor (no FMA contraction)";
 #endif
 }
 
-// The lines before "digest:".
-std::string fingerprint_body() {
+// The lines the digest covers: what decides the numbers, the same on every machine that computes them alike.
+std::string compared_lines() {
   std::string text;
   text += "poet: " POET_VERSION "\n";
   text += std::string("compiler: ") + compiler() + "\n";
-  text += "float mode: " POET_FLOAT_MODE "\n";
-  text += std::string("target: ") + target() + "\n";
-  // the loaded library's own b2_version, then the package built against: Debian's 2.4.1 library reports 2.4.0
+  // the library's own b2_version, then the source it was built from: Debian's 2.4.1 source reports 2.4.0
   text += "box2d: " + std::to_string(b2_version.major) + "." + std::to_string(b2_version.minor) + "." +
-          std::to_string(b2_version.revision) + " (b2_version; package " POET_BOX2D_PACKAGE_VERSION ")\n";
+          std::to_string(b2_version.revision) + " (b2_version; built from Debian's source package " +
+          POET_BOX2D_PACKAGE_VERSION ")\n";
   text += "walker: " + hex_text(walker_constants_digest()) + "\n";
+  const ArithmeticProbe probe = probe_arithmetic();
+  text += "arithmetic: " + hex_text(probe.digest()) + " (math " + hex_text(probe.math) + ", box2d " +
+          hex_text(probe.box2d) + ", walker " + hex_text(probe.walker) + ")\n";
   return text;
 }
 
 }  // namespace
 
 uint64_t build_fingerprint_digest() {
-  static const uint64_t digest = mix64(hash_name(fingerprint_body()));
+  static const uint64_t digest = mix64(hash_name(compared_lines()));
   return digest;
 }
 
+uint64_t arithmetic_digest() { return probe_arithmetic().digest(); }
+
+std::string arithmetic_text() {
+  const ArithmeticProbe probe = probe_arithmetic();
+  return "math " + hex_text(probe.math) + ", box2d " + hex_text(probe.box2d) + ", walker " + hex_text(probe.walker);
+}
+
 std::string build_fingerprint() {
-  return fingerprint_body() + "digest: " + hex_text(build_fingerprint_digest()) + "\n";
+  // float mode and target are told, not compared: machines of other ISAs that compute alike share the digest
+  return compared_lines() + "float mode: " POET_FLOAT_MODE "\n" + "target: " + target() + "\n" +
+         "digest: " + hex_text(build_fingerprint_digest()) + "\n";
 }
 
 std::string build_fingerprint_line() {
-  return "digest " + hex_text(build_fingerprint_digest()) + ", float mode " POET_FLOAT_MODE;
+  return "digest " + hex_text(build_fingerprint_digest()) + ", arithmetic " + hex_text(arithmetic_digest()) +
+         ", float mode " POET_FLOAT_MODE;
 }
 
 }  // namespace poet

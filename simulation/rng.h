@@ -2,13 +2,17 @@
 // The project's deterministic random numbers. Every draw is a pure function of (key, counter), so a stream is
 // reproducible from a small seed on any machine or process, and its whole state is two integers. The
 // distributions are defined here (not by the standard library, whose distributions differ between
-// implementations); the only library call is std::log/std::sqrt/std::cos inside normal().
+// implementations); normal() takes its logarithm and cosine from the project's math (math/), and std::sqrt,
+// which IEEE 754 rounds correctly everywhere.
 
 #include <cmath>
 #include <cstdint>
 #include <initializer_list>
 #include <stdexcept>
 #include <string_view>
+
+#include "math/exponential.h"
+#include "math/trigonometry.h"
 
 namespace poet {
 
@@ -75,7 +79,7 @@ class RandomStream {
   double normal() {
     const double u1 = 1.0 - uniform01();  // (0, 1]: log is finite
     const double u2 = uniform01();
-    return std::sqrt(-2.0 * std::log(u1)) * std::cos(2.0 * 3.14159265358979323846 * u2);
+    return std::sqrt(-2.0 * math::log(u1)) * math::cos(2.0 * 3.14159265358979323846 * u2);
   }
 
   constexpr uint64_t key() const { return key_; }

@@ -31,20 +31,24 @@ int pack_run(const std::filesystem::path& run_dir, const std::filesystem::path& 
 }
 
 int unpack_run(const std::filesystem::path& file, const std::filesystem::path& dir) {
-  const Expected<PackSummary> pack = restore_run_pack(file, dir);
+  const Expected<PackSummary> pack = restore_run_pack(file, dir, OpenFor::kReading);
   if (!pack) {
     std::fprintf(stderr, "poetctl unpack: %s\n", pack.error().c_str());
     return kExitUnreachable;
   }
   // opened once as a resume opens it: the files derived from the checkpoint (config.textproto, annecs.csv, envs/,
   // policies/) are written, so that tools reading a run directory find it whole
-  if (const auto opened = RunDirectory::resume(dir); !opened) {
+  if (const auto opened = RunDirectory::resume(dir, OpenFor::kReading); !opened) {
     std::fprintf(stderr, "poetctl unpack: %s\n", opened.error().c_str());
     return kExitUnreachable;
   }
   std::printf("restored %s into %s at iteration %d (with the files derived from its checkpoint):\n", file.c_str(),
               dir.c_str(), pack->next_iteration);
   print_contents(*pack);
+  if (const std::optional<std::string> refusal = arithmetic_refusal(pack->arithmetic_digest)) {
+    std::printf("to read only: %s\n", refusal->c_str());
+    return 0;
+  }
   std::printf("go on with: poet-coordinator --run-dir %s --resume\n", dir.c_str());
   return 0;
 }

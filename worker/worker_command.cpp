@@ -129,8 +129,9 @@ int worker_main(int argc, char** argv, const WorkerProgram& program) {
     settings.curve = *curve;
   }
   set_session(o);
-  spdlog::info("{}: {} threads, connecting to {}; build digest {:016x}", settings.session.name, o.threads,
-               settings.endpoint, poet::build_fingerprint_digest());
+  spdlog::info("{}: {} threads, connecting to {}; build digest {:016x}, arithmetic {:016x} ({})",
+               settings.session.name, o.threads, settings.endpoint, poet::build_fingerprint_digest(),
+               poet::arithmetic_digest(), poet::arithmetic_text());
 
   try {
     static poet::WakePipe wake;  // static: the signal thread may still touch it while the process ends

@@ -42,6 +42,8 @@ wire::WorkerMessage WorkerSession::hello() const {
   hello.set_protocol_version(wire::PROTOCOL_VERSION);
   hello.set_fingerprint_digest(build_fingerprint_digest());
   hello.set_fingerprint(build_fingerprint());
+  hello.set_arithmetic_digest(arithmetic_digest());
+  hello.set_arithmetic(arithmetic_text());
   hello.set_threads(settings_.threads);
   hello.set_name(settings_.name);
   if (!settings_.local_token.empty()) hello.set_local_token(settings_.local_token);

@@ -72,7 +72,7 @@ std::optional<Rollouts> make_rollouts(const DaemonOptions& options, StopSignals&
   DispatchSettings settings;
   settings.liveness_ms = options.liveness_ms;
   settings.heartbeat_ms = wire_timing::heartbeat_ms(options.liveness_ms);
-  settings.fingerprint_digest = build_fingerprint_digest();
+  settings.build = {build_fingerprint_digest(), arithmetic_digest(), arithmetic_text()};
   settings.local_token = make_local_token();
   settings.verify_fraction = options.verify_fraction.value_or(
       !options.listen.empty() && options.curve_keys.empty() ? kListenVerifyFraction : 0.0);

@@ -19,6 +19,7 @@ struct WorkerView : Standing {
   std::string name;  // the name it gave (host and pid)
   int threads = 0;
   uint64_t fingerprint_digest = 0;
+  uint64_t arithmetic_digest = 0;  // what its machine computes, as its Hello said (equal to the coordinator's)
   int64_t jobs_done = 0;
   int64_t results_done = 0;
   Millis last_heard = 0;

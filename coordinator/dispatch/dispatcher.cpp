@@ -15,7 +15,7 @@ wire::CoordinatorMessage Dispatcher::on_hello(const WorkerId& id, const wire::He
     reply.mutable_refused()->set_reason("this worker was refused for wrong results");
     return reply;
   }
-  if (const std::optional<HelloRefusal> refusal = hello_refusal(hello, settings_.fingerprint_digest)) {
+  if (const std::optional<HelloRefusal> refusal = hello_refusal(hello, settings_.build)) {
     count_drop(refusal->reason);
     reply.mutable_refused()->set_reason(refusal->why);
     return reply;

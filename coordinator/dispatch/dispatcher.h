@@ -40,6 +40,7 @@
 #include "coordinator/dispatch/batch_results.h"
 #include "coordinator/dispatch/dispatch_view.h"
 #include "coordinator/dispatch/drop_reason.h"
+#include "coordinator/dispatch/hello_check.h"
 #include "coordinator/dispatch/job_encoder.h"
 #include "coordinator/dispatch/job_queue.h"
 #include "coordinator/dispatch/outgoing.h"
@@ -64,7 +65,7 @@ struct DispatchSettings {
   Millis backup_min_ms = 1000;
   int max_leases = 3;               // holders of one job at once: the first and its backups
   size_t max_workers = 4096;        // Hellos beyond this many connected workers are refused
-  uint64_t fingerprint_digest = 0;  // workers of another build are refused (0: accept any, for tests)
+  HelloExpectation build;           // workers of another build or arithmetic are refused (0s: accept any, for tests)
   std::string local_token;          // a Hello carrying it comes from a local worker: proven from the start
   double verify_fraction = 0;       // of the jobs answered by workers that are not local, also run on a second
   uint64_t verify_secret = 0;       // which jobs are checked: drawn from it, the batch and the job; never sent

@@ -12,6 +12,7 @@ enum class DropReason {
   kOversized,          // a frame over the coordinator's cap
   kWrongVersion,       // a Hello of another protocol version
   kWrongFingerprint,   // a Hello of another build
+  kWrongArithmetic,    // a Hello from a machine that computes differently (its arithmetic digest)
   kWorkerLimit,        // a Hello beyond the coordinator's limit of workers
   kUnknownPeer,        // a Heartbeat or Result from a peer that never said Hello
   kUnexpectedResult,   // a Result for a job the peer does not hold
@@ -23,8 +24,8 @@ enum class DropReason {
 };
 
 // The names /metrics uses, in the enum's order.
-inline constexpr std::array<const char*, 12> kDropReasonNames = {
-    "malformed",   "oversized",  "wrong_version", "wrong_fingerprint", "worker_limit",        "unknown_peer",
+inline constexpr std::array<const char*, 13> kDropReasonNames = {
+    "malformed",   "oversized",  "wrong_version", "wrong_fingerprint", "wrong_arithmetic", "worker_limit", "unknown_peer",
     "unexpected_result", "late_result", "bad_result", "unauthorised_key", "error_from_unproven", "wrong_worker"};
 
 constexpr const char* name(DropReason reason) { return kDropReasonNames[static_cast<size_t>(reason)]; }

@@ -1,6 +1,7 @@
 #pragma once
-// What a Hello says before its worker is registered: why it is refused (another protocol version, another build),
-// and the worker's view as it introduced itself (its name cut to 200 bytes, its threads within 1 to 4,096).
+// What a Hello says before its worker is registered: why it is refused (another protocol version, a machine that
+// computes differently, another build), and the worker's view as it introduced itself (its name cut to 200 bytes,
+// its threads within 1 to 4,096).
 
 #include <cstdint>
 #include <optional>
@@ -17,8 +18,15 @@ struct HelloRefusal {
   std::string why;  // told to the worker
 };
 
-// With fingerprint_digest 0, any build is accepted (for tests).
-std::optional<HelloRefusal> hello_refusal(const wire::Hello& hello, uint64_t fingerprint_digest);
+// What a Hello must match: the coordinator's build and arithmetic (formats/build_fingerprint.h). A digest of 0
+// accepts any (for tests).
+struct HelloExpectation {
+  uint64_t fingerprint_digest = 0;
+  uint64_t arithmetic_digest = 0;
+  std::string arithmetic;  // the coordinator's parts, "math H, box2d H, walker H", to name those that differ
+};
+
+std::optional<HelloRefusal> hello_refusal(const wire::Hello& hello, const HelloExpectation& expected);
 WorkerView view_of_hello(const WorkerId& id, const wire::Hello& hello);
 
 }  // namespace poet

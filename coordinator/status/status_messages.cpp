@@ -167,6 +167,7 @@ void fill_worker(const WorkerView& w, const BoardView& v, status::Worker& worker
   worker.set_results_done(w.results_done);
   worker.set_seconds_since_heartbeat(static_cast<double>(v.dispatch->at - w.last_heard) / 1000 + v.dispatch_age_s);
   worker.set_fingerprint_digest(hex_text(w.fingerprint_digest));
+  worker.set_arithmetic_digest(hex_text(w.arithmetic_digest));
   worker.set_trust(name(w.trust));
   worker.set_checks_passed(w.checks_passed);
   worker.set_answers_taken(w.answers_taken);

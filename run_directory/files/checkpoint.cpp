@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "engine/state_consistency.h"
+#include "formats/build_fingerprint.h"
 #include "formats/envgen/env_proto.h"
 #include "run_directory/config/run_config.h"
 #include "simulation/policy/mlp.h"
@@ -276,6 +277,7 @@ pb::Checkpoint to_checkpoint(const pb::RunConfig& config, const RunState& state)
     s->set_solved_iteration(stage.solved_iteration);
   }
   out.set_finished(state.finished);
+  out.set_arithmetic_digest(arithmetic_digest());
   return out;
 }
 
@@ -331,6 +333,18 @@ Expected<RunState> from_checkpoint(const pb::Checkpoint& checkpoint) {
   }
   if (Error error = check_state_consistency(state)) return Unexpected{*error};
   return state;
+}
+
+std::optional<std::string> arithmetic_refusal(std::optional<uint64_t> written_by) {
+  if (!written_by)
+    return "the checkpoint was written by a build before the project computed its own exp, log, sin and cos (it "
+           "used the C library's, whose last bits vary between processors and C libraries): resumed by this build "
+           "it would go on as another run. Finish it with the build that wrote it, or start it again";
+  if (*written_by != arithmetic_digest())
+    return "this machine computes differently from the one that wrote the checkpoint: arithmetic digest " +
+           hex_text(arithmetic_digest()) + " (" + arithmetic_text() + "), the checkpoint's " + hex_text(*written_by) +
+           ": resumed here it would go on as another run (compare the arithmetic line of --fingerprint)";
+  return std::nullopt;
 }
 
 }  // namespace poet

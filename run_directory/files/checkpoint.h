@@ -1,7 +1,12 @@
 #pragma once
 // A run's state (RunState) as the schema's Checkpoint message and back. to_checkpoint sets every field, so equal
 // states serialise to equal bytes; doubles travel as IEEE bits, so from_checkpoint(to_checkpoint(s)) is s
-// exactly. events_bytes and stats_bytes belong to the run directory and are left unset here.
+// exactly. events_bytes and stats_bytes belong to the run directory and are left unset here; the arithmetic digest
+// is this process's.
+
+#include <cstdint>
+#include <optional>
+#include <string>
 
 #include "engine/run_state.h"
 #include "plumbing/expected.h"
@@ -17,5 +22,14 @@ pb::Checkpoint to_checkpoint(const pb::RunConfig& config, const RunState& state)
 // the engine could have produced in its mode (check_state_consistency). The error names the field by its path
 // ("pairs[3].theta: 12 values, expected 2804").
 Expected<RunState> from_checkpoint(const pb::Checkpoint& checkpoint);
+
+// Why this process must not resume a checkpoint written by a process with this arithmetic digest (nullopt: none
+// written, a build before the project's own math): it would go on computing other numbers, as another run. nullopt
+// when it computes as the writer did.
+std::optional<std::string> arithmetic_refusal(std::optional<uint64_t> written_by);
+
+// What a run is opened or restored for: to compute further, which a checkpoint of other arithmetic refuses, or
+// only to read it and write the files derived from its checkpoint (poetctl unpack), which any checkpoint allows.
+enum class OpenFor { kComputing, kReading };
 
 }  // namespace poet

@@ -217,7 +217,7 @@ Expected<RunDirectory> RunDirectory::create(const fs::path& dir, const pb::RunCo
   return run;
 }
 
-Expected<std::pair<RunDirectory, RunState>> RunDirectory::resume(const fs::path& dir) {
+Expected<std::pair<RunDirectory, RunState>> RunDirectory::resume(const fs::path& dir, OpenFor purpose) {
   std::error_code ec;
   if (!fs::is_directory(dir, ec)) return Unexpected{dir.string() + ": no such directory (nothing to resume)"};
   Expected<RunLock> lock = RunLock::acquire(dir);
@@ -238,6 +238,11 @@ Expected<std::pair<RunDirectory, RunState>> RunDirectory::resume(const fs::path&
   }
   Expected<RunState> state = from_checkpoint(*checkpoint);
   if (!state) return Unexpected{checkpoint_path.string() + ": " + state.error()};
+  if (purpose == OpenFor::kComputing) {
+    if (const std::optional<std::string> refusal = arithmetic_refusal(
+            checkpoint->has_arithmetic_digest() ? std::optional(checkpoint->arithmetic_digest()) : std::nullopt))
+      return Unexpected{checkpoint_path.string() + ": " + *refusal};
+  }
 
   // the logs, cut back to what the state has seen
   RunDirectory run(dir, std::move(*lock));

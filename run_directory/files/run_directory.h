@@ -38,6 +38,7 @@
 #include "plumbing/expected.h"
 #include "plumbing/unique_fd.h"
 #include "poet.pb.h"
+#include "run_directory/files/checkpoint.h"
 #include "run_directory/files/checkpoint_file.h"
 #include "run_directory/files/run_lock.h"
 
@@ -73,8 +74,10 @@ class RunDirectory {
   // truncates the logs to the sizes the checkpoint records and checks their CRC-32, removes temporary files an
   // interrupted write left, checks that files can be written, and rewrites config.textproto, annecs.csv and the
   // pair files where they differ from the state's (repairs() says which of the first). A directory another process
-  // owns, or a missing, corrupt or inconsistent run is an error.
-  static Expected<std::pair<RunDirectory, RunState>> resume(const std::filesystem::path& dir);
+  // owns, or a missing, corrupt or inconsistent run is an error; so is, for computing, a checkpoint written by a
+  // process whose arithmetic differs (arithmetic_refusal).
+  static Expected<std::pair<RunDirectory, RunState>> resume(const std::filesystem::path& dir,
+                                                             OpenFor purpose = OpenFor::kComputing);
 
   RunDirectory(RunDirectory&& other) noexcept = default;
   RunDirectory& operator=(RunDirectory&& other) noexcept = default;

@@ -136,6 +136,7 @@ Expected<PackSummary> check_entries(std::vector<PackEntry> entries) {
     return Unexpected{std::string(kRefusedKeysFile) + ": holds a line that is not a CURVE public key"};
   PackSummary summary;
   summary.next_iteration = state->next_iteration;
+  if (checkpoint->has_arithmetic_digest()) summary.arithmetic_digest = checkpoint->arithmetic_digest();
   summary.entries = std::move(entries);
   return summary;
 }
@@ -290,13 +291,17 @@ Expected<PackSummary> write_run_pack(const fs::path& run_dir, const fs::path& pa
   return summary;
 }
 
-Expected<PackSummary> restore_run_pack(const fs::path& pack_path, const fs::path& run_dir) {
+Expected<PackSummary> restore_run_pack(const fs::path& pack_path, const fs::path& run_dir, OpenFor purpose) {
   Expected<fs::path> dir = free_destination(run_dir);
   if (!dir) return Unexpected{dir.error()};
   Expected<std::string> bytes = read_text_file(pack_path, kMaxPackBytes);
   if (!bytes) return Unexpected{pack_path.string() + ": " + bytes.error()};
   Expected<PackSummary> summary = decode_pack(*bytes);
   if (!summary) return Unexpected{pack_path.string() + ": " + summary.error() + " (nothing was restored)"};
+  if (purpose == OpenFor::kComputing) {
+    if (const std::optional<std::string> refusal = arithmetic_refusal(summary->arithmetic_digest))
+      return Unexpected{pack_path.string() + ": " + *refusal + " (nothing was restored)"};
+  }
 
   // the files in a fresh directory beside the destination, then one rename: the run appears whole or not at all
   std::error_code ec;

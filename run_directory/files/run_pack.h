@@ -18,11 +18,13 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
 
 #include "plumbing/expected.h"
+#include "run_directory/files/checkpoint.h"
 
 namespace poet {
 
@@ -39,6 +41,7 @@ struct PackEntry {
 // What a pack holds, for the messages of the tools.
 struct PackSummary {
   int next_iteration = 0;  // the iteration the run does next
+  std::optional<uint64_t> arithmetic_digest;  // of the process that wrote its checkpoint (checkpoint.h)
   std::vector<PackEntry> entries;
   uint64_t pack_bytes = 0;
 };
@@ -59,7 +62,9 @@ Expected<PackSummary> write_run_pack(const std::filesystem::path& run_dir, const
 // Restores the pack at pack_path as the run directory run_dir, which must not exist or be an empty directory:
 // the pack is checked whole, its files are written into a fresh directory beside run_dir and made durable, and
 // that directory is renamed to run_dir. Nothing is written when the pack or the destination is refused, and an
-// existing run directory is never overwritten. Resume the run there next (RunDirectory::resume).
-Expected<PackSummary> restore_run_pack(const std::filesystem::path& pack_path, const std::filesystem::path& run_dir);
+// existing run directory is never overwritten, nor, for computing, is a pack restored that this process may not
+// resume (arithmetic_refusal). Resume the run there next (RunDirectory::resume).
+Expected<PackSummary> restore_run_pack(const std::filesystem::path& pack_path, const std::filesystem::path& run_dir,
+                                       OpenFor purpose = OpenFor::kComputing);
 
 }  // namespace poet

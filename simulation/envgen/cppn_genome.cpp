@@ -7,6 +7,9 @@
 #include <map>
 #include <set>
 
+#include "math/exponential.h"
+#include "math/trigonometry.h"
+
 namespace poet {
 namespace {
 
@@ -75,13 +78,13 @@ double activate(CppnActivation a, double z) {
     case CppnActivation::kIdentity:
       return z;
     case CppnActivation::kSin:
-      return std::sin(clamp60(5.0 * z));
+      return math::sin(clamp60(5.0 * z));
     case CppnActivation::kSigmoid:
-      return 1.0 / (1.0 + std::exp(-clamp60(5.0 * z)));
+      return 1.0 / (1.0 + math::exp(-clamp60(5.0 * z)));
     case CppnActivation::kSquare:
       return z * z;
     case CppnActivation::kTanh:
-      return std::tanh(clamp60(2.5 * z));
+      return math::tanh(clamp60(2.5 * z));
   }
   return z;
 }

@@ -5,14 +5,15 @@
 #include <stdexcept>
 #include <string>
 
+#include "math/exponential.h"
+
 namespace poet {
 namespace {
 
 // Adam's step size a = lr·√(1−β2ᵗ)/(1−β1ᵗ) for step t ≥ 1: the bias corrections folded into the step, as the
 // reference does, so ε is added to the uncorrected √v.
 double adam_step_size(double lr, int64_t t, const EsSettings& s) {
-  const double td = static_cast<double>(t);
-  return lr * std::sqrt(1.0 - std::pow(s.adam_beta2, td)) / (1.0 - std::pow(s.adam_beta1, td));
+  return lr * std::sqrt(1.0 - math::power(s.adam_beta2, static_cast<uint64_t>(t))) / (1.0 - math::power(s.adam_beta1, static_cast<uint64_t>(t)));
 }
 
 // One element of an Adam step with step size a: updates m and v and returns the new θ. adam_step and

@@ -3,6 +3,8 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "math/exponential.h"
+#include "math/trigonometry.h"
 #include "simulation/rng.h"
 
 namespace poet {
@@ -21,9 +23,9 @@ struct NormalPair {
 inline NormalPair normal_pair(RandomStream& rng) {
   const double u1 = 1.0 - rng.uniform01();  // (0, 1]: log is finite
   const double u2 = rng.uniform01();
-  const double r = std::sqrt(-2.0 * std::log(u1));
-  const double angle = kTwoPi * u2;
-  return {r * std::cos(angle), r * std::sin(angle)};
+  const double r = std::sqrt(-2.0 * math::log(u1));
+  const math::SinCos angle = math::sincos(kTwoPi * u2);
+  return {r * angle.cos, r * angle.sin};
 }
 
 // Calls f(i, ε_i) for i = 0..n−1 in order. Pair j consumes draws 2j+1 and 2j+2 of RandomStream(key), whatever n

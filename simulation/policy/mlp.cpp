@@ -5,6 +5,8 @@
 #include <stdexcept>
 #include <string>
 
+#include "math/exponential.h"
+
 namespace poet {
 namespace {
 
@@ -22,16 +24,17 @@ void put(const Matrix& m, std::vector<double>& out) {
   out.insert(out.end(), m.data(), m.data() + m.size());
 }
 
-// tanh(x) = sign(x)·(1 − e)/(1 + e) with e = exp(−2|x|): glibc's exp is twice as fast as its tanh (tanh was 70 %
-// of act()), and this is within 2.3e-16 of std::tanh (absolute), never overflows, and keeps tanh(±0) = ±0.
-inline double fast_tanh(double x) {
-  const double e = std::exp(-2.0 * std::abs(x));
-  return std::copysign((1.0 - e) / (1.0 + e), x);
+// out = b + W·x, accumulated column by column (out += W[:, i]·x[i] for i in order): each element is a chain of
+// separate products and sums in a fixed order, so vector units of any width give the same bits. (Eigen's own
+// matrix–vector kernel fuses multiply–adds where the processor has them — arm64 always does.)
+template <typename Out, typename Matrix, typename In>
+void affine(const Matrix& w, const In& x, Out& out) {
+  for (int i = 0; i < w.cols(); ++i) out.noalias() += w.col(i) * x[i];
 }
 
 template <typename Vector>
 void tanh_in_place(Vector& v) {
-  for (int i = 0; i < v.size(); ++i) v[i] = fast_tanh(v[i]);
+  for (int i = 0; i < v.size(); ++i) v[i] = math::tanh(v[i]);
 }
 
 }  // namespace
@@ -59,15 +62,15 @@ std::array<double, kActDim> Mlp::act(std::span<const double, kObsDim> obs) const
   const Eigen::Map<const Eigen::Matrix<double, kObsDim, 1>> x(obs.data());
   // fixed-size temporaries live on the stack: no heap allocation per call
   Eigen::Matrix<double, kHidden, 1> h1 = b1_;
-  h1.noalias() += w1t_ * x;
+  affine(w1t_, x, h1);
   tanh_in_place(h1);
   Eigen::Matrix<double, kHidden, 1> h2 = b2_;
-  h2.noalias() += w2t_ * h1;
+  affine(w2t_, h1, h2);
   tanh_in_place(h2);
   Eigen::Matrix<double, kActDim, 1> y = b3_;
-  y.noalias() += w3t_ * h2;
+  affine(w3t_, h2, y);
   std::array<double, kActDim> out;
-  for (int i = 0; i < kActDim; ++i) out[static_cast<size_t>(i)] = fast_tanh(y[i]);
+  for (int i = 0; i < kActDim; ++i) out[static_cast<size_t>(i)] = math::tanh(y[i]);
   return out;
 }
 

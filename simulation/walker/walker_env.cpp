@@ -6,6 +6,7 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "math/trigonometry.h"
 #include "simulation/walker/walker_constants.h"
 
 namespace poet {
@@ -230,8 +231,8 @@ void WalkerEnv::observe() {
     o[4] = contacts_->ground_contact[side] ? 1.0 : 0.0;
   }
   for (int i = 0; i < kLidarRays; ++i) {
-    const double angle = 1.5 * i / 10.0;
-    const b2Vec2 p2 = vec(pos.x + std::sin(angle) * kLidarRange, pos.y - std::cos(angle) * kLidarRange);
+    const math::SinCos ray_direction = math::sincos(1.5 * i / 10.0);
+    const b2Vec2 p2 = vec(pos.x + ray_direction.sin * kLidarRange, pos.y - ray_direction.cos * kLidarRange);
     LidarRay ray(options_.lidar);
     world_->RayCast(&ray, pos, p2);
     obs_[14 + i] = ray.fraction;

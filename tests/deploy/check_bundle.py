@@ -3,8 +3,8 @@
 from the machine.
 
   1. bundle.sh writes the archive from the build tree; it is unpacked into a directory with an unusual name.
-  2. The bundle holds every executable of the build (passed by CMake), no library of glibc, the presets and the
-     shipped walker, and a README naming the glibc it needs, which this machine's satisfies. Each binary starts
+  2. The bundle holds every executable of the build (passed by CMake), no library of glibc and no Box2D (linked
+     statically: third_party/box2d), the presets and the shipped walker, and a README naming the glibc it needs, which this machine's satisfies. Each binary starts
      from it (--fingerprint), all with one digest.
   3. bin/poet-coordinator, called by a relative path from another directory with no LD_* variable set, runs two
      iterations of the quick preset on two local workers (bin/poet-worker, found beside it) and exits 0 with a
@@ -169,6 +169,8 @@ def check_contents(bundle, binaries, errors):
     for needed in ("libstdc++.so.6", "libgcc_s.so.1", "libzmq.so.5", "libprotobuf.so.32"):
         if needed not in libraries:
             errors.append(f"lib/ lacks {needed}")
+    # Box2D is linked statically (third_party/box2d), not Debian's shared libbox2d
+    errors += [f"lib/{n}: Box2D must be in the binaries, not a shared library" for n in libraries if "box2d" in n]
     for path in ("configs/quick.textproto", "data/walkers/flat-walker.json", "README.md"):
         if not os.path.isfile(os.path.join(bundle.top, path)):
             errors.append(f"{path} is missing")

@@ -738,6 +738,17 @@ def check_references(args, binaries):
     build_runs = dockerfile.instructions(build, "RUN") if build else []
     check.expect(any(re.search(r"install-deps\.sh\s+--build(\s*$|\s*&&)", r) for r in build_runs),
                  "Dockerfile: the build stage does not run deploy/install-deps.sh --build")
+    # install-deps.sh --build fetches Box2D's source with third_party/box2d's script and patch: copied before it runs
+    early = []
+    for keyword, words in (build["instructions"] if build else []):
+        if keyword == "RUN" and re.search(r"install-deps\.sh\s+--build", words):
+            break
+        if keyword == "COPY":
+            early += Dockerfile.copy_parts(words)[1]
+    for needed in ("third_party/box2d/fetch-source.sh", "third_party/box2d/project-trigonometry.patch"):
+        check.expect(any(p in (".", "./") or needed == p.rstrip("/") or needed.startswith(p.rstrip("/") + "/")
+                         for p in early),
+                     f"Dockerfile: the build stage runs install-deps.sh --build before copying {needed}")
     check.expect(any("CMAKE_BUILD_TYPE=Release" in r for r in build_runs),
                  "Dockerfile: the build stage does not build Release")
     final_runs = dockerfile.instructions(final, "RUN")
@@ -789,8 +800,11 @@ def check_references(args, binaries):
                                capture_output=True, text=True, timeout=30).stdout.split()
     check.expect(bool(build_set) and set(build_set) < set(full),
                  f"install-deps.sh --build is not a part of the default set: {sorted(set(build_set) - set(full))}")
-    for p in ("build-essential", "cmake", "libbox2d-dev", "libcairo2-dev"):
+    for p in ("build-essential", "cmake", "dpkg-dev", "libcairo2-dev"):
         check.expect(p in build_set, f"install-deps.sh --build does not install {p}")
+    # Box2D is built from Debian's source package (third_party/box2d), never Debian's prebuilt library
+    prebuilt = sorted(p for p in set(full) | runtime if p.startswith("libbox2d"))
+    check.expect(not prebuilt, f"install-deps.sh installs Debian's prebuilt Box2D: {prebuilt}")
     for p in ("chromium", "docker-compose", "libgtest-dev", "libbenchmark-dev"):
         check.expect(p not in build_set, f"install-deps.sh --build installs {p}, a test tool")
     check.expect(not (runtime & {"build-essential", "cmake"}) and not any(p.endswith("-dev") for p in runtime),
@@ -819,6 +833,8 @@ def check_references(args, binaries):
             owner = owners[real]
             check.expect(owner is None or owner in runtime,
                          f"{name} loads {m.group(1)} from package {owner}, which install-deps.sh --runtime lacks")
+            check.expect("box2d" not in m.group(1).lower(),
+                         f"{name} loads {m.group(1)}: Box2D must be the project's static build (third_party/box2d)")
 
     # the compose files' and the manifests' commands
     compose_variants = [("docker-compose.yml", compose_files(args.source, False)),

@@ -27,7 +27,8 @@ import tempfile
 import time
 import zlib
 
-PLACEHOLDERS = ("WORKER_DIGEST", "WORKER", "RUN_DIR", "CONFIG", "DIGEST", "TIME", "PID", "PORT", "KEYS", "POLICY",
+PLACEHOLDERS = ("WORKER_DIGEST", "WORKER_ARITHMETIC", "WRITTEN_ARITHMETIC", "ARITHMETIC_PARTS", "ARITHMETIC",
+                "WORKER", "RUN_DIR", "CONFIG", "DIGEST", "TIME", "PID", "PORT", "KEYS", "POLICY",
                 "PACK", "HEADER_CRC", "BODY_CRC", "BODY_BYTES", "FILE_BYTES")
 TIME_PATTERN = r"\d{4}-\d\d-\d\d \d\d:\d\d:\d\d\.\d{3}"  # spdlog's [%Y-%m-%d %H:%M:%S.%e]
 MARK = re.compile(r"^<!-- check: ([a-z0-9-]+) -->$")
@@ -178,10 +179,12 @@ def wire_protocol_version(source):
     return int(found.group(1))
 
 
-def hello_message(protocol_version, digest, name):
-    """proto/wire.proto's WorkerMessage{hello: Hello{protocol_version, fingerprint_digest, threads, name}}."""
+def hello_message(protocol_version, digest, name, arithmetic, arithmetic_parts):
+    """proto/wire.proto's WorkerMessage{hello: Hello{protocol_version, fingerprint_digest, threads, name,
+    arithmetic_digest, arithmetic}}."""
     hello = (_field(1, 0, _varint(protocol_version)) + _field(2, 1, struct.pack("<Q", digest)) +
-             _field(4, 0, _varint(1)) + _field(5, 2, name.encode()))
+             _field(4, 0, _varint(1)) + _field(5, 2, name.encode()) +
+             _field(7, 1, struct.pack("<Q", arithmetic)) + _field(8, 2, arithmetic_parts.encode()))
     return _field(1, 2, hello)
 
 
@@ -331,6 +334,48 @@ def finished_run(args, procs, scratch, name):
 CHECKPOINT_HEADER = struct.Struct("<8sIQI")  # run_directory/files/checkpoint_file.h: magic, version, body size, CRC-32
 
 
+def refused_checkpoints(args, procs, scratch, cases, run=None):
+    """Each case's checkpoint bytes written as a run directory's (a copy of `run`, or alone): each resume refused
+    with exit 2, the checkpoint left as it was. {case: (output, placeholder values)}."""
+    seen = {}
+    for name, (data, values) in cases.items():
+        run_dir = os.path.join(scratch, name)
+        if run is None:
+            os.mkdir(run_dir)
+        else:
+            shutil.copytree(run, run_dir)
+        with open(os.path.join(run_dir, "checkpoint.pb"), "wb") as f:
+            f.write(data)
+        code, out = resume(args, procs, run_dir, name)
+        expect(code == 2, f"{name}: exit {code}, not 2:\n{out}")
+        expect(open(os.path.join(run_dir, "checkpoint.pb"), "rb").read() == data, f"{name}: the checkpoint changed")
+        seen[name] = (out, dict(values, RUN_DIR=run_dir))
+    return seen
+
+
+def checkpoints_of_other_arithmetic(args, procs, scratch):
+    """A run whose checkpoint has no arithmetic digest (written before the project's own math), or another one (a
+    machine that computes differently): each resume refused with exit 2, the checkpoint left as it was."""
+    sound = finished_run(args, procs, scratch, "arithmetic-sound")
+    good = open(os.path.join(sound, "checkpoint.pb"), "rb").read()
+    body = good[CHECKPOINT_HEADER.size:]
+    # the deterministic serialisation ends with field 12, arithmetic_digest: tag 0x61, then 8 bytes
+    expect(body[-9] == 0x61, "the checkpoint does not end with its arithmetic digest (field 12)")
+    written = struct.unpack("<Q", body[-8:])[0]
+    ours, parts = fingerprint_arithmetic(args.coordinator)
+    expect(written == ours, f"the checkpoint's arithmetic digest {written:016x} is not --fingerprint's {ours:016x}")
+
+    def with_body(new_body):
+        header = CHECKPOINT_HEADER.pack(b"POETCKPT", 1, len(new_body), zlib.crc32(new_body))
+        return header + new_body
+    cases = {
+        "checkpoint-before-own-math": (with_body(body[:-9]), {}),
+        "checkpoint-other-arithmetic": (with_body(body[:-8] + struct.pack("<Q", ours ^ 1)), {
+            "ARITHMETIC": f"{ours:016x}", "ARITHMETIC_PARTS": parts, "WRITTEN_ARITHMETIC": f"{ours ^ 1:016x}"}),
+    }
+    return refused_checkpoints(args, procs, scratch, cases, sound)
+
+
 def damaged_checkpoints(args, procs, scratch):
     """A checkpoint cut to 4 bytes, replaced by text, cut in its body, one byte of its body changed, or of a newer
     format: each resume refused with exit 2, the checkpoint left as it was."""
@@ -350,17 +395,7 @@ def damaged_checkpoints(args, procs, scratch):
             "BODY_CRC": f"{zlib.crc32(bytes(flipped[CHECKPOINT_HEADER.size:])):08x}"}),
         "checkpoint-newer-format": (bytes(newer), {}),
     }
-    seen = {}
-    for name, (data, values) in cases.items():
-        run_dir = os.path.join(scratch, name)
-        os.mkdir(run_dir)
-        with open(os.path.join(run_dir, "checkpoint.pb"), "wb") as f:
-            f.write(data)
-        code, out = resume(args, procs, run_dir, name)
-        expect(code == 2, f"{name}: exit {code}, not 2:\n{out}")
-        expect(open(os.path.join(run_dir, "checkpoint.pb"), "rb").read() == data, f"{name}: the checkpoint changed")
-        seen[name] = (out, dict(values, RUN_DIR=run_dir))
-    return seen
+    return refused_checkpoints(args, procs, scratch, cases)
 
 
 def refused_run_dirs(args, procs, scratch):
@@ -495,12 +530,22 @@ def owned_run(args, procs, scratch):
         seen["run-dir-in-use"] = (out, {"RUN_DIR": run_dir, "PID": owner.pid})
 
         digest = fingerprint_digest(args.coordinator)
+        arithmetic, parts = fingerprint_arithmetic(args.coordinator)
+        version = wire_protocol_version(args.source)
         other = digest ^ 1
-        answer = send_hello(job_port, hello_message(wire_protocol_version(args.source), other, "other-build"))
+        answer = send_hello(job_port, hello_message(version, other, "other-build", arithmetic, parts))
         expect(b"differs from the coordinator's" in answer, f"the Hello of another build was answered {answer!r}")
         await_line(owner, r"refused worker other-build: ", "the refusal's log line")
         values = {"DIGEST": f"{digest:016x}", "WORKER_DIGEST": f"{other:016x}", "WORKER": "other-build"}
         seen["worker-fingerprint"] = (read(owner.log), values)
+        # a machine whose walker part computes other bits: its parts name it
+        their_parts = re.sub(r"walker ([0-9a-f]{16})", lambda m: f"walker {int(m.group(1), 16) ^ 1:016x}", parts)
+        answer = send_hello(job_port, hello_message(version, digest, "other-machine", arithmetic ^ 1, their_parts))
+        expect(b"computes differently" in answer, f"the Hello of another machine was answered {answer!r}")
+        await_line(owner, r"refused worker other-machine: ", "the arithmetic refusal's log line")
+        values = {"ARITHMETIC": f"{arithmetic:016x}", "WORKER_ARITHMETIC": f"{arithmetic ^ 1:016x}",
+                  "WORKER": "other-machine"}
+        seen["worker-arithmetic"] = (read(owner.log), values)
         owner.send_signal(signal.SIGTERM)
         code = owner.wait(PROCESS_SECONDS)
         expect(code == 143, f"the owner stopped by SIGTERM exited {code}:\n{read(owner.log)}")
@@ -508,6 +553,14 @@ def owned_run(args, procs, scratch):
         status.close()
         health.close()
     return seen
+
+
+def fingerprint_arithmetic(binary):
+    """The arithmetic digest and its parts ("math H, box2d H, walker H") of the binary's --fingerprint."""
+    out = subprocess.run([binary, "--fingerprint"], capture_output=True, text=True, timeout=PROCESS_SECONDS).stdout
+    found = re.search(r"^arithmetic: ([0-9a-f]{16}) \((.*)\)$", out, re.MULTILINE)
+    expect(found is not None, f"--fingerprint printed no arithmetic line:\n{out}")
+    return int(found.group(1), 16), found.group(2)
 
 
 def fingerprint_digest(binary):
@@ -543,7 +596,7 @@ def main():
     seen = {}
     try:
         for case in (refused_configs, bad_command_line, refused_command_lines, refused_first_policies,
-                     nothing_to_resume, damaged_checkpoints, refused_run_dirs, config_copy_rewritten, refused_packs,
+                     nothing_to_resume, damaged_checkpoints, checkpoints_of_other_arithmetic, refused_run_dirs, config_copy_rewritten, refused_packs,
                      bad_status_address, few_descriptors, keygen_refusals, job_socket_in_use, owned_run):
             try:
                 seen.update(case(args, procs, scratch))

@@ -12,6 +12,7 @@
 #include <string>
 #include <zmq.hpp>
 
+#include "formats/build_fingerprint.h"
 #include "loopback_port.h"
 #include "wire.pb.h"
 
@@ -22,6 +23,7 @@ inline std::string hello(uint32_t version, uint64_t fingerprint) {
   poet::wire::Hello& h = *message.mutable_hello();
   h.set_protocol_version(version);
   h.set_fingerprint_digest(fingerprint);
+  h.set_arithmetic_digest(poet::arithmetic_digest());  // a peer on this machine computes as the coordinator does
   h.set_fingerprint(std::string(200, 'x'));  // long enough that a cut lands inside it
   h.set_threads(1);
   h.set_name("rogue");

@@ -238,12 +238,13 @@ void print_archive(const status::Archive& archive) {
 }
 
 void print_workers(const status::WorkerList& list) {
-  Table table({"id", "address", "threads", "trust", "checks", "jobs", "taken", "results", "heard", "fingerprint"});
+  Table table({"id", "address", "threads", "trust", "checks", "jobs", "taken", "results", "heard", "fingerprint",
+               "arithmetic"});
   for (const auto* workers : {&list.workers(), &list.refused()})
     for (const status::Worker& w : *workers)
       table.add({w.id(), w.address(), std::to_string(w.threads()), w.trust(), std::to_string(w.checks_passed()),
                  std::to_string(w.jobs_done()), std::to_string(w.answers_taken()), std::to_string(w.results_done()),
-                 fixed(w.seconds_since_heartbeat(), 1) + " s ago", w.fingerprint_digest()});
+                 fixed(w.seconds_since_heartbeat(), 1) + " s ago", w.fingerprint_digest(), w.arithmetic_digest()});
   table.print();
   say("%d workers, %lld jobs queued, %lld in flight", list.workers_size(), static_cast<long long>(list.queue_depth()),
       static_cast<long long>(list.in_flight_jobs()));

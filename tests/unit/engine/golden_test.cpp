@@ -18,6 +18,7 @@
 #include "formats/build_fingerprint.h"
 #include "run_directory/files/checkpoint.h"
 #include "run_directory/files/checkpoint_file.h"
+#include "simulation/arithmetic_probe.h"
 #include "simulation/envgen/named_courses.h"
 #include "simulation/policy/mlp.h"
 #include "simulation/rng.h"
@@ -27,10 +28,11 @@ namespace poet {
 namespace {
 
 // Update only for an intended change of behaviour, with the reason in the commit message.
-constexpr uint64_t kRolloutsDigest = 0x7d7a3dd85d8d55a2;
-constexpr uint64_t kCheckpointDigest = 0x041b7747d2f06cf7;
-constexpr uint64_t kCppnCheckpointDigest = 0xd1c494b396b6e5cc;
-constexpr uint64_t kPataEcCheckpointDigest = 0xf088d10d6b7f4e02;
+constexpr uint64_t kRolloutsDigest = 0xd97086d9511aff55;
+constexpr uint64_t kCheckpointDigest = 0x995ba5556c7c2813;
+constexpr uint64_t kCppnCheckpointDigest = 0x28a15c2898c30ba1;
+constexpr uint64_t kPataEcCheckpointDigest = 0x3fc8cf41f5187b6d;
+constexpr uint64_t kArithmeticDigest = 0x1a71b8c3ee2a10e5;  // simulation/arithmetic_probe.h, on every machine
 
 // FNV-1a: a fixed, documented function of the bytes, whatever the platform's std::hash does.
 uint64_t fnv1a(std::string_view bytes) {
@@ -45,11 +47,22 @@ std::string hex(uint64_t value) {
   return buffer;
 }
 
-std::string changed(const char* what, uint64_t got, uint64_t pinned) {
-  return std::string(what) + " changed behaviour: digest " + hex(got) + ", pinned " + hex(pinned) +
+std::string changed(const std::string& what, uint64_t got, uint64_t pinned) {
+  return what + " changed behaviour: digest " + hex(got) + ", pinned " + hex(pinned) +
          ". Every run's numbers now differ from earlier builds' (and a checkpoint from one would resume "
          "differently). If the change is intended, pin the new digest and say why in the commit.\nThis build:\n" +
          build_fingerprint();
+}
+
+// What the machine computes: the project's math, Box2D and the walker over fixed inputs. The same on every
+// processor, C library and architecture the project supports (tests/integration/masked_processor_test.cpp and
+// tests/crossmachine run this suite there).
+TEST(Golden, ArithmeticProbe) {
+  const ArithmeticProbe probe = probe_arithmetic();
+  EXPECT_EQ(probe.digest(), kArithmeticDigest)
+      << changed("what this machine computes (math " + hex(probe.math) + ", box2d " + hex(probe.box2d) + ", walker " +
+                     hex(probe.walker) + ")",
+                 probe.digest(), kArithmeticDigest);
 }
 
 TEST(Golden, SingleRolloutReturns) {

@@ -7,6 +7,10 @@
 #include <string>
 #include <vector>
 
+#include "simulation/arithmetic_probe.h"
+#include "simulation/rng.h"
+#include "text/text_format.h"
+
 namespace poet {
 namespace {
 
@@ -33,6 +37,27 @@ TEST(BuildFingerprint, NamesEveryPartOfTheBuild) {
   EXPECT_FALSE(value_of(text, "compiler").empty()) << text;
   EXPECT_FALSE(value_of(text, "target").empty()) << text;
   EXPECT_EQ(value_of(text, "walker").size(), 16u) << text;
+  EXPECT_EQ(value_of(text, "arithmetic"), hex_text(arithmetic_digest()) + " (" + arithmetic_text() + ")") << text;
+}
+
+TEST(BuildFingerprint, TheArithmeticIsTheProbesAndItsPartsAreNamed) {
+  const ArithmeticProbe probe = probe_arithmetic();
+  EXPECT_EQ(arithmetic_digest(), probe.digest());
+  EXPECT_EQ(arithmetic_text(), "math " + hex_text(probe.math) + ", box2d " + hex_text(probe.box2d) + ", walker " +
+                                   hex_text(probe.walker));
+}
+
+// The digest covers what decides the numbers, not the flags that say how this ISA gets them: a worker on another
+// processor that computes alike must share it. Here: the digest is the same with the last two lines removed.
+TEST(BuildFingerprint, TheDigestCoversTheLinesUpToTheArithmeticOnly) {
+  const std::vector<std::string> all = lines(build_fingerprint());
+  ASSERT_EQ(all.size(), 8u);
+  EXPECT_TRUE(all[4].starts_with("arithmetic: "));
+  EXPECT_TRUE(all[5].starts_with("float mode: "));
+  EXPECT_TRUE(all[6].starts_with("target: "));
+  std::string compared;
+  for (size_t i = 0; i < 5; ++i) compared += all[i] + "\n";
+  EXPECT_EQ(build_fingerprint_digest(), mix64(hash_name(compared)));
 }
 
 TEST(BuildFingerprint, EveryLineIsKeyColonValueEndingInTheDigest) {
@@ -40,7 +65,7 @@ TEST(BuildFingerprint, EveryLineIsKeyColonValueEndingInTheDigest) {
   ASSERT_FALSE(text.empty());
   EXPECT_EQ(text.back(), '\n');
   const std::vector<std::string> all = lines(text);
-  ASSERT_EQ(all.size(), 7u) << text;
+  ASSERT_EQ(all.size(), 8u) << text;
   for (const std::string& line : all) EXPECT_NE(line.find(": "), std::string::npos) << line;
   EXPECT_TRUE(all.back().starts_with("digest: ")) << text;
 }

@@ -76,7 +76,7 @@ DispatchSettings settings() {
   DispatchSettings s;
   s.heartbeat_ms = 100;
   s.liveness_ms = 500;
-  s.fingerprint_digest = 42;
+  s.build.fingerprint_digest = 42;
   s.local_token = "local";
   return s;
 }

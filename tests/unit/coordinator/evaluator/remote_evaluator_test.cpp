@@ -26,7 +26,7 @@ DispatchSettings quick_settings() {
   DispatchSettings settings;
   settings.heartbeat_ms = 100;
   settings.liveness_ms = 2000;
-  settings.fingerprint_digest = build_fingerprint_digest();
+  settings.build = {build_fingerprint_digest(), arithmetic_digest(), arithmetic_text()};
   settings.local_token = "remote-evaluator-test";  // the test's worker is local: proven at once, never checked
   return settings;
 }

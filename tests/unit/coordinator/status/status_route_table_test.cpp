@@ -145,8 +145,9 @@ TEST(StatusRouteTableTest, TheEndpointListHoldsExactlyThePathsServed) {
   for (const std::string& path : listed) {
     const std::optional<RouteMatch> match = match_route(path.substr(0, path.find('?')));
     ASSERT_TRUE(match) << path;
-    if (match->route->kind == RouteKind::kRunPicture || match->route->kind == RouteKind::kPairPicture)
+    if (match->route->kind == RouteKind::kRunPicture || match->route->kind == RouteKind::kPairPicture) {
       EXPECT_FALSE(encoding_problem(match->picture)) << path;
+    }
   }
   int pictures = 0;
   for (std::string_view format : kPictureFormats) {

@@ -1,7 +1,7 @@
 // Tests run_directory/files/run_pack.cpp: a packed run restored elsewhere goes on to write byte for byte the files of
-// a run that never moved; the pack holds the last checkpoint's history even when the logs ran ahead of it; every
-// damaged, truncated, extended or foreign pack is refused with its reason and writes nothing; and a restore never
-// writes into a directory that holds anything.
+// a run that never moved; a pack of other arithmetic is refused for computing; the pack holds the last checkpoint's
+// history even when the logs ran ahead of it; every damaged, truncated, extended or foreign pack is refused with its
+// reason and writes nothing; and a restore never writes into a directory that holds anything.
 
 #include "run_directory/files/run_pack.h"
 
@@ -9,6 +9,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <iterator>
 #include <map>
 #include <optional>
@@ -18,6 +19,7 @@
 #include "../../engine/engine_test_support.h"
 #include "coordinator/evaluator/local_evaluator.h"
 #include "engine/engine.h"
+#include "formats/build_fingerprint.h"
 #include "plumbing/text_file.h"
 #include "run_directory/files/checkpoint_file.h"
 #include "run_directory/files/run_directory.h"
@@ -248,6 +250,63 @@ TEST_F(RunPackTest, PackingAChangedOrMissingRunIsAClearError) {
   ASSERT_FALSE(looped);
   EXPECT_TRUE(contains(looped.error(), std::string(kWallTimesFile) + ": cannot access")) << looped.error();
   EXPECT_FALSE(fs::exists(pack_));
+}
+
+}  // namespace
+}  // namespace poet
+
+namespace poet {
+namespace {
+
+// The pack's bytes with its checkpoint changed by `change` (the entry re-encoded; the logs stay as they were).
+std::string with_checkpoint(const std::string& pack, const std::function<void(pb::Checkpoint&)>& change) {
+  Expected<PackSummary> decoded = decode_pack(pack);
+  EXPECT_TRUE(decoded) << decoded.error();
+  for (PackEntry& entry : decoded->entries) {
+    if (entry.name != kCheckpointFile) continue;
+    Expected<pb::Checkpoint> checkpoint = decode_checkpoint_file(entry.content);
+    EXPECT_TRUE(checkpoint) << checkpoint.error();
+    change(*checkpoint);
+    entry.content = encode_checkpoint_file(*checkpoint);
+  }
+  return encode_pack(decoded->entries);
+}
+
+// A checkpoint records the arithmetic of the process that wrote it; a pack written before the project computed its
+// own math (no digest), or by a machine that computes differently, is refused for computing before anything is
+// written, and a restored run directory likewise; for reading (poetctl unpack) both are restored and opened.
+TEST_F(RunPackTest, APackOfOtherArithmeticIsRefusedForComputingAndRestoredForReading) {
+  const std::string pack = pack_at_3();
+  Expected<PackSummary> decoded = decode_pack(pack);
+  ASSERT_TRUE(decoded);
+  EXPECT_EQ(decoded->arithmetic_digest, std::optional<uint64_t>(arithmetic_digest()));
+  struct Case {
+    const char* name;
+    std::function<void(pb::Checkpoint&)> change;
+    const char* says;
+  };
+  const Case cases[] = {
+      {"before", [](pb::Checkpoint& c) { c.clear_arithmetic_digest(); },
+       "written by a build before the project computed its own exp, log, sin and cos"},
+      {"other", [](pb::Checkpoint& c) { c.set_arithmetic_digest(c.arithmetic_digest() ^ 1); },
+       "this machine computes differently from the one that wrote the checkpoint"},
+  };
+  for (const Case& c : cases) {
+    const fs::path file = root_ / (std::string(c.name) + ".pack");
+    std::ofstream(file, std::ios::binary) << with_checkpoint(pack, c.change);
+    const Expected<PackSummary> refused = restore_run_pack(file, root_ / c.name);
+    ASSERT_FALSE(refused) << c.name;
+    EXPECT_TRUE(contains(refused.error(), c.says)) << refused.error();
+    EXPECT_TRUE(contains(refused.error(), "(nothing was restored)")) << refused.error();
+    EXPECT_FALSE(fs::exists(root_ / c.name));
+
+    const Expected<PackSummary> read_only = restore_run_pack(file, root_ / c.name, OpenFor::kReading);
+    ASSERT_TRUE(read_only) << read_only.error();
+    const auto resumed = RunDirectory::resume(root_ / c.name);
+    ASSERT_FALSE(resumed) << c.name;
+    EXPECT_TRUE(contains(resumed.error(), c.says)) << resumed.error();
+    EXPECT_TRUE(RunDirectory::resume(root_ / c.name, OpenFor::kReading)) << c.name;
+  }
 }
 
 }  // namespace
