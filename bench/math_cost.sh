@@ -1,9 +1,12 @@
 #!/usr/bin/env bash
-# What the project's own math costs a rollout: walker_bench's rollout rows (BM_Rollout/flat, BM_Rollout/hard: full
-# episodes of 16 policies, policy, lidar and Box2D) with the project's exp, log, sin and cos, and the same program
+# What the project's own math costs a rollout: walker_bench's rollout rows (BM_Rollout/flat and /hard: 16 random
+# policies' episodes, policy, lidar and Box2D; BM_WalkerRollout/flat and /r1: the shipped flat walker on 8 terrain
+# seeds) with the project's exp, log, sin and cos, and the same program
 # with the C library's (walker_bench_libm), run alternately ROUNDS times each in one run, so that a change in the
 # machine's load falls on both. Prints, per row, the median steps per second of each and their ratio, with the
-# machine's load before and after, as a Markdown table.
+# machine's load before and after, as a Markdown table. The two builds compute other last bits, so they walk other
+# episodes: the steps column says how long they were (random policies' falls differ in their contacts, which the
+# contact solver's cost follows; the trained walker's gait much less).
 #   bash bench/math_cost.sh BUILD_DIR [ROUNDS]      default 5 rounds
 set -euo pipefail
 usage_error() {
@@ -24,7 +27,7 @@ trap 'rm -rf "$scratch"' EXIT
 load_before=$(cut -d' ' -f1-3 /proc/loadavg)
 for ((round = 1; round <= rounds; round++)); do
   for program in walker_bench walker_bench_libm; do
-    "$build/bench/$program" --benchmark_filter='BM_Rollout/' --benchmark_min_time=2 --benchmark_format=json \
+    "$build/bench/$program" --benchmark_filter='BM_(Walker)?Rollout/' --benchmark_min_time=2 --benchmark_format=json \
       >"$scratch/$program-$round.json"
   done
 done
@@ -34,17 +37,20 @@ python3 - "$scratch" "$rounds" "$load_before" "$load_after" <<'PY'
 import json, statistics, sys
 scratch, rounds, before, after = sys.argv[1], int(sys.argv[2]), sys.argv[3], sys.argv[4]
 rates = {}
+steps = {}
 for program in ("walker_bench", "walker_bench_libm"):
     for r in range(1, rounds + 1):
         with open(f"{scratch}/{program}-{r}.json") as f:
             for b in json.load(f)["benchmarks"]:
                 rates.setdefault((b["name"], program), []).append(b["steps_per_s"])
+                steps[(b["name"], program)] = b["steps"]
 rows = sorted({name for name, _ in rates})
 print(f"{rounds} alternated rounds of each; load average before {before}, after {after}\n")
-print("| row | project's math, steps/s | C library's, steps/s | ratio |")
-print("|---|---|---|---|")
+print("| row | project's math, steps/s | C library's, steps/s | ratio | steps (project's, C library's) |")
+print("|---|---|---|---|---|")
 for name in rows:
     own = statistics.median(rates[(name, "walker_bench")])
     libm = statistics.median(rates[(name, "walker_bench_libm")])
-    print(f"| {name} | {own:,.0f} | {libm:,.0f} | {own / libm:.3f} |")
+    print(f"| {name} | {own:,.0f} | {libm:,.0f} | {own / libm:.3f} | "
+          f"{steps[(name, 'walker_bench')]:,.0f}, {steps[(name, 'walker_bench_libm')]:,.0f} |")
 PY

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "formats/policy/policy_file.h"
 #include "simulation/envgen/named_courses.h"
 #include "simulation/policy/mlp.h"
 #include "simulation/rng.h"
@@ -78,6 +79,28 @@ void BM_Rollout(benchmark::State& state, const std::string& name) {
   if (steps != w.steps) state.SkipWithError("rollouts diverged from the recorded episodes");
   state.SetItemsProcessed(state.iterations() * w.steps);
   state.counters["steps_per_s"] = benchmark::Counter(double(w.steps), benchmark::Counter::kIsIterationInvariantRate);
+  state.counters["steps"] = double(w.steps);  // the episodes' length: builds of other last bits walk other episodes
+}
+
+// (b') A trained walker's rollouts: the shipped flat walker on flat and r1, terrain seeds 0–7 — long episodes of a
+// regular gait, where builds of other last bits walk nearly the same contacts (random policies' falls differ more).
+void BM_WalkerRollout(benchmark::State& state, const std::string& name) {
+  static const Expected<PolicyFile> walker = load_policy(POET_SOURCE_DIR "/data/walkers/flat-walker.json");
+  if (!walker) {
+    state.SkipWithError(walker.error().c_str());
+    return;
+  }
+  const Mlp policy(walker->params);
+  std::vector<Terrain> courses;
+  for (uint32_t seed = 0; seed < 8; ++seed) courses.push_back(Terrain::generate({*named_course(name), seed}));
+  int64_t steps = 0;
+  for (auto _ : state) {
+    steps = 0;
+    for (const Terrain& course : courses) steps += rollout(policy, course).steps;
+  }
+  state.SetItemsProcessed(state.iterations() * steps);
+  state.counters["steps_per_s"] = benchmark::Counter(double(steps), benchmark::Counter::kIsIterationInvariantRate);
+  state.counters["steps"] = double(steps);
 }
 
 // The peers' workload (STATISTICS.md): uniformly random actions, a reset whenever an episode ends. With
@@ -136,6 +159,8 @@ BENCHMARK_CAPTURE(BM_BarePhysics, flat, std::string("flat"))->Unit(benchmark::kM
 BENCHMARK_CAPTURE(BM_Rollout, flat, std::string("flat"))->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_BarePhysics, hard, std::string("hard"))->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_Rollout, hard, std::string("hard"))->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_WalkerRollout, flat, std::string("flat"))->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_WalkerRollout, r1, std::string("r1"))->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_RandomActions, bare_flat, std::string("r1"), true, false)->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_RandomActions, env_flat, std::string("r1"), false, false)->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_RandomActions, env_policy_flat, std::string("r1"), false, true)->Unit(benchmark::kMillisecond);

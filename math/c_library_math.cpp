@@ -1,4 +1,4 @@
-// The C library's exp, log, tanh, pow, sin and cos behind the project's math API (math/*.h), for comparisons only:
+// The C library's exp, log, pow, sin and cos behind the project's math API (math/*.h), for comparisons only:
 // as an object on a program's link line it defines every function before the linker reaches poet_math's archive,
 // whose members are then never pulled in. Linked into walker_bench_libm (bench/math_cost.sh sets it beside
 // walker_bench) and the tests' poet-libm-fingerprint (the probe seeing the C library's bits change under a
@@ -13,12 +13,12 @@ namespace poet::math {
 
 double exp(double x) { return std::exp(x); }
 double log(double x) { return std::log(x); }
-double tanh(double x) { return std::tanh(x); }
 double power(double base, uint64_t n) { return std::pow(base, static_cast<double>(n)); }
 double sin(double x) { return std::sin(x); }
 double cos(double x) { return std::cos(x); }
 SinCos sincos(double x) { return {std::sin(x), std::cos(x)}; }
 float sin(float x) { return sinf(x); }
 float cos(float x) { return cosf(x); }
+SinCosF sincos(float x) { return {sinf(x), cosf(x)}; }
 
 }  // namespace poet::math

@@ -21,13 +21,9 @@ inline double power_of_two(int64_t e) { return std::bit_cast<double>(static_cast
 // (ties to even) by the addition itself, the same on every IEEE machine and with no rounding instruction.
 constexpr double kRoundShift = 0x1.8p52;
 
-}  // namespace
-
-double exp(double x) {
-  // beyond these e^x is +∞ or rounds to 0 (and NaN stays NaN through the comparisons' false branches)
-  if (!(x <= 0x1.62e42fefa39efp+9)) return x != x ? x : kInfinity;  // ln(DBL_MAX), rounded down
-  if (x < -0x1.74910d52d3052p+9) return 0.0;                        // ln of half the smallest subnormal
-  // x = n·ln2/128 + r with |r| ≤ ln2/256: e^x = 2^(n/128)·e^r, and 2^(n/128) = 2^(n>>7)·2^((n&127)/128)
+// e^x = 2^e·t: x = n·ln2/128 + r with |r| ≤ ln2/256, e^x = 2^(n/128)·e^r, 2^(n/128) = 2^(n>>7)·2^((n&127)/128);
+// t = 2^((n&127)/128)·e^r in [0.99, 2.01), e = n>>7. For |x| < 2^51·ln2/128.
+inline double exp_mantissa(double x, int64_t& e) {
   const double shifted = x * k128OverLn2 + kRoundShift;
   const double kd = shifted - kRoundShift;
   const int64_t n = static_cast<int64_t>(std::bit_cast<uint64_t>(shifted) << 13) >> 13;  // the low 51 bits, signed
@@ -35,12 +31,31 @@ double exp(double x) {
   // e^r − 1 by its series to r^5/120: the first left term is below 2^−60 of the result for |r| ≤ ln2/256
   const double p = r + r * r * (0.5 + r * (1.0 / 6.0 + r * (1.0 / 24.0 + r * (1.0 / 120.0))));
   const int64_t j = n & 127;
-  const double t = kExp2Hi[j] + (kExp2Lo[j] + kExp2Hi[j] * p);
-  const int64_t e = n >> 7;  // floor(n/128)
-  // results in the normal range take one exact scaling; subnormal ones two, the second of them rounding once
-  if (e > 1023) return (t * power_of_two(e - 1)) * 2.0;  // n rounded up to 2^10·128 just below the threshold
+  e = n >> 7;  // floor(n/128)
+  return kExp2Hi[j] + (kExp2Lo[j] + kExp2Hi[j] * p);
+}
+
+// e^x where |x| ≥ 708 or x is not finite: the results near overflow, the subnormal ones, ∞, 0 and NaN.
+double exp_edges(double x) {
+  // beyond these e^x is +∞ or rounds to 0 (and NaN stays NaN through the comparisons' false branches)
+  if (!(x <= 0x1.62e42fefa39efp+9)) return x != x ? x : kInfinity;  // ln(DBL_MAX), rounded down
+  if (x < -0x1.74910d52d3052p+9) return 0.0;                        // ln of half the smallest subnormal
+  int64_t e = 0;
+  const double t = exp_mantissa(x, e);
+  // near overflow n may round up to 2^10·128; subnormal results take two scalings, the second rounding once
+  if (e > 1023) return (t * power_of_two(e - 1)) * 2.0;
   if (e >= -1021) return t * power_of_two(e);
   return (t * power_of_two(e + 1000)) * power_of_two(-1000);
+}
+
+}  // namespace
+
+double exp(double x) {
+  // |x| < 708: the result is a normal number, 2^e·t with −1022 ≤ e ≤ 1021, one exact scaling
+  if ((std::bit_cast<uint64_t>(x) & 0x7fffffffffffffffull) >= std::bit_cast<uint64_t>(708.0)) return exp_edges(x);
+  int64_t e = 0;
+  const double t = exp_mantissa(x, e);
+  return t * power_of_two(e);
 }
 
 double log(double x) {
@@ -74,12 +89,6 @@ double log(double x) {
   const double half_f2 = 0.5 * f * f;
   const double ed = static_cast<double>(e);
   return ed * kLn2Hi - ((half_f2 - (s * (half_f2 + R) + ed * kLn2Lo)) - f);
-}
-
-double tanh(double x) {
-  const double e = exp(-2.0 * (x < 0.0 ? -x : x));
-  const double t = (1.0 - e) / (1.0 + e);
-  return std::bit_cast<double>(std::bit_cast<uint64_t>(t) | (std::bit_cast<uint64_t>(x) & (uint64_t{1} << 63)));
 }
 
 double power(double base, uint64_t n) {

@@ -172,7 +172,7 @@ inline FloatReduced reduce_float(double x) {
   return {r, static_cast<uint64_t>(static_cast<int64_t>(kd))};
 }
 
-// sin x to x^13/13! and cos x to x^12/12! for |x| ≤ π/4: the first term left out is below 2^−33 of the result.
+// sin x to x^13/13! and cos x to x^12/12! for |x| ≤ π/4: the first term left out is below 2^−40 of the result.
 inline double float_kernel_sin(double x) {
   const double z = x * x;
   return x +
@@ -184,6 +184,12 @@ inline double float_kernel_cos(double x) {
   const double z = x * x;
   return 1.0 + z * (-0.5 + z * (1.0 / 24 +
                                 z * (-1.0 / 720 + z * (1.0 / 40320 + z * (-1.0 / 3628800 + z * (1.0 / 479001600))))));
+}
+
+// The quadrant's function of r: sin, cos, −sin or −cos.
+inline float float_of_quadrant(double r, uint64_t quadrant) {
+  const double v = (quadrant & 1) == 0 ? float_kernel_sin(r) : float_kernel_cos(r);
+  return static_cast<float>((quadrant & 2) == 0 ? v : -v);
 }
 
 inline bool finite(double x) { return (std::bit_cast<uint64_t>(x) & 0x7ff0000000000000ull) != 0x7ff0000000000000ull; }
@@ -213,19 +219,30 @@ SinCos sincos(double x) {
 float sin(float x) {
   if (x == 0.0f) return x;  // ±0 kept (the series would add a +0 to −0)
   const double d = x;
+  if (d > -0x1.921fb54442d18p-1 && d < 0x1.921fb54442d18p-1) return static_cast<float>(float_kernel_sin(d));
   if (!(d > -kFloatFastLimit && d < kFloatFastLimit)) return static_cast<float>(sin(d));  // large, ±∞, NaN
   const FloatReduced r = reduce_float(d);
-  return static_cast<float>((r.quadrant & 1) == 0 ? float_kernel_sin(r.r) : float_kernel_cos(r.r)) *
-         ((r.quadrant & 2) == 0 ? 1.0f : -1.0f);
+  return float_of_quadrant(r.r, r.quadrant);
+}
+
+SinCosF sincos(float x) {
+  const double d = x;
+  if (d > -0x1.921fb54442d18p-1 && d < 0x1.921fb54442d18p-1)
+    return {x == 0.0f ? x : static_cast<float>(float_kernel_sin(d)), static_cast<float>(float_kernel_cos(d))};
+  if (!(d > -kFloatFastLimit && d < kFloatFastLimit)) {
+    const SinCos both = sincos(d);
+    return {static_cast<float>(both.sin), static_cast<float>(both.cos)};
+  }
+  const FloatReduced r = reduce_float(d);
+  return {float_of_quadrant(r.r, r.quadrant), float_of_quadrant(r.r, r.quadrant + 1)};
 }
 
 float cos(float x) {
   const double d = x;
+  if (d > -0x1.921fb54442d18p-1 && d < 0x1.921fb54442d18p-1) return static_cast<float>(float_kernel_cos(d));
   if (!(d > -kFloatFastLimit && d < kFloatFastLimit)) return static_cast<float>(cos(d));
   const FloatReduced r = reduce_float(d);
-  const uint64_t q = r.quadrant + 1;  // cos x = sin(x + π/2)
-  return static_cast<float>((q & 1) == 0 ? float_kernel_sin(r.r) : float_kernel_cos(r.r)) *
-         ((q & 2) == 0 ? 1.0f : -1.0f);
+  return float_of_quadrant(r.r, r.quadrant + 1);  // cos x = sin(x + π/2)
 }
 
 }  // namespace poet::math

@@ -16,8 +16,14 @@ double cos(double x);
 // Both from one reduction: the same bits as sin(x) and cos(x).
 SinCos sincos(double x);
 
-// Single precision, for Box2D's rotations: the double functions rounded once to float.
+// Single precision, for Box2D's rotations: the double functions rounded once to float (but for about 1 in 10^4
+// arguments, where a shorter series' error flips the rounding). sincos: both from one reduction, the same bits.
+struct SinCosF {
+  float sin;
+  float cos;
+};
 float sin(float x);
 float cos(float x);
+SinCosF sincos(float x);
 
 }  // namespace poet::math

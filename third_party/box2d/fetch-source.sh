@@ -114,8 +114,8 @@ grep -q '^dpkg-source: info: applying' "$work/source.log" ||
 # the project's patch, then the stamp
 patch -d "$tree" -p1 --forward --batch --no-backup-if-mismatch --silent <"$patch_file" ||
   die "$patch_file does not apply to $package $version"
-grep -q 'b2Sin(angle)' "$tree/include/box2d/b2_math.h" ||
-  die "$patch_file applied, but b2_math.h does not call b2Sin"
+grep -q 'b2SinCos(angle, &s, &c)' "$tree/include/box2d/b2_math.h" ||
+  die "$patch_file applied, but b2_math.h does not call b2SinCos"
 printf '%s\n' "$stamp" >"$tree/$stamp_name"
 
 # into place: an older DEST (another stamp) is moved aside and removed with the temporary directory

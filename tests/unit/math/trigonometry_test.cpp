@@ -5,7 +5,9 @@
 
 #include <gtest/gtest.h>
 
+#include <bit>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 
 #include "math_test_support.h"
@@ -44,6 +46,15 @@ TEST(MathSinCos, SincosIsSinAndCos) {
     const math::SinCos both = math::sincos(x);
     ASSERT_EQ(both.sin, math::sin(x)) << x;
     ASSERT_EQ(both.cos, math::cos(x)) << x;
+    // single precision, for Box2D: small (no reduction), reduced, and beyond the float path's bound
+    for (const float f : {static_cast<float>(x * 1e-5), static_cast<float>(x * 1e-2), static_cast<float>(x)}) {
+      const math::SinCosF pair = math::sincos(f);
+      ASSERT_EQ(std::bit_cast<uint32_t>(pair.sin), std::bit_cast<uint32_t>(math::sin(f))) << f;
+      ASSERT_EQ(std::bit_cast<uint32_t>(pair.cos), std::bit_cast<uint32_t>(math::cos(f))) << f;
+    }
+  }
+  for (const float f : {0.0f, -0.0f, std::numeric_limits<float>::infinity()}) {
+    EXPECT_EQ(std::bit_cast<uint32_t>(math::sincos(f).sin), std::bit_cast<uint32_t>(math::sin(f))) << f;
   }
 }
 
