@@ -40,7 +40,8 @@ sys.dont_write_bytecode = True  # no __pycache__ in the source tree
 from crossmachine_support import (CacheLock, Children, Cleanup, Failed, checked, compare_fingerprints, compare_golden,
                                   compare_runs, elapsed, ensure_installed, fingerprint_lines, free_port,
                                   gtest_summary, install_deps_list, load_average, log, main, native_binaries,
-                                  read_text, remove_tree, require_opt_in, set_deadline, tail, tiny_config, work_dir)
+                                  read_text, remove_tree, require_opt_in, set_deadline, stale_native_build, tail,
+                                  tiny_config, work_dir)
 
 NAME = "crossmachine_arm64"
 DEADLINE_S = 3300  # inside ctest's TIMEOUT of 3600
@@ -217,6 +218,9 @@ def run(args, cleanup):
     deadline = set_deadline(DEADLINE_S, NAME)
     build_dir, source = os.path.realpath(args.build_dir), os.path.realpath(args.source)
     native = native_binaries(build_dir)
+    stale = stale_native_build(source, build_dir, native.values())
+    if stale:
+        log("WARNING: " + stale)
     arm64_packages = [p for p in install_deps_list(source) if p.endswith(":arm64")]
     ensure_installed(source, TOOLS, arm64_packages, deadline)
     qemu = shutil.which("qemu-aarch64-static")
@@ -310,7 +314,8 @@ def run(args, cleanup):
     if problems:
         log(f"RESULT {NAME}: FAILED, {len(problems)} problem(s); arm64 build {times['build']}; {elapsed():.0f} s in "
             f"all; {load_average()}")
-        raise Failed(f"{len(problems)} problem(s):\n" + "\n".join(f"({i}) {p}" for i, p in enumerate(problems, 1)))
+        raise Failed(f"{len(problems)} problem(s):\n" + "\n".join(f"({i}) {p}" for i, p in enumerate(problems, 1))
+                     + (f"\nWARNING: {stale}" if stale else ""))
     log(f"RESULT {NAME}: arm64 build {times['build']}; fingerprints' arithmetic and digest identical; golden digests "
         f"pass under qemu ({times['golden']:.0f} s); the run on arm64 threads identical ({times['arm64_threads']:.1f} "
         f"s under qemu); the run with the arm64 worker identical to threads ({times['mixed']:.1f} s, threads "

@@ -37,7 +37,8 @@ sys.dont_write_bytecode = True  # no __pycache__ in the source tree
 from crossmachine_support import (GLIBC_FAMILY, CacheLock, Children, Cleanup, Failed, checked, compare_fingerprints,
                                   compare_golden, compare_runs, elapsed, ensure_installed, gtest_summary,
                                   load_average, log, main, mounts_under, native_binaries, remove_stale, remove_tree,
-                                  require_opt_in, set_deadline, tail, tiny_config, unmount_all_under, work_dir)
+                                  require_opt_in, set_deadline, stale_native_build, tail, tiny_config,
+                                  unmount_all_under, work_dir)
 
 NAME = "crossmachine_debian13"
 DEADLINE_S = 3300  # inside ctest's TIMEOUT of 3600
@@ -159,6 +160,9 @@ def run(args, cleanup):
     deadline = set_deadline(DEADLINE_S, NAME)
     build_dir, source = os.path.realpath(args.build_dir), os.path.realpath(args.source)
     native = native_binaries(build_dir)
+    stale = stale_native_build(source, build_dir, native.values())
+    if stale:
+        log("WARNING: " + stale)
     ensure_installed(source, TOOLS, [], deadline)
     times = {}
 
@@ -268,7 +272,8 @@ def run(args, cleanup):
     if problems:
         log(f"RESULT {NAME}: FAILED, {len(problems)} problem(s); root {times['root']}; {elapsed():.0f} s in all; "
             f"{load_average()}")
-        raise Failed(f"{len(problems)} problem(s):\n" + "\n".join(f"({i}) {p}" for i, p in enumerate(problems, 1)))
+        raise Failed(f"{len(problems)} problem(s):\n" + "\n".join(f"({i}) {p}" for i, p in enumerate(problems, 1))
+                     + (f"\nWARNING: {stale}" if stale else ""))
     log(f"RESULT {NAME}: root {times['root']}; glibc {root_version} in the root, {host_version} here; bundle "
         f"{times['bundle']:.0f} s; fingerprints identical; golden digests pass ({times['golden']:.0f} s); the run's "
         f"files identical ({times['run_native']:.1f} s native, {times['run_root']:.1f} s in the root); "

@@ -370,6 +370,32 @@ def native_binaries(build_dir):
     return paths
 
 
+SOURCE_SUFFIXES = (".cpp", ".h", ".proto", ".cmake", "CMakeLists.txt", ".patch", ".html")
+# what none of poet-coordinator, poet-worker and poet_unit_tests is compiled from
+NOT_IN_THE_BINARIES = ("bench", "docs", "examples", "experiments", "python", "deploy", "site", "out", "runs",
+                       "__pycache__")
+
+
+def stale_native_build(source, build_dir, binaries):
+    """A warning (None when none) when a source file of the project is newer than a native binary: that build is
+    not of the tree the other machine's build is made from, and their comparison would be of two trees."""
+    oldest = min(os.path.getmtime(p) for p in binaries)
+    newer = []
+    for directory, subdirs, files in os.walk(source):
+        subdirs[:] = [d for d in subdirs if not d.startswith(".") and d not in NOT_IN_THE_BINARIES
+                      and os.path.realpath(os.path.join(directory, d)) != os.path.realpath(build_dir)
+                      and not d.startswith("build")]
+        for f in files:
+            path = os.path.join(directory, f)
+            if f.endswith(SOURCE_SUFFIXES) and os.path.getmtime(path) > oldest:
+                newer.append(os.path.relpath(path, source))
+    if not newer:
+        return None
+    return (f"the native build in {build_dir} is older than {len(newer)} source file(s) ({', '.join(sorted(newer)[:4])}"
+            f"{', ...' if len(newer) > 4 else ''}): build it again (cmake --build {build_dir}), or a difference may "
+            f"be between two trees, not two machines")
+
+
 def sha256(path):
     with open(path, "rb") as f:
         return hashlib.sha256(f.read()).hexdigest()
