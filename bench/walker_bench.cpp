@@ -159,6 +159,8 @@ BENCHMARK_CAPTURE(BM_BarePhysics, flat, std::string("flat"))->Unit(benchmark::kM
 BENCHMARK_CAPTURE(BM_Rollout, flat, std::string("flat"))->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_BarePhysics, hard, std::string("hard"))->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_Rollout, hard, std::string("hard"))->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_Rollout, r1, std::string("r1"))->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_Rollout, hardcore_like, std::string("hardcore-like"))->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_WalkerRollout, flat, std::string("flat"))->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_WalkerRollout, r1, std::string("r1"))->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_RandomActions, bare_flat, std::string("r1"), true, false)->Unit(benchmark::kMillisecond);
