@@ -26,7 +26,6 @@ BUILD/crossmachine/work/arm64-PID — is removed on success, failure, SIGTERM an
   check_arm64.py --build-dir BUILD --source REPOSITORY
 """
 
-import argparse
 import http.client
 import json
 import os
@@ -38,8 +37,8 @@ import time
 sys.dont_write_bytecode = True  # no __pycache__ in the source tree
 
 from crossmachine_support import (CacheLock, Children, Cleanup, Failed, checked, compare_fingerprints, compare_golden,
-                                  compare_runs, elapsed, ensure_installed, fingerprint_lines, free_port,
-                                  gtest_summary, install_deps_list, load_average, log, main, native_binaries,
+                                  compare_runs, ensure_installed, fingerprint_lines, free_port,
+                                  gtest_summary, install_deps_list, log, main, native_binaries, report,
                                   read_text, remove_tree, require_opt_in, set_deadline, stale_native_build, tail,
                                   tiny_config, work_dir)
 
@@ -311,20 +310,12 @@ def run(args, cleanup):
     if differences:
         problems.append("the run with the arm64 worker differs from the run on threads:\n  " + "\n  ".join(differences))
 
-    if problems:
-        log(f"RESULT {NAME}: FAILED, {len(problems)} problem(s); arm64 build {times['build']}; {elapsed():.0f} s in "
-            f"all; {load_average()}")
-        raise Failed(f"{len(problems)} problem(s):\n" + "\n".join(f"({i}) {p}" for i, p in enumerate(problems, 1))
-                     + (f"\nWARNING: {stale}" if stale else ""))
-    log(f"RESULT {NAME}: arm64 build {times['build']}; fingerprints' arithmetic and digest identical; golden digests "
-        f"pass under qemu ({times['golden']:.0f} s); the run on arm64 threads identical ({times['arm64_threads']:.1f} "
-        f"s under qemu); the run with the arm64 worker identical to threads ({times['mixed']:.1f} s, threads "
-        f"{times['threads']:.1f} s); {elapsed():.0f} s in all; {load_average()}")
+    report(NAME, problems, stale, f"arm64 build {times['build']}",
+           f"arm64 build {times['build']}; fingerprints' arithmetic and digest identical; golden digests pass under "
+           f"qemu ({times['golden']:.0f} s); the run on arm64 threads identical ({times['arm64_threads']:.1f} s under "
+           f"qemu); the run with the arm64 worker identical to threads ({times['mixed']:.1f} s, threads "
+           f"{times['threads']:.1f} s)")
 
 
 if __name__ == "__main__":
-    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("--build-dir", required=True, help="the CMake build directory (native, x86-64)")
-    parser.add_argument("--source", required=True, help="the repository root")
-    arguments = parser.parse_args()
-    main(NAME, lambda: check(arguments))
+    main(NAME, check, __doc__)

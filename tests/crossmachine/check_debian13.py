@@ -23,7 +23,6 @@ killed outright left is removed by the next.
   check_debian13.py --build-dir BUILD --source REPOSITORY
 """
 
-import argparse
 import datetime
 import os
 import re
@@ -35,8 +34,8 @@ import time
 sys.dont_write_bytecode = True  # no __pycache__ in the source tree
 
 from crossmachine_support import (GLIBC_FAMILY, CacheLock, Children, Cleanup, Failed, checked, compare_fingerprints,
-                                  compare_golden, compare_runs, elapsed, ensure_installed, gtest_summary,
-                                  load_average, log, main, mounts_under, native_binaries, remove_stale, remove_tree,
+                                  compare_golden, compare_runs, ensure_installed, gtest_summary,
+                                  log, main, mounts_under, native_binaries, remove_stale, remove_tree, report,
                                   require_opt_in, set_deadline, stale_native_build, tail, tiny_config,
                                   unmount_all_under, work_dir)
 
@@ -269,20 +268,11 @@ def run(args, cleanup):
     if differences:
         problems.append("the run in the Debian 13 root differs from the native one:\n  " + "\n  ".join(differences))
 
-    if problems:
-        log(f"RESULT {NAME}: FAILED, {len(problems)} problem(s); root {times['root']}; {elapsed():.0f} s in all; "
-            f"{load_average()}")
-        raise Failed(f"{len(problems)} problem(s):\n" + "\n".join(f"({i}) {p}" for i, p in enumerate(problems, 1))
-                     + (f"\nWARNING: {stale}" if stale else ""))
-    log(f"RESULT {NAME}: root {times['root']}; glibc {root_version} in the root, {host_version} here; bundle "
-        f"{times['bundle']:.0f} s; fingerprints identical; golden digests pass ({times['golden']:.0f} s); the run's "
-        f"files identical ({times['run_native']:.1f} s native, {times['run_root']:.1f} s in the root); "
-        f"{elapsed():.0f} s in all; {load_average()}")
+    report(NAME, problems, stale, f"root {times['root']}",
+           f"root {times['root']}; glibc {root_version} in the root, {host_version} here; bundle "
+           f"{times['bundle']:.0f} s; fingerprints identical; golden digests pass ({times['golden']:.0f} s); the run's "
+           f"files identical ({times['run_native']:.1f} s native, {times['run_root']:.1f} s in the root)")
 
 
 if __name__ == "__main__":
-    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("--build-dir", required=True, help="the CMake build directory (native, x86-64)")
-    parser.add_argument("--source", required=True, help="the repository root")
-    arguments = parser.parse_args()
-    main(NAME, lambda: check(arguments))
+    main(NAME, check, __doc__)

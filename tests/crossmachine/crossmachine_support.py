@@ -526,5 +526,21 @@ def gtest_summary(out):
     return f"{m.group(1)} tests passed" if m else "no PASSED line"
 
 
-def main(name, check):
-    sys.exit(run_check(name, check))
+def report(name, problems, stale, failed_figures, passed_figures):
+    """The check's RESULT line: FAILED with its figures and every problem numbered (Failed raised), or its figures."""
+    if problems:
+        log(f"RESULT {name}: FAILED, {len(problems)} problem(s); {failed_figures}; {elapsed():.0f} s in all; "
+            f"{load_average()}")
+        raise Failed(f"{len(problems)} problem(s):\n" + "\n".join(f"({i}) {p}" for i, p in enumerate(problems, 1))
+                     + (f"\nWARNING: {stale}" if stale else ""))
+    log(f"RESULT {name}: {passed_figures}; {elapsed():.0f} s in all; {load_average()}")
+
+
+def main(name, check, description):
+    """Runs check(arguments) on this command line (--build-dir, --source) and exits with its outcome."""
+    import argparse
+    parser = argparse.ArgumentParser(description=description, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("--build-dir", required=True, help="the CMake build directory (native, x86-64)")
+    parser.add_argument("--source", required=True, help="the repository root")
+    arguments = parser.parse_args()
+    sys.exit(run_check(name, lambda: check(arguments)))
