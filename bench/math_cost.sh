@@ -1,12 +1,13 @@
 #!/usr/bin/env bash
-# What the project's own math costs a rollout: walker_bench's rollout rows (BM_Rollout/flat and /hard: 16 random
-# policies' episodes, policy, lidar and Box2D; BM_WalkerRollout/flat and /r1: the shipped flat walker on 8 terrain
-# seeds) with the project's exp, log, sin and cos, and the same program
-# with the C library's (walker_bench_libm), run alternately ROUNDS times each in one run, so that a change in the
-# machine's load falls on both. Prints, per row, the median steps per second of each and their ratio, with the
-# machine's load before and after, as a Markdown table. The two builds compute other last bits, so they walk other
-# episodes: the steps column says how long they were (random policies' falls differ in their contacts, which the
-# contact solver's cost follows; the trained walker's gait much less).
+# What the project's own math costs a rollout: walker_bench's rollout rows (BM_Rollout/<course>: 128 random
+# policies' episodes on each of four courses, policy, lidar and Box2D; BM_RolloutSet/flat_set:k: flat's 128 in eight
+# sets of 16; BM_WalkerRollout/flat and /r1: the shipped flat walker on 8 terrain seeds) with the project's exp, log,
+# sin and cos, and the same program with the C library's (walker_bench_libm), run alternately ROUNDS times each in
+# one run, so that a change in the machine's load falls on both. Prints, per row, the median steps per second of
+# each and their ratio, with the machine's load before and after, as a Markdown table. The two builds compute other
+# last bits, so they walk other episodes, and a step's cost follows its contacts: the sets of 16 show how far one
+# small set of episodes moves the ratio either way, the rows of 128 what is left of it (the steps column says how
+# long the episodes were).
 #   bash bench/math_cost.sh BUILD_DIR [ROUNDS]      default 5 rounds
 set -euo pipefail
 usage_error() {
@@ -27,7 +28,7 @@ trap 'rm -rf "$scratch"' EXIT
 load_before=$(cut -d' ' -f1-3 /proc/loadavg)
 for ((round = 1; round <= rounds; round++)); do
   for program in walker_bench walker_bench_libm; do
-    "$build/bench/$program" --benchmark_filter='BM_(Walker)?Rollout/' --benchmark_min_time=2 --benchmark_format=json \
+    "$build/bench/$program" --benchmark_filter='BM_(Walker)?Rollout(Set)?/' --benchmark_min_time=2 --benchmark_format=json \
       >"$scratch/$program-$round.json"
   done
 done
