@@ -8,7 +8,8 @@
 
 namespace poet {
 
-wire::CoordinatorMessage Dispatcher::on_hello(const WorkerId& id, const wire::Hello& hello, Millis now) {
+wire::CoordinatorMessage Dispatcher::on_hello(const WorkerId& id, const wire::Hello& hello, Millis now,
+                                              const Witness& witness) {
   wire::CoordinatorMessage reply;
   if (trust_.refused(id)) {
     count_drop(DropReason::kWrongWorker);
@@ -29,7 +30,7 @@ wire::CoordinatorMessage Dispatcher::on_hello(const WorkerId& id, const wire::He
   }
   WorkerView view = view_of_hello(id, hello);
   static_cast<Standing&>(view) =
-      trust_.newcomer(!settings_.local_token.empty() && hello.local_token() == settings_.local_token);
+      trust_.newcomer(id, witness, !settings_.local_token.empty() && hello.local_token() == settings_.local_token);
   workers_.add(std::move(view), now);
   reply.mutable_welcome()->set_heartbeat_ms(static_cast<uint32_t>(settings_.heartbeat_ms));
   reply.mutable_welcome()->set_liveness_ms(static_cast<uint32_t>(settings_.liveness_ms));
@@ -174,8 +175,8 @@ void Dispatcher::compare_late(const WorkerId id, size_t begin, size_t end, const
   const RegisteredWorker* worker = workers_.find(id);
   if (!late || worker == nullptr) return;
   const std::span<const RolloutResult> taken = results_.results(begin, end);
-  Settlement settlement = trust_.late_answer({taken_from, {taken.begin(), taken.end()}}, taken_final,
-                                             {id, std::move(*late)}, worker->view.local);
+  Settlement settlement = trust_.late_answer(trust_.taken_answer(taken_from, {taken.begin(), taken.end()}), taken_final,
+                                             trust_.answer_of(id, worker->view, std::move(*late)), worker->view.local);
   if (settlement.kind == Settlement::Kind::kReopen) {  // two answers that differ: a third decides
     results_.reopen(begin, end);
     OpenJob& job = jobs_.add(begin, end, 0, trust_.new_job(batch_id_, begin, end));
@@ -219,10 +220,8 @@ void Dispatcher::on_answer(RegisteredWorker& worker, OpenJob& job, std::vector<R
     case Settlement::Kind::kHold:
       if (job.leases.empty()) jobs_.enqueue_front(job);  // for a second worker, or a third to decide
       return;
-    case Settlement::Kind::kThreeWays:
-      if (!failure_)
-        failure_ = "three workers returned three different results for " + describe_task(job.begin) +
-                   " (or a later task of its job): do they run one build? (compare --fingerprint)";
+    case Settlement::Kind::kCoordinator:  // three answers and none confirmed: not sent out again
+      trust_.ask_coordinator(job.id, job.trust);
       return;
     default:
       apply_checks(settlement);
@@ -240,8 +239,10 @@ void Dispatcher::apply_checks(const Settlement& settlement) {
 }
 
 void Dispatcher::accept(OpenJob& job, Settlement&& settlement) {
-  if (RegisteredWorker* credited = workers_.find(settlement.credited))
+  if (RegisteredWorker* credited = workers_.find(settlement.credited)) {
     trust_.took_answer(credited->view, settlement.checked);
+    trust_.credit(settlement.credited, credited->view.witness);
+  }
   results_.put(job.begin, settlement.results, settlement.credited, settlement.final_now);
   for (const Lease& other : job.leases) {  // the other holders' results, when they come, are late
     RegisteredWorker* holder = workers_.find(other.worker);

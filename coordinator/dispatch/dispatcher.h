@@ -19,10 +19,11 @@
 // while none has finished), and by nothing once a proven worker is there. A proven worker's job held past the lease
 // is also sent to another worker (up to max_leases holders; the first result wins). The run stops on a poison job
 // only when max_attempts proven workers died holding it, and on an error when trust says proven workers agree.
-// A job whose answer no connected worker can check (or whose check was held past the lease), or two answers that
-// differ with no third worker to decide, go to the coordinator (take_coordinator_checks). A worker found wrong is
-// refused from then on (Refused, and its Hellos), and every result of the batch taken from it and not yet reported
-// final is computed again; refuse() does the same to a peer the caller finds shares its identity (a CURVE key).
+// A job whose answer no connected witness can check (or whose check was held past the lease), answers that differ
+// with no witness to decide, or three answers none of which confirms another, go to the coordinator
+// (take_coordinator_checks). A worker found wrong is refused from then on (Refused, and its Hellos), and every result
+// of the batch taken from it and not yet reported final is computed again; refuse() does the same to a peer the
+// caller finds shares its identity (a CURVE key).
 // Unchecked answers of workers that are not local are reported final (take_ready_ranges) only once the batch is
 // whole; take_rollback names the first batch to compute again when a worker refused had unchecked answers made
 // final.
@@ -63,13 +64,13 @@ struct DispatchSettings {
   // least backup_min_ms), or than liveness_ms while none has finished. 0: never.
   double backup_factor = 4;
   Millis backup_min_ms = 1000;
-  int max_leases = 3;               // holders of one job at once: the first and its backups
-  size_t max_workers = 4096;        // Hellos beyond this many connected workers are refused
-  HelloExpectation build;           // workers of another build or arithmetic are refused (0s: accept any, for tests)
-  std::string local_token;          // a Hello carrying it comes from a local worker: proven from the start
-  double verify_fraction = 0;       // of the jobs answered by workers that are not local, also run on a second
-  uint64_t verify_secret = 0;       // which jobs are checked: drawn from it, the batch and the job; never sent
-  int probation_checks = 5;  // with verification: every answer of a worker not local is checked until this many were
+  int max_leases = 3;          // holders of one job at once: the first and its backups
+  size_t max_workers = 4096;   // Hellos beyond this many connected workers are refused
+  HelloExpectation build;      // workers of another build or arithmetic are refused (0s: accept any, for tests)
+  std::string local_token;     // a Hello carrying it comes from a local worker: proven from the start
+  double verify_fraction = 0;  // of the jobs answered by workers that are not local, also run on a second
+  uint64_t verify_secret = 0;  // which jobs are checked: drawn from it, the batch and the job; never sent
+  int probation_checks = 5;    // with verification: every answer of a worker not local is checked until this many were
 };
 
 class Dispatcher {
@@ -81,7 +82,9 @@ class Dispatcher {
 
   // A Hello: the Welcome to send, or a Refused (wrong protocol version or build fingerprint, or max_workers
   // reached; counted). A welcomed worker gets jobs once it has sent another message (proof that it listens).
-  wire::CoordinatorMessage on_hello(const WorkerId& id, const wire::Hello& hello, Millis now);
+  // `witness`: the CURVE key its connection was admitted with (empty without CURVE: its routing id vouches alone).
+  wire::CoordinatorMessage on_hello(const WorkerId& id, const wire::Hello& hello, Millis now,
+                                    const Witness& witness = {});
   // A Result from a worker: accepted when the worker holds the job; otherwise counted and dropped.
   void on_result(const WorkerId& id, const wire::Result& result, Millis now);
   // Any message from a known worker proves it alive; false for a stranger (the caller counts and drops it).
@@ -137,8 +140,7 @@ class Dispatcher {
   // The ranges [first, end) of tasks whose results became final since the last call, and those results.
   std::vector<std::pair<size_t, size_t>> take_ready_ranges();
   std::span<const RolloutResult> results(size_t first, size_t end) const { return results_.results(first, end); }
-  // Set when a task killed max_attempts proven workers, proven workers refused a task, or three workers returned
-  // three different results for one: the run must stop.
+  // Set when a task killed max_attempts proven workers or proven workers refused a task: the run must stop.
   const std::optional<std::string>& failure() const { return failure_; }
 
   size_t worker_count() const { return workers_.size(); }
@@ -153,10 +155,12 @@ class Dispatcher {
   int64_t workers_lost() const { return lost_; }           // workers removed for silence or a failed send
   int64_t backup_jobs() const { return jobs_.backups(); }  // jobs sent to a second worker
   int64_t workers_demoted() const { return trust_.demoted(); }
-  int64_t verified_jobs() const { return trust_.verified(); }  // answers found right by a second worker or the coordinator
+  // Answers found right by a second worker or the coordinator
+  int64_t verified_jobs() const { return trust_.verified(); }
   // Jobs whose answer waits for the coordinator's own (no connected worker may check or decide).
   int64_t coordinator_checks_waiting() const { return coordinator_checks_waiting_; }
-  int64_t coordinator_checks() const { return trust_.coordinator_checks(); }  // jobs settled by the coordinator's answer
+  // Jobs settled by the coordinator's answer
+  int64_t coordinator_checks() const { return trust_.coordinator_checks(); }
   // Workers refused for a wrong result, with their names and why, in order (the log and /metrics read them).
   const std::vector<Refusal>& wrong_workers() const { return trust_.refusals(); }
   // What trust has recorded: the workers refused, by routing id; for each worker that may still be found wrong, the
@@ -182,7 +186,7 @@ class Dispatcher {
   // The queued job the worker may take, or a job to back up on it; nullptr when none. Reads spare_.
   OpenJob* next_job(const RegisteredWorker& worker, Millis now);
   bool may_take(const OpenJob& job, const RegisteredWorker& worker) const;  // trust's answer, with the holders'
-  bool proven_can_take(const OpenJob& job) const;                          // a ready proven worker may take it
+  bool proven_can_take(const OpenJob& job) const;                           // a ready proven worker may take it
   // A Result for a job the worker does not hold: dropped, though a late one that parses still proves the worker.
   void on_unexpected_result(RegisteredWorker* worker, const wire::Result& result);
   // An error Result: the job goes back, and the run stops only when proven workers agree.
@@ -206,9 +210,9 @@ class Dispatcher {
   std::string describe_task(size_t index) const;
 
   DispatchSettings settings_;
-  WorkerRegistry workers_;     // who is connected, what each holds, trials
-  JobQueue jobs_;              // the batch's open jobs, their queue and leases
-  WorkerTrust trust_;          // how far each worker is trusted, what answers settle, refusals and rollbacks
+  WorkerRegistry workers_;  // who is connected, what each holds, trials
+  JobQueue jobs_;           // the batch's open jobs, their queue and leases
+  WorkerTrust trust_;       // how far each worker is trusted, what answers settle, refusals and rollbacks
 
   // the batch
   bool batch_active_ = false;

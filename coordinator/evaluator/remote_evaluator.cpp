@@ -396,7 +396,9 @@ void RemoteEvaluator::handle(const std::string& peer, const zmq::message_t& payl
   }
   switch (message.kind_case()) {
     case wire::WorkerMessage::kHello: {
-      Outgoing reply{peer, dispatcher_.on_hello(peer, message.hello(), now)};
+      const auto key = peer_keys_.find(peer);  // with CURVE: the connection's key is its witness
+      Outgoing reply{peer, dispatcher_.on_hello(peer, message.hello(), now,
+                                                key != peer_keys_.end() ? key->second : Witness{})};
       const std::string name = message.hello().name().substr(0, 200);
       if (reply.message.has_refused()) {  // counted by the dispatcher
         if (const auto held_back = log_refused_.admit(now))

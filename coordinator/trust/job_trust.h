@@ -12,15 +12,15 @@
 namespace poet {
 
 struct JobTrust {
-  bool chosen = false;           // chosen for a check: an answer from a worker that is not local needs a second
-  bool tainted = false;          // a worker not proven failed it: proven workers take it while any is connected
-  std::set<WorkerId> failed;     // workers that returned an error or let their lease expire: not sent to them again
-  std::set<WorkerId> refusing;   // proven workers that returned an error for it
-  std::vector<Answer> answers;   // answers awaiting a check: one, or two that differ
-  bool to_coordinator = false;   // handed to the coordinator to check
+  bool chosen = false;          // chosen for a check: an answer from a worker that is not local needs a second
+  bool tainted = false;         // a worker not proven failed it: proven workers take it while any is connected
+  std::set<WorkerId> failed;    // workers that returned an error or let their lease expire: not sent to them again
+  std::set<WorkerId> refusing;  // proven workers that returned an error for it
+  std::vector<Answer> answers;  // answers awaiting a check, of distinct witnesses, none confirmed (verification.h)
+  bool to_coordinator = false;  // handed to the coordinator to check
 
-  bool answered_by(const WorkerId& worker) const {
-    return std::any_of(answers.begin(), answers.end(), [&](const Answer& a) { return a.worker == worker; });
+  bool answered_by(const Witness& witness) const {
+    return std::any_of(answers.begin(), answers.end(), [&](const Answer& a) { return a.vouched_by() == witness; });
   }
 };
 

@@ -11,6 +11,7 @@ namespace poet {
 
 using Millis = int64_t;        // milliseconds on the dispatcher's monotonic clock
 using WorkerId = std::string;  // the ROUTER's routing id of the worker's socket
+using Witness = std::string;  // who vouches for a worker's answers: its CURVE key, else its routing id (verification.h)
 
 // How far a worker is trusted (worker_trust.h says what each allows).
 enum class Trust {
@@ -26,9 +27,10 @@ constexpr const char* name(Trust trust) {
 }
 
 struct Standing {
-  bool local = false;    // started by this coordinator (showed local_token): proven from the start, never checked
-  bool proven = false;   // local, or has returned a valid result: alive and answering (not: right)
-  bool demoted = false;  // not proven, and let a lease expire or returned an error: given no more jobs
+  Witness witness;            // its CURVE key, or its routing id without CURVE: connections of one key are one witness
+  bool local = false;         // started by this coordinator (showed local_token): proven from the start, never checked
+  bool proven = false;        // local, or has returned a valid result: alive and answering (not: right)
+  bool demoted = false;       // not proven, and let a lease expire or returned an error: given no more jobs
   int64_t checks_passed = 0;  // its answers that another worker or the coordinator computed alike
   int64_t answers_taken = 0;  // its answers whose results the batch kept (the others were another's, or redone)
   // of those, the ones taken with no other answer compared: every other answer of its was computed twice

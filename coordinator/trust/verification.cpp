@@ -1,5 +1,6 @@
 #include "coordinator/trust/verification.h"
 
+#include <algorithm>
 #include <bit>
 
 #include "simulation/rng.h"
@@ -30,36 +31,51 @@ bool Verification::needs_check(bool job_chosen, const Standing& worker, bool ans
   return answers_held || ((job_chosen || on_probation(worker)) && !worker.local);
 }
 
+bool Verification::needs_witness_past_probation(const std::vector<Answer>& held) {
+  const bool all_on_probation =
+      std::all_of(held.begin(), held.end(), [](const Answer& answer) { return answer.probation; });
+  const bool disputed = std::any_of(
+      held.begin(), held.end(), [&](const Answer& answer) { return !same_results(answer.results, held[0].results); });
+  return !held.empty() && (all_on_probation || disputed);
+}
+
 Verdict Verification::judge(const std::vector<Answer>& held, const Answer& incoming, bool incoming_local) {
   Verdict verdict;
-  if (held.empty()) return verdict;  // held for a second worker
-  if (held.size() == 1) {
-    if (same_results(held[0].results, incoming.results)) {
+  if (held.empty()) return verdict;  // held for another witness
+  const auto alike = [&](const Answer& answer) { return same_results(answer.results, incoming.results); };
+  const auto take = [&](const WorkerId& credited) {
+    verdict.kind = Verdict::Kind::kTake;
+    verdict.credited = credited;
+    for (const Answer& answer : held) (alike(answer) ? verdict.passed : verdict.wrong).push_back(answer.worker);
+  };
+  if (incoming_local) {  // a worker this coordinator started decides at once
+    const auto first_alike = std::find_if(held.begin(), held.end(), alike);
+    take(first_alike != held.end() ? first_alike->worker : incoming.worker);
+    if (first_alike != held.end()) {
       verified_ += 1;
-      verdict.kind = Verdict::Kind::kTake;
-      verdict.credited = held[0].worker;
-      verdict.passed = {held[0].worker, incoming.worker};
-      return verdict;
+      verdict.passed.push_back(incoming.worker);
     }
-    if (incoming_local) {  // a worker this coordinator started decides at once
-      verdict.kind = Verdict::Kind::kTake;
-      verdict.credited = incoming.worker;
-      verdict.wrong = held[0].worker;
-    }
-    return verdict;  // otherwise a third worker decides
-  }
-  // the third answer decides between two that differ
-  const bool first = same_results(held[0].results, incoming.results);
-  const bool second = same_results(held[1].results, incoming.results);
-  if (!first && !second) {
-    verdict.kind = Verdict::Kind::kThreeWays;
     return verdict;
   }
-  verified_ += 1;
-  verdict.kind = Verdict::Kind::kTake;
-  verdict.credited = incoming.worker;
-  verdict.passed = {first ? held[0].worker : held[1].worker, incoming.worker};
-  verdict.wrong = first ? held[1].worker : held[0].worker;
+  if (std::any_of(held.begin(), held.end(),
+                  [&](const Answer& answer) { return answer.vouched_by() == incoming.vouched_by(); })) {
+    verdict.keep = false;  // rule 1: not a second witness
+    return verdict;
+  }
+  const bool disputed = std::any_of(held.begin(), held.end(), [&](const Answer& answer) { return !alike(answer); });
+  // rule 2: alike, and not both on probation; rule 3: in a dispute, only an answer past probation decides
+  const auto confirms = [&](const Answer& answer) {
+    return alike(answer) && !(answer.probation && incoming.probation);
+  };
+  const auto confirmed = std::find_if(held.begin(), held.end(), confirms);
+  if (confirmed != held.end() && !(disputed && incoming.probation)) {
+    verified_ += 1;
+    // an undisputed answer held is credited; a decider is, where it settles a dispute
+    take(disputed ? incoming.worker : confirmed->worker);
+    verdict.passed.push_back(incoming.worker);
+    return verdict;
+  }
+  if (held.size() + 1 >= 3) verdict.kind = Verdict::Kind::kCoordinator;  // rule 4
   return verdict;
 }
 

@@ -10,8 +10,9 @@ const char* const kWrongByWorkers = "returned results that two other workers did
 
 }  // namespace
 
-Standing WorkerTrust::newcomer(bool local) const {
+Standing WorkerTrust::newcomer(const WorkerId& id, const Witness& witness, bool local) const {
   Standing standing;
+  standing.witness = witness.empty() ? id : witness;
   standing.local = local;
   standing.proven = local;
   return standing;
@@ -63,8 +64,12 @@ JobTrust WorkerTrust::new_job(uint64_t batch, size_t begin, size_t end) const {
 }
 
 Eligibility WorkerTrust::may_take(const JobTrust& job, const WorkerId& id, const Standing& worker) const {
-  if (job.failed.contains(id) || job.answered_by(id)) return Eligibility::kNo;
-  if (!job.answers.empty() && !worker.proven) return Eligibility::kNo;  // a check: one that never answered may sit on it
+  if (job.failed.contains(id) || job.answered_by(worker.witness.empty() ? id : worker.witness)) return Eligibility::kNo;
+  if (!job.answers.empty()) {
+    if (!worker.proven) return Eligibility::kNo;  // a check: one that never answered may sit on it
+    // answers all given on probation, or differing: only a witness past probation may confirm or decide
+    if (on_probation(worker) && Verification::needs_witness_past_probation(job.answers)) return Eligibility::kNo;
+  }
   if (worker.proven || !job.tainted) return Eligibility::kYes;
   // a job a worker not proven failed goes to a worker not proven only when no proven one may take it, and never as
   // a check (the coordinator checks it instead)
@@ -109,15 +114,16 @@ Settlement WorkerTrust::answer(JobTrust& job, const WorkerId& id, Standing& work
     out.results = std::move(results);
     return out;
   }
-  Answer incoming{id, std::move(results)};
+  Answer incoming = answer_of(id, worker, std::move(results));
   Verdict verdict = verification_.judge(job.answers, incoming, worker.local);
   switch (verdict.kind) {
     case Verdict::Kind::kHold:
-      job.answers.push_back(std::move(incoming));
+      if (verdict.keep) job.answers.push_back(std::move(incoming));
       out.kind = Settlement::Kind::kHold;
       return out;
-    case Verdict::Kind::kThreeWays:
-      out.kind = Settlement::Kind::kThreeWays;
+    case Verdict::Kind::kCoordinator:
+      job.answers.push_back(std::move(incoming));
+      out.kind = Settlement::Kind::kCoordinator;
       return out;
     case Verdict::Kind::kTake:
       out.kind = Settlement::Kind::kTake;
@@ -125,11 +131,17 @@ Settlement WorkerTrust::answer(JobTrust& job, const WorkerId& id, Standing& work
       out.checked = true;
       out.results = std::move(incoming.results);
       out.passed = std::move(verdict.passed);
-      if (verdict.wrong) out.wrong.push_back(*verdict.wrong);
+      out.wrong = std::move(verdict.wrong);
       out.why_wrong = kWrongByWorkers;
       return out;
   }
   return out;
+}
+
+Answer WorkerTrust::taken_answer(const WorkerId& id, std::vector<RolloutResult> results) const {
+  const auto witness = credited_.find(id);
+  // taken unchecked, so given past probation; a local worker's or the coordinator's are final, and decide
+  return {id, std::move(results), witness != credited_.end() ? witness->second : id, false};
 }
 
 Settlement WorkerTrust::late_answer(Answer taken, bool taken_final, Answer late, bool late_local) {
@@ -138,16 +150,17 @@ Settlement WorkerTrust::late_answer(Answer taken, bool taken_final, Answer late,
   const Verdict verdict = taken_final ? verification_.judge({late}, taken, /*incoming_local=*/true)
                                       : verification_.judge({taken}, late, late_local);
   Settlement out;
-  if (verdict.kind == Verdict::Kind::kHold) {  // two answers that differ: a third decides
+  out.kind = Settlement::Kind::kStands;
+  if (verdict.kind == Verdict::Kind::kHold && !verdict.keep) return out;  // the taken answer's own witness: no evidence
+  if (verdict.kind != Verdict::Kind::kTake) {  // two answers that differ: another witness decides
     out.kind = Settlement::Kind::kReopen;
     out.reopened = {std::move(taken), std::move(late)};
     return out;
   }
-  out.kind = Settlement::Kind::kStands;  // (three ways cannot come of one answer held)
   out.passed = verdict.passed;
-  if (verdict.wrong) out.wrong.push_back(*verdict.wrong);
+  out.wrong = verdict.wrong;
   out.why_wrong = kWrongByWorkers;
-  if (!verdict.wrong && !taken_final) out.checked_since = taken.worker;  // taken unchecked, checked now
+  if (out.wrong.empty() && !taken_final) out.checked_since = taken.worker;  // taken unchecked, checked now
   return out;
 }
 
@@ -169,8 +182,12 @@ bool WorkerTrust::coordinator_must_check(uint64_t job_id, JobTrust& job, bool qu
   if (job.answers.empty()) return false;  // nothing held to check
   const bool stuck = queued ? !checker_connected : now - newest_lease >= lease;
   if (!stuck) return false;
-  if (!std::exchange(job.to_coordinator, true)) to_coordinator_.push_back(job_id);
+  ask_coordinator(job_id, job);
   return true;
+}
+
+void WorkerTrust::ask_coordinator(uint64_t job_id, JobTrust& job) {
+  if (!std::exchange(job.to_coordinator, true)) to_coordinator_.push_back(job_id);
 }
 
 bool WorkerTrust::forget_answers_of(JobTrust& job, const WorkerId& id) const {

@@ -15,10 +15,12 @@
 //
 // Verification. With verify_fraction > 0, every answer of a worker on probation (not local, and fewer than
 // probation_checks of its answers checked and found right) and a fraction of the other answers of workers that are
-// not local are also computed by a second, different, proven worker, and the results must match bit for bit; on a
-// mismatch a third answer decides (a local worker's, or the coordinator's, decides at once). An answer held for a
-// check is compared with the job's next answer, whoever gives it, and a holder beaten to a job answers late and is
-// compared with the results taken. Which jobs are checked is drawn from verify_secret, the batch and the job's
+// not local are also computed by another witness — a proven worker of another CURVE key (or connection, without
+// CURVE), past probation where the answers held were all given on probation or differ — and the results must match
+// bit for bit; verification.h states the rules of independent witnesses by which answers confirm, refute or wait
+// for the coordinator (a local worker's answer, or the coordinator's, decides at once). An answer held for a check
+// is compared with the job's next answer, and a holder beaten to a job answers late and is compared with the results
+// taken. Which jobs are checked is drawn from verify_secret, the batch and the job's
 // tasks: a worker that does not know the secret cannot tell which of its answers will be checked, so one lying on k
 // answers after probation goes unnoticed with probability (1 - verify_fraction)^k whichever it chooses. The worker
 // found wrong is refused from then on. Unchecked answers of workers that are not local are final only once their
@@ -28,6 +30,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <functional>
+#include <map>
 #include <optional>
 #include <set>
 #include <string>
@@ -63,20 +66,20 @@ enum class Eligibility {
 // back must not become final with this job), then acts on the kind.
 struct Settlement {
   enum class Kind {
-    kTake,       // take `results` from `credited`: final at once (final_now), or held back until the batch is whole
-    kHold,       // the answer is held with the job, which waits for another worker's
-    kStands,     // a late answer: the results taken stand
-    kReopen,     // a late answer differs from the results taken: the tasks go out again holding `reopened`
-    kThreeWays,  // three answers, all different: the workers do not compute alike, and the run stops
+    kTake,         // take `results` from `credited`: final at once (final_now), or held back until the batch is whole
+    kHold,         // the answer is held with the job (or, of a witness held already, dropped): it waits for another's
+    kStands,       // a late answer: the results taken stand
+    kReopen,       // a late answer differs from the results taken: the tasks go out again holding `reopened`
+    kCoordinator,  // three answers held and none confirmed: the coordinator decides (ask_coordinator)
   };
   Kind kind = Kind::kHold;
   WorkerId credited;
   bool final_now = true;
   bool checked = false;  // kTake: another answer was compared with it
   std::vector<RolloutResult> results;
-  std::vector<WorkerId> passed;  // answers found right
-  std::vector<WorkerId> wrong;   // workers found wrong: refused before the results are taken
-  std::string why_wrong;         // what they did, after their name ("returned results that ...")
+  std::vector<WorkerId> passed;           // answers found right
+  std::vector<WorkerId> wrong;            // workers found wrong: refused before the results are taken
+  std::string why_wrong;                  // what they did, after their name ("returned results that ...")
   std::optional<WorkerId> checked_since;  // kStands: its answer, taken unchecked, was compared since
   std::vector<Answer> reopened;
 };
@@ -97,7 +100,9 @@ class WorkerTrust {
 
   // Joining and standing.
   bool refused(const WorkerId& id) const { return ledger_.refused(id); }
-  Standing newcomer(bool local) const;  // a local worker is proven from the start
+  // A worker that said Hello, vouched for by `witness` (its CURVE key; empty: its routing id `id`); a local worker is
+  // proven from the start.
+  Standing newcomer(const WorkerId& id, const Witness& witness, bool local) const;
   Trust level(const Standing& worker) const;
   bool on_probation(const Standing& worker) const { return verification_.on_probation(worker); }
   // Jobs it may hold at once: none when demoted, or not proven with its trial (a job sent, in this batch or an
@@ -133,6 +138,13 @@ class WorkerTrust {
   Settlement answer(JobTrust& job, const WorkerId& id, Standing& worker, std::vector<RolloutResult> results,
                     uint64_t batch);
   Settlement late_answer(Answer taken, bool taken_final, Answer late, bool late_local);
+  // An answer that a worker gives now: its witness and whether on probation, for judging and holding.
+  Answer answer_of(const WorkerId& id, const Standing& worker, std::vector<RolloutResult> results) const {
+    return {id, std::move(results), worker.witness, on_probation(worker)};
+  }
+  // Whose witness an answer taken for this batch's results had (its worker may be gone since): recorded as taken.
+  void credit(const WorkerId& id, const Witness& witness) { credited_[id] = witness; }
+  Answer taken_answer(const WorkerId& id, std::vector<RolloutResult> results) const;
   Settlement coordinator_answer(const JobTrust& job, std::vector<RolloutResult> results);
 
   // The coordinator's own checks: a job holding answers that waits in the queue with no connected worker able to
@@ -141,6 +153,7 @@ class WorkerTrust {
   // true while it does; it is handed over once (take_coordinator_jobs hands the ids over).
   bool coordinator_must_check(uint64_t job_id, JobTrust& job, bool queued, bool checker_connected, Millis newest_lease,
                               Millis now, Millis lease);
+  void ask_coordinator(uint64_t job_id, JobTrust& job);  // at once: three answers held and none confirmed
   std::vector<uint64_t> take_coordinator_jobs() { return std::exchange(to_coordinator_, {}); }
 
   // Refusing: a worker found wrong, or sharing a wrong one's identity, while batch `current` runs (false when it was
@@ -159,10 +172,15 @@ class WorkerTrust {
   std::optional<uint64_t> rollback_asked() const { return ledger_.rollback_asked(); }  // the same, not taken yet
   std::vector<uint64_t> unchecked_since() const { return ledger_.unchecked_since(); }
   void forget_batches_from(uint64_t batch) { ledger_.forget_batches_from(batch); }
-  void start_batch(const std::function<bool(const WorkerId&)>& gone) { ledger_.forget_workers(gone); }
+  void start_batch(const std::function<bool(const WorkerId&)>& gone) {
+    ledger_.forget_workers(gone);
+    credited_.clear();
+  }
   void end_batch() { to_coordinator_.clear(); }
 
-  int64_t verified() const { return verification_.verified(); }  // answers found right by a second worker or the coordinator
+  // Answers found right by a second worker or the coordinator
+
+  int64_t verified() const { return verification_.verified(); }
   int64_t coordinator_checks() const { return verification_.coordinator_checks(); }  // jobs settled by its answer
   int64_t rollbacks() const { return ledger_.rollbacks(); }
   int64_t demoted() const { return demoted_; }
@@ -173,6 +191,7 @@ class WorkerTrust {
   Verification verification_;
   RefusalLedger ledger_;
   std::vector<uint64_t> to_coordinator_;  // jobs handed to the coordinator, not yet taken
+  std::map<WorkerId, Witness> credited_;  // the witness of each worker whose answer this batch took
   int64_t demoted_ = 0;
 };
 

@@ -13,6 +13,7 @@
 #include <span>
 #include <tuple>
 
+#include "dispatch_fixture.h"
 #include "formats/rollout_task_proto.h"
 #include "simulation/envgen/named_courses.h"
 #include "simulation/policy/mlp.h"
@@ -21,79 +22,9 @@
 namespace poet {
 namespace {
 
+using namespace dispatch_fixture;
+
 bool contains(const std::string& text, std::string_view part) { return text.find(part) != std::string::npos; }
-
-std::vector<RolloutTask> batch(size_t n) {
-  RandomStream init(stream_key(3, "dispatcher-test"));
-  auto theta = std::make_shared<const std::vector<double>>(random_params(init));
-  std::vector<RolloutTask> tasks;
-  for (size_t i = 0; i < n; ++i) {
-    RolloutTask t;
-    t.theta = theta;
-    t.env = EnvDef{named_course("flat").value(), static_cast<uint32_t>(i)};
-    t.perturbation = Perturbation{100 + i, i % 2 ? -1 : 1, 0.1};
-    tasks.push_back(t);
-  }
-  return tasks;
-}
-
-wire::Hello hello(uint32_t threads = 1, uint64_t fingerprint = 42) {
-  wire::Hello h;
-  h.set_protocol_version(wire::PROTOCOL_VERSION);
-  h.set_fingerprint_digest(fingerprint);
-  h.set_threads(threads);
-  h.set_name("test");
-  h.set_local_token("local");  // proven from the start, as a local worker: the rules for others are tested below
-  return h;
-}
-
-// A worker's Hello and the Heartbeat that answers its Welcome: from then on it gets jobs.
-void join(Dispatcher& d, const WorkerId& id, const wire::Hello& h, Millis now) {
-  ASSERT_TRUE(d.on_hello(id, h, now).has_welcome());
-  ASSERT_TRUE(d.heard_from(id, now));
-}
-
-// The answer a worker gives to a job: reward = the task's course seed, so results show their task.
-wire::Result answer(const wire::Job& job) {
-  wire::Result r;
-  r.set_job_id(job.job_id());
-  for (const wire::Task& t : job.tasks()) {
-    wire::TaskResult* result = r.add_results();
-    result->set_total_reward(t.env().seed());
-    result->set_steps(10);
-  }
-  return r;
-}
-
-std::vector<Outgoing> jobs_in(const std::vector<Outgoing>& out) {
-  std::vector<Outgoing> jobs;
-  for (const Outgoing& o : out)
-    if (o.message.has_job()) jobs.push_back(o);
-  return jobs;
-}
-
-DispatchSettings settings() {
-  DispatchSettings s;
-  s.heartbeat_ms = 100;
-  s.liveness_ms = 500;
-  s.build.fingerprint_digest = 42;
-  s.local_token = "local";
-  return s;
-}
-
-// Jobs of one task each, however the batch would be cut.
-DispatchSettings one_task_jobs() {
-  DispatchSettings s = settings();
-  s.max_chunk = 1;
-  return s;
-}
-
-// Settings under which every job answered by a worker that is not local is checked by another.
-DispatchSettings checking_every_job() {
-  DispatchSettings s = settings();
-  s.verify_fraction = 1;
-  return s;
-}
 
 // The batch's results in task order: each task's reward is its index (answer()).
 void expect_task_order(const std::vector<RolloutResult>& results) {
@@ -416,25 +347,6 @@ TEST(Dispatcher, NoBackupsWhenTurnedOffOrWhileJobsWait) {
 // ---------------------------------------------------------------------------------------------------------
 // Workers not started by this coordinator earn trust by returning results.
 
-wire::Hello stranger_hello(const std::string& name) {
-  wire::Hello h = hello();
-  h.clear_local_token();
-  h.set_name(name);
-  return h;
-}
-
-// The coordinator's own results for a job it checks: the honest ones (answer()).
-std::vector<RolloutResult> coordinators_results(const Dispatcher::CoordinatorCheck& check) {
-  std::vector<RolloutResult> own;
-  for (const RolloutTask& task : check.tasks) {
-    RolloutResult r;
-    r.total_reward = double(task.env.seed);
-    r.steps = 10;
-    own.push_back(r);
-  }
-  return own;
-}
-
 // Answers every job in `out` given to worker `id`, until the batch is done or nothing more goes out; jobs of the
 // workers in `silent` are kept unanswered; the coordinator's checks are settled at once. The clock advances 10 ms
 // a round.
@@ -576,7 +488,9 @@ wire::Result answer_lying_as(const Outgoing& job, const WorkerId& liar) {
   return r;
 }
 
-TEST(Dispatcher, AWrongWorkerIsFoundByAThirdRunRefusedAndItsResultsRedone) {
+// Three newcomers on probation, one lying: none confirms another's answers (independent witnesses, rule 2), so the
+// coordinator checks the first ones, and the honest two, once past probation, check the rest.
+TEST(Dispatcher, AWrongWorkerIsFoundRefusedAndItsResultsRedone) {
   Dispatcher d(checking_every_job());
   for (const char* id : {"liar", "b", "c"}) join(d, id, stranger_hello(id), 0);
   d.start_batch(batch(30));
@@ -588,6 +502,8 @@ TEST(Dispatcher, AWrongWorkerIsFoundByAThirdRunRefusedAndItsResultsRedone) {
       if (o.message.has_refused()) refused_sent = refused_sent || o.worker == "liar";
       if (o.message.has_job()) d.on_result(o.worker, answer_lying_as(o, "liar"), now);
     }
+    for (const Dispatcher::CoordinatorCheck& check : d.take_coordinator_checks())
+      d.settle_by_coordinator(check.batch_id, check.job_id, coordinators_results(check));
     now += 10;
     for (const WorkerView& w : d.workers()) d.heard_from(w.id, now);
     out = d.outgoing(now);
@@ -607,8 +523,9 @@ TEST(Dispatcher, AWrongWorkerIsFoundByAThirdRunRefusedAndItsResultsRedone) {
   expect_task_order(d.take_results());
 }
 
-// One liar and one honest worker: no third worker can decide, so every mismatch is handed to the coordinator, whose
-// own answer (here the honest one: reward = the task's course seed) refuses the liar; the batch ends right.
+// One liar and one honest worker, both on probation: neither may check the other's answers (rule 2), so each is
+// handed to the coordinator, whose own answer (here the honest one: reward = the task's course seed) refuses the
+// liar; the batch ends right.
 TEST(Dispatcher, WithNoThirdWorkerTheCoordinatorSettlesAMismatchItself) {
   Dispatcher d(checking_every_job());
   for (const char* id : {"liar", "honest"}) join(d, id, stranger_hello(id), 0);
@@ -641,7 +558,7 @@ TEST(Dispatcher, WithNoThirdWorkerTheCoordinatorSettlesAMismatchItself) {
   }
   ASSERT_FALSE(d.failure()) << *d.failure();
   ASSERT_TRUE(d.batch_done()) << "checks waiting: " << d.coordinator_checks_waiting();
-  EXPECT_GE(disputes, 1) << "the liar's answers differ from the honest worker's";
+  EXPECT_EQ(disputes, 0) << "no answer on probation is compared with another on probation";
   EXPECT_GE(d.coordinator_checks(), 1);
   ASSERT_EQ(d.wrong_workers().size(), 1u);
   EXPECT_EQ(d.wrong_workers()[0].name, "liar");
@@ -678,19 +595,22 @@ TEST(Dispatcher, AJobNoOtherWorkerCanCheckIsCheckedByTheCoordinator) {
   expect_task_order(d.take_results());
 }
 
-TEST(Dispatcher, WorkersThatJoinWhileJobsWaitForACheckTakeThem) {
-  Dispatcher d(checking_every_job());
-  join(d, "a", stranger_hello("a"), 0);
-  join(d, "b", stranger_hello("b"), 0);
-  d.start_batch(batch(2));  // one task a job
-  Millis now = 1;
-  for (const Outgoing& o : jobs_in(d.outgoing(now))) d.on_result(o.worker, answer(o.message.job()), now);
-  // a and b checked each other's jobs; a newcomer, not proven, takes what waits for a check
-  join(d, "c", stranger_hello("c"), now);
-  drive(d, d.outgoing(++now), now);
-  ASSERT_TRUE(d.batch_done());
-  EXPECT_EQ(d.verified_jobs(), 2);
-  EXPECT_EQ(d.coordinator_checks(), 0);
+TEST(Dispatcher, WorkersThatJoinWhileJobsWaitForACheckTakeThemWhenPastProbation) {
+  for (const bool past_probation : {false, true}) {
+    Dispatcher d(checking_every_job());
+    join(d, "a", stranger_hello("a"), 0);
+    join(d, "b", stranger_hello("b"), 0);
+    d.start_batch(batch(2));  // one task a job
+    Millis now = 1;
+    for (const Outgoing& o : jobs_in(d.outgoing(now))) d.on_result(o.worker, answer(o.message.job()), now);
+    // a's and b's answers, given on probation, wait for a witness past probation: a local worker is one, a newcomer
+    // is not, and with none the coordinator checks them
+    join(d, "c", past_probation ? hello() : stranger_hello("c"), now);
+    drive(d, d.outgoing(++now), now);
+    ASSERT_TRUE(d.batch_done());
+    EXPECT_EQ(d.verified_jobs(), 2);
+    EXPECT_EQ(d.coordinator_checks(), past_probation ? 0 : 2);
+  }
 }
 
 TEST(Dispatcher, ALocalWorkersAnswersAreNotChecked) {
@@ -970,10 +890,14 @@ TEST(Dispatcher, AWorkerOnProbationHasEveryAnswerCheckedUntilItPassedEnoughCheck
     EXPECT_TRUE(w.proven) << w.id;
     EXPECT_GE(w.checks_passed, 3) << w.id;
   }
-  // each check proves both answers; the probation of two workers takes at most 3 + 3 checks, then none
+  // each check passes at least one answer given on probation, and none is checked twice; after probation nothing
+  // is checked. At first neither is past probation, and answers on probation never confirm each other (rule 2):
+  // the coordinator checks those
+  int64_t probation_answers = 0;
+  for (const WorkerView& w : d.workers()) probation_answers += w.probation_answers;
   EXPECT_GE(d.verified_jobs(), 3);
-  EXPECT_LE(d.verified_jobs(), 6);
-  EXPECT_EQ(d.coordinator_checks(), 0);
+  EXPECT_LE(d.verified_jobs(), probation_answers);
+  EXPECT_GE(d.coordinator_checks(), 1);
   expect_task_order(d.take_results());
   EXPECT_FALSE(d.take_rollback());
 }

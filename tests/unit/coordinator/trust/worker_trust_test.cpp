@@ -23,7 +23,7 @@ Standing proven() {
 
 TEST(WorkerTrust, ANewcomerIsOnTrialUnlessLocalAndHoldsOneJobUntilProvenAndPastProbation) {
   WorkerTrust trust = checking();
-  Standing remote = trust.newcomer(false), local = trust.newcomer(true);
+  Standing remote = trust.newcomer({}, {}, false), local = trust.newcomer({}, {}, true);
   EXPECT_EQ(trust.level(remote), Trust::kTrial);
   EXPECT_EQ(trust.level(local), Trust::kProven);
   EXPECT_EQ(trust.jobs_at_once(remote, false, 2), 1u);
@@ -38,12 +38,12 @@ TEST(WorkerTrust, ANewcomerIsOnTrialUnlessLocalAndHoldsOneJobUntilProvenAndPastP
   EXPECT_EQ(trust.jobs_at_once(remote, false, 2), 2u);
   trust.answered(remote, /*counted=*/true);
   EXPECT_EQ(remote.probation_answers, 1);  // past probation: no longer counted
-  EXPECT_EQ(trust.level(WorkerTrust({0, 0, 5}).newcomer(false)), Trust::kTrial);
+  EXPECT_EQ(trust.level(WorkerTrust({0, 0, 5}).newcomer({}, {}, false)), Trust::kTrial);
 }
 
 TEST(WorkerTrust, AWorkerNotProvenHoldsNothingMoreWhileItsTrialIsUnansweredAndIsDemotedALeaseOn) {
   WorkerTrust trust = checking();
-  Standing fresh = trust.newcomer(false);
+  Standing fresh = trust.newcomer({}, {}, false);
   EXPECT_EQ(trust.jobs_at_once(fresh, /*trial_unanswered=*/true, 2), 0u);
   EXPECT_FALSE(trust.trial_ran_out(fresh, 100, /*holding=*/true, 1000, 500));  // it still holds it: the lease says
   EXPECT_FALSE(trust.trial_ran_out(fresh, 100, false, 599, 500));
@@ -59,7 +59,7 @@ TEST(WorkerTrust, AWorkerNotProvenHoldsNothingMoreWhileItsTrialIsUnansweredAndIs
 TEST(WorkerTrust, ATaintedJobGoesToAWorkerNotProvenOnlyWhenNoProvenOneCanAndNeverAsACheck) {
   WorkerTrust trust = checking();
   JobTrust job;
-  const Standing fresh = trust.newcomer(false);
+  const Standing fresh = trust.newcomer({}, {}, false);
   EXPECT_EQ(trust.may_take(job, "new", fresh), Eligibility::kYes);
   job.tainted = true;
   EXPECT_EQ(trust.may_take(job, "new", fresh), Eligibility::kIfNoProvenCan);
@@ -67,15 +67,42 @@ TEST(WorkerTrust, ATaintedJobGoesToAWorkerNotProvenOnlyWhenNoProvenOneCanAndNeve
   job.failed.insert("old");
   EXPECT_EQ(trust.may_take(job, "old", proven()), Eligibility::kNo);  // not sent to it again
   job.answers.push_back({"other", returns(1)});
-  EXPECT_EQ(trust.may_take(job, "new", fresh), Eligibility::kNo);     // a check: one that never answered may sit on it
+  EXPECT_EQ(trust.may_take(job, "new", fresh), Eligibility::kNo);  // a check: one that never answered may sit on it
   EXPECT_EQ(trust.may_take(job, "other", proven()), Eligibility::kNo);  // its own answer is no check
   EXPECT_EQ(trust.may_take(job, "third", proven()), Eligibility::kYes);
+}
+
+TEST(WorkerTrust, AJobHoldingAnAnswerGoesToAnotherWitnessPastProbationWhereTheRulesAskIt) {
+  WorkerTrust trust = checking();
+  const Standing twin = trust.newcomer("twin", "key-k", false);
+  EXPECT_EQ(twin.witness, "key-k");
+  EXPECT_EQ(trust.newcomer("plain", {}, false).witness, "plain");  // without CURVE, its routing id
+  Standing past = proven();
+  past.witness = "key-k";
+  Standing probation = trust.newcomer("newcomer", {}, false);
+  trust.answered(probation, true);
+  Standing probation2 = trust.newcomer("newcomer2", {}, false);
+  trust.answered(probation2, true);
+  Standing other = proven();
+  JobTrust job;
+  job.answers.push_back(trust.answer_of("first", past, returns(1)));         // key-k's answer, past probation
+  EXPECT_EQ(trust.may_take(job, "second", past), Eligibility::kNo);          // another connection of key-k: no witness
+  EXPECT_EQ(trust.may_take(job, "newcomer", probation), Eligibility::kYes);  // may confirm a proven answer
+  EXPECT_EQ(trust.may_take(job, "other", other), Eligibility::kYes);
+  JobTrust on_probation;
+  on_probation.answers.push_back(trust.answer_of("newcomer", probation, returns(1)));
+  EXPECT_TRUE(on_probation.answers[0].probation);
+  EXPECT_EQ(trust.may_take(on_probation, "newcomer2", probation2), Eligibility::kNo);  // rule 2
+  EXPECT_EQ(trust.may_take(on_probation, "other", other), Eligibility::kYes);
+  job.answers.push_back(trust.answer_of("newcomer", probation, returns(2)));  // a dispute
+  EXPECT_EQ(trust.may_take(job, "newcomer2", probation2), Eligibility::kNo);  // rule 3
+  EXPECT_EQ(trust.may_take(job, "other", other), Eligibility::kYes);
 }
 
 TEST(WorkerTrust, ADeathALeaseRunOutOrAnErrorOfAWorkerNotProvenTaintsTheJobAndCannotStopTheRun) {
   WorkerTrust trust = checking();
   JobTrust job;
-  Standing fresh = trust.newcomer(false);
+  Standing fresh = trust.newcomer({}, {}, false);
   EXPECT_FALSE(trust.death_counts(job, fresh));
   EXPECT_TRUE(job.tainted);
   EXPECT_TRUE(trust.death_counts(job, proven()));
@@ -87,7 +114,7 @@ TEST(WorkerTrust, ADeathALeaseRunOutOrAnErrorOfAWorkerNotProvenTaintsTheJobAndCa
   EXPECT_EQ(trust.demoted(), 1);  // once
 
   JobTrust failing;
-  Standing other = trust.newcomer(false);
+  Standing other = trust.newcomer({}, {}, false);
   EXPECT_EQ(trust.error(failing, "peer", other, 3), ErrorVerdict::kFromUnproven);
   EXPECT_TRUE(other.demoted && failing.refusing.empty());
   Standing a = proven(), b = proven();
@@ -101,7 +128,7 @@ TEST(WorkerTrust, ADeathALeaseRunOutOrAnErrorOfAWorkerNotProvenTaintsTheJobAndCa
 TEST(WorkerTrust, AnAnswerOnProbationIsHeldUntilASecondAgreesAndBothPassACheck) {
   WorkerTrust trust = checking();
   JobTrust job = trust.new_job(1, 0, 1);
-  Standing newcomer = trust.newcomer(false);
+  Standing newcomer = trust.newcomer({}, {}, false);
   trust.answered(newcomer, true);
   Settlement first = trust.answer(job, "new", newcomer, returns(5), 1);
   EXPECT_EQ(first.kind, Settlement::Kind::kHold);
@@ -116,9 +143,9 @@ TEST(WorkerTrust, AnAnswerOnProbationIsHeldUntilASecondAgreesAndBothPassACheck) 
   EXPECT_EQ(trust.verified(), 1);
 }
 
-TEST(WorkerTrust, TwoAnswersThatDifferWaitForAThirdWhichNamesTheWrongOneAndThreeThatDifferStopTheRun) {
+TEST(WorkerTrust, TwoAnswersThatDifferWaitForAThirdWhichNamesTheWrongOneAndThreeThatDifferGoToTheCoordinator) {
   WorkerTrust trust = checking();
-  Standing a = trust.newcomer(false), b = proven(), c = proven(), d = proven();
+  Standing a = trust.newcomer({}, {}, false), b = proven(), c = proven(), d = proven();
   JobTrust job;
   EXPECT_EQ(trust.answer(job, "a", a, returns(1), 1).kind, Settlement::Kind::kHold);
   EXPECT_EQ(trust.answer(job, "b", b, returns(2), 1).kind, Settlement::Kind::kHold);
@@ -130,11 +157,15 @@ TEST(WorkerTrust, TwoAnswersThatDifferWaitForAThirdWhichNamesTheWrongOneAndThree
   JobTrust split;
   trust.answer(split, "a", a, returns(1), 1);
   trust.answer(split, "b", b, returns(2), 1);
-  EXPECT_EQ(trust.answer(split, "d", d, returns(3), 1).kind, Settlement::Kind::kThreeWays);
+  EXPECT_EQ(trust.answer(split, "d", d, returns(3), 1).kind, Settlement::Kind::kCoordinator);
+  EXPECT_EQ(split.answers.size(), 3u);  // all held, for the coordinator to settle
+  trust.ask_coordinator(5, split);
+  trust.ask_coordinator(5, split);
+  EXPECT_EQ(trust.take_coordinator_jobs(), (std::vector<uint64_t>{5}));  // once
 
   JobTrust local_decides;
   trust.answer(local_decides, "a", a, returns(1), 1);
-  Standing local = trust.newcomer(true);
+  Standing local = trust.newcomer({}, {}, true);
   Settlement at_once = trust.answer(local_decides, "local", local, returns(2), 1);
   EXPECT_EQ(at_once.kind, Settlement::Kind::kTake);
   EXPECT_EQ(at_once.credited, "local");
@@ -162,7 +193,7 @@ TEST(WorkerTrust, AnUncheckedAnswerIsHeldBackAndRefusingItsWorkerLaterSendsTheRu
   EXPECT_FALSE(trust.take_rollback());  // once
   EXPECT_EQ(trust.rollbacks(), 1);
 
-  Standing local = trust.newcomer(true);
+  Standing local = trust.newcomer({}, {}, true);
   Settlement from_local = trust.answer(job, "local", local, returns(1), batch);
   EXPECT_TRUE(from_local.final_now);  // a local worker's answer is final at once, never checked
   Standing anyone;
