@@ -3,7 +3,7 @@
 //   poet-coordinator --config FILE --run-dir DIR [--threads N] [--iterations N] [--start-from POLICY]   a new run
 //   poet-coordinator --run-dir DIR --resume [--iterations N]                       continue it (N may extend it)
 //   poet-coordinator --run-dir DIR --resume --from-pack FILE      restore a packed run (poetctl pack) into DIR, go on
-//   ... [--local-workers N] [--listen tcp://HOST:PORT [--curve-keys DIR]] [--status-address HOST:PORT]
+//   ... [--local-workers N] [--listen tcp://HOST:PORT [--curve-keys DIR | --open-port]] [--status-address HOST:PORT]
 //       [--health-address HOST:PORT]
 // The state is checkpointed every checkpoint_interval iterations and at the end. SIGINT/SIGTERM abandon the
 // iteration in flight (within a second) and exit 128 + the signal's number, the last checkpoint being the state; a
@@ -154,8 +154,6 @@ int main(int argc, char** argv) {
                      "--curve-keys, else 0)")
           ->check(CLI::Range(0.0, 1.0));
   app.add_option("--worker-binary", options.worker_binary, "poet-worker for --local-workers (default: beside this)");
-  app.add_option("--worker-arg", options.worker_args, "An argument for every local worker (repeatable)")
-      ->group("");  // for tests: fault switches
   app.add_option("--status-address", options.status_address,
                  "HOST:PORT of the HTTP status socket (port 0: any free port; empty: none)")
       ->capture_default_str();
@@ -170,6 +168,12 @@ int main(int argc, char** argv) {
                  "CURVE authentication: DIR holds coordinator.key(_secret) and authorized/*.key, the workers' public "
                  "keys (made by `poetctl keygen`); workers without an authorised key get no connection")
       ->check(CLI::ExistingDirectory);
+  bool open_port = false;
+  app.add_flag("--open-port", open_port,
+               "Let --listen take workers on an address other than loopback without --curve-keys: anyone who reaches "
+               "the port may join, and verification bounds what one connection can do, not what one party holding "
+               "many can")
+      ->excludes("--curve-keys");
   auto* log_level = app.add_option("--log-level", options.log_level, "trace, debug, info (default), warn, error or off")
                         ->check(CLI::IsMember({"trace", "debug", "info", "warn", "error", "off"}));
   bool verbose = false;
@@ -183,6 +187,19 @@ int main(int argc, char** argv) {
 
   spdlog::set_default_logger(spdlog::stderr_color_mt("poet-coordinator"));
   spdlog::set_level(spdlog::level::from_str(options.log_level));
+  if (!options.listen.empty() && options.curve_keys.empty() && !poet::loopback_endpoint(options.listen)) {
+    if (!open_port) {
+      spdlog::error(
+          "--listen {} without --curve-keys would take workers from anyone who reaches the port, and one party may "
+          "hold many connections there: give --curve-keys DIR (keys made by `poetctl keygen`), listen on loopback, or "
+          "accept an open port with --open-port",
+          options.listen);
+      return poet::kExitUsage;
+    }
+    spdlog::warn("--open-port: anyone who reaches {} may join as a worker; verification bounds what one connection "
+                 "can do, not what one party holding many can",
+                 options.listen);
+  }
   if (!options.resume && options.config_path.empty()) {
     spdlog::error("give --config FILE for a new run, or --resume to continue the run in --run-dir");
     return poet::kExitUsage;

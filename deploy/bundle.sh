@@ -117,7 +117,7 @@ library comes from lib/, found through \$ORIGIN: the directory works wherever it
 
     bin/poet-coordinator --config configs/quick.textproto --run-dir runs/quick \\
         --start-from data/walkers/flat-walker.json --local-workers 2
-    bin/poet-coordinator --config configs/paper.textproto --run-dir runs/paper --listen tcp://0.0.0.0:5555
+    bin/poet-coordinator --config configs/paper.textproto --run-dir runs/paper --listen tcp://0.0.0.0:5555 --open-port
     bin/poet-worker --connect tcp://COORDINATOR-HOST:5555       # on each other machine, from its own copy
 
 Build fingerprint digest: $digest. A worker joins only a coordinator with the same digest

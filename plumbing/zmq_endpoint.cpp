@@ -46,4 +46,13 @@ std::optional<std::string> zmq_endpoint_problem(std::string_view endpoint, Endpo
   return std::nullopt;
 }
 
+bool loopback_endpoint(std::string_view endpoint) {
+  constexpr std::string_view kTcp = "tcp://";
+  if (!endpoint.starts_with(kTcp)) return endpoint.starts_with("ipc://") || endpoint.starts_with("inproc://");
+  const size_t colon = endpoint.rfind(':');
+  if (colon < kTcp.size()) return false;
+  const std::string_view host = endpoint.substr(kTcp.size(), colon - kTcp.size());
+  return host.starts_with("127.") || host == "localhost" || host == "[::1]";
+}
+
 }  // namespace poet

@@ -17,4 +17,8 @@ enum class EndpointUse {
 // Why `endpoint` cannot be used as given, naming it, or nullopt.
 std::optional<std::string> zmq_endpoint_problem(std::string_view endpoint, EndpointUse use);
 
+// Whether only this machine can reach a socket bound to `endpoint`: tcp:// on 127.0.0.0/8, localhost or [::1], or
+// a transport that is not a network's (ipc://, inproc://).
+bool loopback_endpoint(std::string_view endpoint);
+
 }  // namespace poet

@@ -26,7 +26,6 @@ struct DaemonOptions {
   int local_workers = 0;  // worker processes to start and supervise on this machine
   int liveness_ms = wire_timing::kLivenessMs;
   std::string worker_binary;
-  std::vector<std::string> worker_args;                    // passed to every local worker (tests' fault switches)
   std::string status_address = kCoordinatorStatusAddress;  // the HTTP status socket; empty: none
   std::string health_address;                              // the probes' listener (/healthz alone); empty: none
   std::string curve_keys;                                  // CURVE key directory; empty: no authentication

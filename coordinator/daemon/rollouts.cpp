@@ -82,7 +82,7 @@ std::optional<Rollouts> make_rollouts(const DaemonOptions& options, StopSignals&
                  settings.verify_fraction);
   const std::string endpoint = options.listen.empty() ? "tcp://127.0.0.1:*" : options.listen;
   std::optional<CurveServer> curve;
-  std::vector<std::string> worker_args = options.worker_args;
+  std::vector<std::string> worker_args;  // for every local worker
   if (!options.curve_keys.empty()) {
     curve = curve_server(options.curve_keys, options.local_workers > 0);
     if (!curve) return std::nullopt;

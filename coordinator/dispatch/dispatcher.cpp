@@ -159,24 +159,26 @@ void Dispatcher::on_unexpected_result(RegisteredWorker* worker, const wire::Resu
   // a late answer still shows the worker alive and answering when it parses (a new worker beaten at every batch's
   // tail by proven ones would otherwise never be proven, and one whose trial outlived its batch would be demoted)
   worker->trial_since.reset();
-  if (!result.has_error() && result.results_size() > 0 && results_from_wire(result, result.results_size()))
-    trust_.answered(worker->view, /*counted=*/false);
-  if (beaten) compare_late(worker->view.id, beaten->first, beaten->second, result);  // last: it may refuse the worker
+  std::optional<std::vector<RolloutResult>> late;
+  if (!result.has_error() && result.results_size() > 0) late = results_from_wire(result, result.results_size());
+  if (late) trust_.answered(worker->view, /*counted=*/false);
+  if (beaten && late) {  // last: it may refuse the worker
+    compare_late(worker->view.id, beaten->first, beaten->second, std::move(*late));
+  }
 }
 
-void Dispatcher::compare_late(const WorkerId id, size_t begin, size_t end, const wire::Result& result) {
-  if (!trust_.verifies() || !batch_active_ || batch_done() || result.has_error()) return;
+void Dispatcher::compare_late(const WorkerId id, size_t begin, size_t end, std::vector<RolloutResult> late) {
+  if (!trust_.verifies() || !batch_active_ || batch_done() || late.size() != end - begin) return;
   // the results taken must still be one answer's, whole: not redone since, in other jobs
   const WorkerId taken_from = results_.from(begin);
   const bool taken_final = results_.is_final(begin);
   for (size_t t = begin; t < end; ++t)
     if (!results_.has(t) || results_.from(t) != taken_from || results_.is_final(t) != taken_final) return;
-  std::optional<std::vector<RolloutResult>> late = results_from_wire(result, end - begin);
   const RegisteredWorker* worker = workers_.find(id);
-  if (!late || worker == nullptr) return;
+  if (worker == nullptr) return;
   const std::span<const RolloutResult> taken = results_.results(begin, end);
   Settlement settlement = trust_.late_answer(trust_.taken_answer(taken_from, {taken.begin(), taken.end()}), taken_final,
-                                             trust_.answer_of(id, worker->view, std::move(*late)), worker->view.local);
+                                             trust_.answer_of(id, worker->view, std::move(late)), worker->view.local);
   if (settlement.kind == Settlement::Kind::kReopen) {  // two answers that differ: a third decides
     results_.reopen(begin, end);
     OpenJob& job = jobs_.add(begin, end, 0, trust_.new_job(batch_id_, begin, end));
@@ -263,9 +265,11 @@ void Dispatcher::refuse(const WorkerId id, const std::string& why) {
     refused_views_.push_back(std::move(shown));
     if (refused_views_.size() > kMaxRefusedShown) refused_views_.pop_front();
   }
-  // its answers awaiting a check are worth nothing: those jobs wait for answers from others
+  // its answers awaiting a check, and those of its key's other connections (gone ones too), are worth nothing: those
+  // jobs wait for answers from others
+  const Witness witness = worker != nullptr && !worker->view.witness.empty() ? worker->view.witness : id;
   for (auto& [job_id, job] : jobs_.open())
-    if (trust_.forget_answers_of(job.trust, id) && job.leases.empty()) jobs_.enqueue_front(job);
+    if (trust_.forget_answers_of(job.trust, id, witness) && job.leases.empty()) jobs_.enqueue_front(job);
   if (worker != nullptr) {
     Outgoing refusal{id, {}};
     refusal.message.mutable_refused()->set_reason("this worker " + why);
@@ -338,7 +342,6 @@ bool Dispatcher::eligible_checker(const OpenJob& job, const RegisteredWorker& wo
 }
 
 void Dispatcher::check_unanswerable(Millis now) {
-  coordinator_checks_waiting_ = 0;
   if (refusals_seen_) {  // (otherwise no queued job has been refused: none to look at)
     for (const uint64_t id : jobs_.queued()) {
       const OpenJob& job = jobs_.at(id);
@@ -356,8 +359,7 @@ void Dispatcher::check_unanswerable(Millis now) {
     const bool checker = job.queued && std::any_of(connected.begin(), connected.end(), [&](const RegisteredWorker* w) {
                            return eligible_checker(job, *w);
                          });
-    if (trust_.coordinator_must_check(id, job.trust, job.queued, checker, job.newest_lease(), now, lease))
-      coordinator_checks_waiting_ += 1;
+    trust_.coordinator_must_check(id, job.trust, job.queued, checker, job.newest_lease(), now, lease);
   }
 }
 
@@ -366,7 +368,10 @@ std::vector<Dispatcher::CoordinatorCheck> Dispatcher::take_coordinator_checks() 
   for (const uint64_t id : trust_.take_coordinator_jobs()) {
     const OpenJob* job = jobs_.find(id);
     if (!batch_active_ || job == nullptr) continue;
-    out.push_back({batch_id_, id, job->trust.answers.size() > 1,
+    const std::vector<Answer>& held = job->trust.answers;
+    const bool disputed = std::any_of(held.begin(), held.end(),
+                                      [&](const Answer& a) { return !same_results(a.results, held[0].results); });
+    out.push_back({batch_id_, id, disputed,
                    std::vector<RolloutTask>(tasks_.begin() + static_cast<std::ptrdiff_t>(job->begin),
                                             tasks_.begin() + static_cast<std::ptrdiff_t>(job->end))});
   }
@@ -502,16 +507,16 @@ DispatchView Dispatcher::view(Millis now) const {
   v.at = now;
   v.ready_workers = ready_workers();
   v.queue_depth = queue_depth();
-  v.in_flight_jobs = in_flight();
+  v.in_flight_jobs = workers_.jobs_held();
   v.dropped_frames = dropped_;
   v.workers_joined = workers_.joined();
   v.workers_lost = lost_;
   v.backup_jobs = backup_jobs();
   v.leases_expired = jobs_.leases_expired();
   v.workers_demoted = workers_demoted();
-  v.verified_jobs = verified_jobs();
+  v.verified_jobs = trust_.verified();
   v.wrong_workers = static_cast<int64_t>(trust_.refusals().size());
-  v.coordinator_checks = coordinator_checks();
+  v.coordinator_checks = trust_.coordinator_checks();
   v.rollbacks = trust_.rollbacks();
   return v;
 }

@@ -97,7 +97,7 @@ class Dispatcher {
   struct CoordinatorCheck {
     uint64_t batch_id = 0;
     uint64_t job_id = 0;
-    bool disputed = false;  // two answers that differ (otherwise one that no other worker can check)
+    bool disputed = false;  // answers that differ (otherwise answers that no connected witness can check)
     std::vector<RolloutTask> tasks;
   };
   std::vector<CoordinatorCheck> take_coordinator_checks();
@@ -147,20 +147,12 @@ class Dispatcher {
   bool has_worker(const WorkerId& id) const { return workers_.contains(id); }
   size_t ready_workers() const { return workers_.ready(); }  // those that may be sent jobs
   int64_t queue_depth() const { return static_cast<int64_t>(jobs_.queued().size()); }
-  int64_t in_flight() const { return workers_.jobs_held(); }
   std::vector<WorkerView> workers() const;  // connected, in the order they said Hello, each with its trust
   DispatchView view(Millis now) const;      // the workers and every counter below, for the status socket
   // Frames and Hellos refused or dropped, by reason's name (drop_reason.h).
   const std::map<std::string, int64_t>& dropped() const { return dropped_; }
-  int64_t workers_lost() const { return lost_; }           // workers removed for silence or a failed send
   int64_t backup_jobs() const { return jobs_.backups(); }  // jobs sent to a second worker
   int64_t workers_demoted() const { return trust_.demoted(); }
-  // Answers found right by a second worker or the coordinator
-  int64_t verified_jobs() const { return trust_.verified(); }
-  // Jobs whose answer waits for the coordinator's own (no connected worker may check or decide).
-  int64_t coordinator_checks_waiting() const { return coordinator_checks_waiting_; }
-  // Jobs settled by the coordinator's answer
-  int64_t coordinator_checks() const { return trust_.coordinator_checks(); }
   // Workers refused for a wrong result, with their names and why, in order (the log and /metrics read them).
   const std::vector<Refusal>& wrong_workers() const { return trust_.refusals(); }
   // What trust has recorded: the workers refused, by routing id; for each worker that may still be found wrong, the
@@ -200,7 +192,7 @@ class Dispatcher {
   // The answer of a holder beaten to job [begin, end) by another, come while the batch runs: judged against the
   // results taken, as a second answer is (so a newcomer whose trial a proven worker finished first is checked all
   // the same); two that differ send the tasks out again for a third answer to decide.
-  void compare_late(WorkerId id, size_t begin, size_t end, const wire::Result& result);
+  void compare_late(WorkerId id, size_t begin, size_t end, std::vector<RolloutResult> late);
   // Jobs awaiting an answer to check against that no connected worker can give go to the coordinator
   // (take_coordinator_checks); jobs refused by every proven worker connected stop the run.
   void check_unanswerable(Millis now);
@@ -226,7 +218,6 @@ class Dispatcher {
   std::optional<std::string> failure_;
   std::map<std::string, int64_t> dropped_;
   int64_t lost_ = 0;
-  int64_t coordinator_checks_waiting_ = 0;
   std::vector<Outgoing> refusals_;        // Refused messages to send
   std::deque<WorkerView> refused_views_;  // the workers refused, as they were, the latest kMaxRefusedShown
 };

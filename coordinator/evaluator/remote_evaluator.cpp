@@ -337,8 +337,8 @@ void RemoteEvaluator::start_coordinator_checks() {
   for (Dispatcher::CoordinatorCheck& check : dispatcher_.take_coordinator_checks()) {
     if (check.disputed)
       spdlog::warn(
-          "two workers answered job {} differently and no other worker can decide: the coordinator runs "
-          "its {} task(s) itself",
+          "workers answered job {} differently and no other witness can decide: the coordinator runs its {} "
+          "task(s) itself",
           check.job_id, check.tasks.size());
     else
       spdlog::debug("no other worker can check job {}: the coordinator runs its {} task(s) itself", check.job_id,
@@ -362,9 +362,11 @@ void RemoteEvaluator::receive_all(Millis now) {
       frames.push_back(std::move(frame));
     }
     const std::string id = peer.to_string();
-    if (authenticator_ && !frames.empty() && !peer_keys_.contains(id)) {
+    if (authenticator_ && !frames.empty()) {
       try {
-        peer_keys_[id] = frames[0].gets("User-Id");  // the key the ZAP handler admitted this connection with
+        // the key the ZAP handler admitted this connection with, read from every message: a routing id freed by
+        // one connection may be taken by another, of another key
+        peer_keys_[id] = frames[0].gets("User-Id");
       } catch (const zmq::error_t&) {
       }
     }

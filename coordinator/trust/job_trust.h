@@ -15,7 +15,7 @@ struct JobTrust {
   bool chosen = false;          // chosen for a check: an answer from a worker that is not local needs a second
   bool tainted = false;         // a worker not proven failed it: proven workers take it while any is connected
   std::set<WorkerId> failed;    // workers that returned an error or let their lease expire: not sent to them again
-  std::set<WorkerId> refusing;  // proven workers that returned an error for it
+  std::set<Witness> refusing;   // the witnesses of proven workers that returned an error for it (a key counts once)
   std::vector<Answer> answers;  // answers awaiting a check, of distinct witnesses, none confirmed (verification.h)
   bool to_coordinator = false;  // handed to the coordinator to check
 

@@ -12,7 +12,8 @@ const char* const kWrongByWorkers = "returned results that two other workers did
 
 Standing WorkerTrust::newcomer(const WorkerId& id, const Witness& witness, bool local) const {
   Standing standing;
-  standing.witness = witness.empty() ? id : witness;
+  // a local worker decides for the coordinator, whatever key it shares with remote ones
+  standing.witness = witness.empty() || local ? id : witness;
   standing.local = local;
   standing.proven = local;
   return standing;
@@ -95,7 +96,7 @@ ErrorVerdict WorkerTrust::error(JobTrust& job, const WorkerId& id, Standing& wor
     demote(worker);
     return ErrorVerdict::kFromUnproven;
   }
-  job.refusing.insert(id);
+  job.refusing.insert(worker.witness.empty() ? id : worker.witness);
   return refused_by_enough(job, proven_connected) ? ErrorVerdict::kStop : ErrorVerdict::kRetry;
 }
 
@@ -157,7 +158,8 @@ Settlement WorkerTrust::late_answer(Answer taken, bool taken_final, Answer late,
     out.reopened = {std::move(taken), std::move(late)};
     return out;
   }
-  out.passed = verdict.passed;
+  // alike answers of one witness confirm nothing (rule 1), even against final results; one that differs is wrong
+  if (late.vouched_by() != taken.vouched_by()) out.passed = verdict.passed;
   out.wrong = verdict.wrong;
   out.why_wrong = kWrongByWorkers;
   if (out.wrong.empty() && !taken_final) out.checked_since = taken.worker;  // taken unchecked, checked now
@@ -190,9 +192,9 @@ void WorkerTrust::ask_coordinator(uint64_t job_id, JobTrust& job) {
   if (!std::exchange(job.to_coordinator, true)) to_coordinator_.push_back(job_id);
 }
 
-bool WorkerTrust::forget_answers_of(JobTrust& job, const WorkerId& id) const {
+bool WorkerTrust::forget_answers_of(JobTrust& job, const WorkerId& id, const Witness& witness) const {
   const size_t before = job.answers.size();
-  std::erase_if(job.answers, [&](const Answer& a) { return a.worker == id; });
+  std::erase_if(job.answers, [&](const Answer& a) { return a.worker == id || a.vouched_by() == witness; });
   return job.answers.size() != before;
 }
 

@@ -157,12 +157,12 @@ class WorkerTrust {
   std::vector<uint64_t> take_coordinator_jobs() { return std::exchange(to_coordinator_, {}); }
 
   // Refusing: a worker found wrong, or sharing a wrong one's identity, while batch `current` runs (false when it was
-  // refused already). Its answers held with jobs are worth nothing: forget_answers_of drops them from one (true if
-  // it held any).
+  // refused already). Its answers held with jobs are worth nothing, nor are those of its witness (its CURVE key's
+  // other connections): forget_answers_of drops them from one (true if it held any).
   bool refuse(const WorkerId& id, Refusal refusal, uint64_t current) {
     return ledger_.refuse(id, std::move(refusal), current);
   }
-  bool forget_answers_of(JobTrust& job, const WorkerId& id) const;
+  bool forget_answers_of(JobTrust& job, const WorkerId& id, const Witness& witness) const;
 
   // Going back: the first batch to compute again, once a worker was refused after unchecked answers of its became
   // final; for each worker that may still be found wrong, the first batch of such an answer (what the caller must be
@@ -179,7 +179,6 @@ class WorkerTrust {
   void end_batch() { to_coordinator_.clear(); }
 
   // Answers found right by a second worker or the coordinator
-
   int64_t verified() const { return verification_.verified(); }
   int64_t coordinator_checks() const { return verification_.coordinator_checks(); }  // jobs settled by its answer
   int64_t rollbacks() const { return ledger_.rollbacks(); }

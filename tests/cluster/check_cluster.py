@@ -300,6 +300,8 @@ class Run:
         argv = [args.coordinator] + workload + ["--run-dir", self.run_dir, "--quiet", "--listen",
                                                 f"tcp://{listen[0]}:{listen[1]}", "--status-address",
                                                 f"{STATUS[0]}:{STATUS[1]}"]
+        if not relay:
+            argv.append("--open-port")  # the bridge's address, without CURVE
         self.coordinator = processes.start(self.name, cluster.exec_argv("c", argv))
         endpoint = f"tcp://{cluster.address('c')}:{JOB_PORT}"
         self.relay = None

@@ -569,15 +569,20 @@ def check_compose_config(args):
                      f"deploy/run.sh starts from {m.group(1)}, the compose file from "
                      f"{flag_value(c_argv, '--start-from')}")
 
-    # the CURVE file only adds --curve-keys and the keys' mount to each command
+    # the CURVE file only adds --curve-keys and the keys' mount to each command (in place of the coordinator's
+    # --open-port, the plain file's last flag)
     plain, curve = compose_config(base, {}), compose_config(both, {})
     for name in ("coordinator", "worker"):
         a = command_list(plain["services"][name].get("command"))
+        if name == "coordinator":
+            check.expect(a[-1:] == ["--open-port"], f"docker-compose.yml: the coordinator's command does not end "
+                         f"with --open-port, which its job port without CURVE needs:\n    {a}")
+            a = a[:-1]
         b = command_list(curve["services"][name].get("command"))
         keys = flag_value(b, "--curve-keys")
         check.expect(keys is not None and b[:len(a)] == a and b[len(a):] == ["--curve-keys", keys],
                      f"docker-compose.curve.yml: the {name}'s command is not docker-compose.yml's plus "
-                     f"--curve-keys DIR:\n    {a}\n    {b}")
+                     f"--curve-keys DIR (without --open-port):\n    {a}\n    {b}")
         targets = [t for _, t, named in volume_mounts(curve["services"][name]) if not named]
         check.expect(keys in targets, f"docker-compose.curve.yml: the {name} does not mount its keys at {keys}")
     check.finish("compose_config")

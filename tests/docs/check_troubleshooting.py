@@ -277,6 +277,7 @@ def refused_command_lines(args, procs, scratch):
         "no-config-no-resume": ([], {}),
         "from-pack-without-resume": (["--from-pack", os.path.join(scratch, "some.pack")], {}),
         "listen-port-range": (["--config", args.quick, "--listen", "tcp://127.0.0.1:99999"], {}),
+        "open-port": (["--config", args.quick, "--listen", "tcp://0.0.0.0:5555"], {}),
         "curve-keys-missing": (["--config", args.quick, "--curve-keys", keys], {"KEYS": keys}),
     }
     seen = {}

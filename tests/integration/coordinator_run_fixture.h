@@ -42,16 +42,18 @@ class CoordinatorRunTest : public ::testing::Test {
  protected:
   void SetUp() override { std::ofstream(config_) << kConfig; }
 
-  pid_t spawn(const char* binary, std::vector<std::string> args, const std::string& name) {
+  pid_t spawn(const char* binary, std::vector<std::string> args, const std::string& name,
+              const ChildOptions& options = {}) {
     args.insert(args.begin(), binary);
-    return children_.start(std::move(args), root_ / name);
+    return children_.start(std::move(args), root_ / name, options);
   }
 
-  pid_t coordinator(const fs::path& dir, std::vector<std::string> extra, const std::string& name) {
+  pid_t coordinator(const fs::path& dir, std::vector<std::string> extra, const std::string& name,
+                    const ChildOptions& options = {}) {
     std::vector<std::string> args = {"--config",         config_.string(), "--run-dir",     dir.string(), "--quiet",
                                      "--status-address", "127.0.0.1:0",    "--liveness-ms", "1000"};
     args.insert(args.end(), extra.begin(), extra.end());
-    return spawn(POET_COORDINATOR_BIN, args, name);
+    return spawn(POET_COORDINATOR_BIN, args, name, options);
   }
 
   // Waits (at most two minutes) for the process to end; its exit code, or -1 when it did not.

@@ -170,10 +170,12 @@ TEST_F(DistributedRunTest, ACppnRunOnWorkersKilledAndResumedEndsAsOnThreads) {
 }
 
 TEST_F(DistributedRunTest, AJobThatKillsEveryWorkerStopsTheRunNamingTheTask) {
-  const pid_t pid = coordinator(root_ / "P",
-                                {"--local-workers", "2", "--worker-binary", POET_TEST_WORKER_BIN,
-                                 "--worker-arg=--fault", "--worker-arg=crash-on-job"},
-                                "P");
+  // the local workers, poet-test-worker, inherit the coordinator's environment and crash on their first job
+  ChildOptions crashing;
+  crashing.environment = std::vector<std::string>{"POET_TEST_WORKER_FAULT=crash-on-job"};
+  for (char** variable = environ; *variable != nullptr; ++variable) crashing.environment->push_back(*variable);
+  const pid_t pid = coordinator(root_ / "P", {"--local-workers", "2", "--worker-binary", POET_TEST_WORKER_BIN}, "P",
+                                crashing);
   EXPECT_EQ(wait(pid), 1);
   const std::string err = read(root_ / "P.err");
   EXPECT_TRUE(contains(err, "of the batch (course")) << err;

@@ -2,12 +2,16 @@
 // a peer that misbehaves. Its command line is poet-worker's and these:
 //   --fault crash-on-job|ignore-jobs|error-on-job|wrong-results
 //   --lie-after N  --lie-fraction F  --lie-where-predicted-unchecked      (the shape of wrong-results' lies)
+// or, where a coordinator starts it as a local worker (--worker-binary), the environment's
+//   POET_TEST_WORKER_FAULT=F    the same as --fault F, unless --fault is given
 // Everything but the jobs' fate is the production worker's (worker_main), so a test of the coordinator meets the
 // real protocol.
 
 #include <spdlog/spdlog.h>
 
 #include <CLI/CLI.hpp>
+#include <cstdio>
+#include <cstdlib>
 #include <functional>
 #include <map>
 #include <memory>
@@ -50,6 +54,14 @@ void add_fault_options(CLI::App& app, FaultOptions& o) {
 
 int main(int argc, char** argv) {
   static FaultOptions options;
+  if (const char* fault = std::getenv("POET_TEST_WORKER_FAULT"); fault != nullptr && *fault != '\0') {
+    if (!kFaults.contains(fault)) {
+      std::fprintf(stderr, "POET_TEST_WORKER_FAULT=%s: not a fault (crash-on-job, ignore-jobs, error-on-job or "
+                   "wrong-results)\n", fault);
+      return 2;
+    }
+    options.fault = fault;
+  }
   poet::worker::WorkerProgram program;
   program.add_options = [](CLI::App& app) { add_fault_options(app, options); };
   program.make_jobs = [](int threads, std::function<void()> on_finished) -> std::unique_ptr<poet::worker::JobExecutor> {

@@ -53,5 +53,16 @@ TEST(ZmqEndpoint, AConnectedEndpointIsATcpHostAndPortOrAnIpcPath) {
   }
 }
 
+// Only this machine reaches the socket: what --listen may bind without CURVE keys or --open-port.
+TEST(ZmqEndpoint, LoopbackEndpointsAreThoseOnlyThisMachineReaches) {
+  for (const char* endpoint : {"tcp://127.0.0.1:5555", "tcp://127.0.0.1:*", "tcp://127.1.2.3:80", "tcp://localhost:1",
+                               "tcp://[::1]:5555", "ipc:///tmp/poet.sock", "inproc://jobs"})
+    EXPECT_TRUE(loopback_endpoint(endpoint)) << endpoint;
+  for (const char* endpoint : {"tcp://0.0.0.0:5555", "tcp://*:5555", "tcp://10.0.0.1:5555", "tcp://eth0:5555",
+                               "tcp://[::]:5555", "tcp://128.0.0.1:5555", "tcp://localhost.example.org:5555",
+                               "tcp://127.0.0.1"})
+    EXPECT_FALSE(loopback_endpoint(endpoint)) << endpoint;
+}
+
 }  // namespace
 }  // namespace poet

@@ -118,7 +118,7 @@ TEST(Dispatcher, ItsViewHoldsItsWorkersWhenLastHeardAndEveryCounter) {
   EXPECT_EQ(view.workers[0].threads, 3);
   EXPECT_EQ(view.workers[0].last_heard, 1'200);  // a heartbeat 1.3 s before the view
   EXPECT_EQ(view.ready_workers, 2u);
-  EXPECT_EQ(view.in_flight_jobs, d.in_flight());
+  EXPECT_EQ(view.in_flight_jobs, static_cast<int64_t>(sent.size()));  // every job sent is held
   EXPECT_EQ(view.queue_depth, d.queue_depth());
   EXPECT_EQ(view.workers_joined, 2);
   EXPECT_EQ(view.dropped_frames.at("unexpected_result"), 1);
@@ -294,7 +294,7 @@ TEST(Dispatcher, TheFirstHolderToAnswerABackedUpJobWins) {
   d.on_result("a", answer(held_by_a[1]), 1090);
   ASSERT_TRUE(d.batch_done());
   EXPECT_EQ(d.dropped().at("late_result"), 2);  // one from each
-  EXPECT_EQ(d.in_flight(), 0);
+  EXPECT_EQ(d.view(0).in_flight_jobs, 0);
   const std::vector<RolloutResult> results = d.take_results();
   expect_task_order(results);
 }
@@ -513,7 +513,7 @@ TEST(Dispatcher, AWrongWorkerIsFoundRefusedAndItsResultsRedone) {
   EXPECT_TRUE(refused_sent);
   ASSERT_EQ(d.wrong_workers().size(), 1u);
   EXPECT_EQ(d.wrong_workers()[0].name, "liar");
-  EXPECT_GT(d.verified_jobs(), 0);
+  EXPECT_GT(d.view(0).verified_jobs, 0);
   EXPECT_TRUE(d.on_hello("liar", stranger_hello("liar"), now).has_refused()) << "refused from then on";
   // every range is reported final once, at the end, with the right numbers
   std::vector<int> reported(30, 0);
@@ -547,19 +547,19 @@ TEST(Dispatcher, WithNoThirdWorkerTheCoordinatorSettlesAMismatchItself) {
     for (const Dispatcher::CoordinatorCheck& check : taken) {
       disputes += check.disputed ? 1 : 0;
       const std::vector<RolloutResult> own = coordinators_results(check);
-      const int64_t settled = d.coordinator_checks();
+      const int64_t settled = d.view(0).coordinator_checks;
       d.settle_by_coordinator(check.batch_id + 1, check.job_id, own);  // another batch's: ignored
-      EXPECT_EQ(d.coordinator_checks(), settled);
+      EXPECT_EQ(d.view(0).coordinator_checks, settled);
       d.settle_by_coordinator(check.batch_id, check.job_id, own);
-      const int64_t after = d.coordinator_checks();
+      const int64_t after = d.view(0).coordinator_checks;
       d.settle_by_coordinator(check.batch_id, check.job_id, own);  // settled already: ignored
-      EXPECT_EQ(d.coordinator_checks(), after);
+      EXPECT_EQ(d.view(0).coordinator_checks, after);
     }
   }
   ASSERT_FALSE(d.failure()) << *d.failure();
-  ASSERT_TRUE(d.batch_done()) << "checks waiting: " << d.coordinator_checks_waiting();
+  ASSERT_TRUE(d.batch_done()) << "queue " << d.queue_depth();
   EXPECT_EQ(disputes, 0) << "no answer on probation is compared with another on probation";
-  EXPECT_GE(d.coordinator_checks(), 1);
+  EXPECT_GE(d.view(0).coordinator_checks, 1);
   ASSERT_EQ(d.wrong_workers().size(), 1u);
   EXPECT_EQ(d.wrong_workers()[0].name, "liar");
   EXPECT_TRUE(d.on_hello("liar", stranger_hello("liar"), now).has_refused());
@@ -577,8 +577,8 @@ TEST(Dispatcher, ACheckHeldPastItsLeaseGoesToTheCoordinator) {
   for (const Outgoing& o : jobs_in(d.outgoing(now))) d.on_result(o.worker, answer(o.message.job()), now);
   // both are proven now; each answer waits for the other's check, and m answers nothing more
   drive(d, d.outgoing(++now), now, {"m"});
-  ASSERT_TRUE(d.batch_done()) << "checks waiting: " << d.coordinator_checks_waiting();
-  EXPECT_GE(d.coordinator_checks(), 1);
+  ASSERT_TRUE(d.batch_done()) << "queue " << d.queue_depth();
+  EXPECT_GE(d.view(0).coordinator_checks, 1);
   EXPECT_LT(now, 1 + 3 * 1000) << "about one lease";
   expect_task_order(d.take_results());
 }
@@ -590,8 +590,8 @@ TEST(Dispatcher, AJobNoOtherWorkerCanCheckIsCheckedByTheCoordinator) {
   Millis now = 1;
   drive(d, d.outgoing(now), now);
   ASSERT_TRUE(d.batch_done());
-  EXPECT_GT(d.coordinator_checks(), 0);
-  EXPECT_EQ(d.verified_jobs(), d.coordinator_checks());
+  EXPECT_GT(d.view(0).coordinator_checks, 0);
+  EXPECT_EQ(d.view(0).verified_jobs, d.view(0).coordinator_checks);
   expect_task_order(d.take_results());
 }
 
@@ -608,8 +608,8 @@ TEST(Dispatcher, WorkersThatJoinWhileJobsWaitForACheckTakeThemWhenPastProbation)
     join(d, "c", past_probation ? hello() : stranger_hello("c"), now);
     drive(d, d.outgoing(++now), now);
     ASSERT_TRUE(d.batch_done());
-    EXPECT_EQ(d.verified_jobs(), 2);
-    EXPECT_EQ(d.coordinator_checks(), past_probation ? 0 : 2);
+    EXPECT_EQ(d.view(0).verified_jobs, 2);
+    EXPECT_EQ(d.view(0).coordinator_checks, past_probation ? 0 : 2);
   }
 }
 
@@ -664,9 +664,8 @@ TEST(Dispatcher, WhatIsReportedFinalNeverChangesWhateverTheOrderOfAnswersAndALia
       for (const WorkerView& w : d.workers()) d.heard_from(w.id, now);
     }
     ASSERT_FALSE(d.failure()) << "seed " << seed << ": " << *d.failure();
-    ASSERT_TRUE(d.batch_done()) << "seed " << seed << ": queue " << d.queue_depth() << ", in flight " << d.in_flight()
-                                << ", workers " << d.worker_count() << ", held " << held.size() << ", checks "
-                                << d.coordinator_checks_waiting() << ", wrong " << d.wrong_workers().size() << " "
+    ASSERT_TRUE(d.batch_done()) << "seed " << seed << ": queue " << d.queue_depth() << ", in flight " << d.view(0).in_flight_jobs
+                                << ", workers " << d.worker_count() << ", held " << held.size() << ", wrong " << d.wrong_workers().size() << " "
                                 << (d.wrong_workers().empty() ? "" : d.wrong_workers()[0].name);
     for (const auto& [first, end] : d.take_ready_ranges())
       for (size_t t = first; t < end; ++t) reported[t] = d.results(first, end)[t - first].total_reward;
@@ -726,7 +725,7 @@ TEST(Dispatcher, AFailedSendCountsTheWorkerAsLost) {
   join(d, "a", hello(), 0);
   d.lose_worker("a");
   d.lose_worker("a");  // once
-  EXPECT_EQ(d.workers_lost(), 1);
+  EXPECT_EQ(d.view(0).workers_lost, 1);
   EXPECT_EQ(d.worker_count(), 0u);
 }
 
@@ -895,9 +894,9 @@ TEST(Dispatcher, AWorkerOnProbationHasEveryAnswerCheckedUntilItPassedEnoughCheck
   // the coordinator checks those
   int64_t probation_answers = 0;
   for (const WorkerView& w : d.workers()) probation_answers += w.probation_answers;
-  EXPECT_GE(d.verified_jobs(), 3);
-  EXPECT_LE(d.verified_jobs(), probation_answers);
-  EXPECT_GE(d.coordinator_checks(), 1);
+  EXPECT_GE(d.view(0).verified_jobs, 3);
+  EXPECT_LE(d.view(0).verified_jobs, probation_answers);
+  EXPECT_GE(d.view(0).coordinator_checks, 1);
   expect_task_order(d.take_results());
   EXPECT_FALSE(d.take_rollback());
 }

@@ -72,6 +72,33 @@ TEST(WorkerTrust, ATaintedJobGoesToAWorkerNotProvenOnlyWhenNoProvenOneCanAndNeve
   EXPECT_EQ(trust.may_take(job, "third", proven()), Eligibility::kYes);
 }
 
+// One witness counts once wherever connections are counted: in the error rule, against final results, in what a
+// refusal forgets; a local worker is its own witness, whatever key it shares.
+TEST(WorkerTrust, AKeysConnectionsCountOnceAndALocalWorkerIsItsOwnWitness) {
+  WorkerTrust trust = checking();
+  EXPECT_EQ(trust.newcomer("local", "key-k", true).witness, "local");
+  Standing k1 = proven(), k2 = proven(), other = proven();
+  k1.witness = k2.witness = "key-k";
+  JobTrust failing;
+  EXPECT_EQ(trust.error(failing, "k1", k1, 3), ErrorVerdict::kRetry);
+  EXPECT_EQ(trust.error(failing, "k2", k2, 3), ErrorVerdict::kRetry);  // the same key: still one
+  EXPECT_EQ(trust.error(failing, "other", other, 3), ErrorVerdict::kStop);
+
+  Settlement twin = trust.late_answer({"k1", returns(1), "key-k"}, /*taken_final=*/true, {"k2", returns(1), "key-k"},
+                                      false);
+  EXPECT_EQ(twin.kind, Settlement::Kind::kStands);
+  EXPECT_TRUE(twin.passed.empty());  // no check passed by its own key
+  Settlement twin_differs =
+      trust.late_answer({"k1", returns(1), "key-k"}, true, {"k2", returns(2), "key-k"}, false);
+  EXPECT_EQ(twin_differs.wrong, (std::vector<WorkerId>{"k2"}));
+
+  JobTrust held;
+  held.answers = {{"k2", returns(1), "key-k"}, {"other", returns(2)}};
+  EXPECT_TRUE(trust.forget_answers_of(held, "k1", "key-k"));  // k1 refused: its key's answers go too
+  ASSERT_EQ(held.answers.size(), 1u);
+  EXPECT_EQ(held.answers[0].worker, "other");
+}
+
 TEST(WorkerTrust, AJobHoldingAnAnswerGoesToAnotherWitnessPastProbationWhereTheRulesAskIt) {
   WorkerTrust trust = checking();
   const Standing twin = trust.newcomer("twin", "key-k", false);
@@ -243,8 +270,8 @@ TEST(WorkerTrust, TheCoordinatorsOwnAnswerDecidesAndAJobIsHandedToItOnce) {
   trust.coordinator_must_check(8, other, true, false, 0, 0, 1000);
   trust.end_batch();
   EXPECT_TRUE(trust.take_coordinator_jobs().empty());  // a batch's checks end with it
-  EXPECT_TRUE(trust.forget_answers_of(job, "wrong"));
-  EXPECT_FALSE(trust.forget_answers_of(job, "wrong"));
+  EXPECT_TRUE(trust.forget_answers_of(job, "wrong", "wrong"));
+  EXPECT_FALSE(trust.forget_answers_of(job, "wrong", "wrong"));
   EXPECT_EQ(job.answers.size(), 1u);
 }
 
