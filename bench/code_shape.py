@@ -6,7 +6,7 @@ methods, repeated code outside tests, and the dependencies between top-level fol
 
 Functions are measured from universal-ctags' start and end lines; repeated code is the pairs of a `duplicates`
 program when one is on PATH (skipped, saying so, otherwise); a dependency is an include of a header of another
-folder ("text/utf8.h" in coordinator/ is coordinator → text). A folder's level is 0 when it includes no other folder, else one more than the highest it
+folder ("common/text/utf8.h" in coordinator/ is coordinator → text). A folder's level is 0 when it includes no other folder, else one more than the highest it
 includes.
 """
 import collections

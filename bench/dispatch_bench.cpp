@@ -20,12 +20,12 @@
 #include <thread>
 #include <zmq.hpp>
 
+#include "common/formats/build_fingerprint.h"
 #include "coordinator/dispatch/local_workers.h"
 #include "coordinator/evaluator/local_evaluator.h"
 #include "coordinator/evaluator/remote_evaluator.h"
 #include "engine/rollout_batch.h"
 #include "es_step_fixture.h"
-#include "formats/build_fingerprint.h"
 #include "simulation/envgen/named_courses.h"
 #include "simulation/es/optimizer.h"
 #include "simulation/policy/mlp.h"

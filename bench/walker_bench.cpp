@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "formats/policy/policy_file.h"
+#include "common/formats/policy/policy_file.h"
 #include "simulation/envgen/named_courses.h"
 #include "simulation/policy/mlp.h"
 #include "simulation/rng.h"

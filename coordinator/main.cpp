@@ -22,6 +22,10 @@
 #include <string>
 #include <utility>
 
+#include "common/formats/build_fingerprint.h"
+#include "common/formats/tool_flags.h"
+#include "common/plumbing/stop_signals.h"
+#include "common/plumbing/zmq_endpoint.h"
 #include "coordinator/daemon/daemon_options.h"
 #include "coordinator/daemon/descriptor_limit.h"
 #include "coordinator/daemon/rollouts.h"
@@ -29,10 +33,6 @@
 #include "coordinator/daemon/run_opening.h"
 #include "coordinator/evaluator/remote_evaluator.h"
 #include "coordinator/status/status_server.h"
-#include "formats/build_fingerprint.h"
-#include "formats/tool_flags.h"
-#include "plumbing/stop_signals.h"
-#include "plumbing/zmq_endpoint.h"
 #include "run_directory/files/run_pack.h"
 #include "run_directory/files/wall_times.h"
 

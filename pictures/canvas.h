@@ -7,7 +7,7 @@
 #include <functional>
 #include <string>
 
-#include "plumbing/expected.h"
+#include "common/plumbing/expected.h"
 
 namespace poet {
 

@@ -6,8 +6,8 @@
 #include <string>
 #include <vector>
 
+#include "common/plumbing/expected.h"
 #include "pictures/canvas.h"
-#include "plumbing/expected.h"
 #include "simulation/walker/terrain.h"
 
 namespace poet {

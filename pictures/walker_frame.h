@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "plumbing/expected.h"
+#include "common/plumbing/expected.h"
 #include "simulation/walker/terrain.h"
 #include "simulation/walker/walker_env.h"
 

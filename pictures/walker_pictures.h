@@ -5,8 +5,8 @@
 
 #include <string>
 
+#include "common/plumbing/expected.h"
 #include "pictures/canvas.h"
-#include "plumbing/expected.h"
 #include "simulation/rollout.h"
 #include "simulation/walker/terrain.h"
 

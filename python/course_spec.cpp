@@ -3,7 +3,7 @@
 #include <filesystem>
 #include <stdexcept>
 
-#include "formats/envgen/env_json.h"
+#include "common/formats/envgen/env_json.h"
 #include "simulation/envgen/named_courses.h"
 
 namespace poet::python {

@@ -15,8 +15,8 @@
 #include <string>
 #include <vector>
 
-#include "formats/policy/policy_file.h"
-#include "formats/suite_score_json.h"
+#include "common/formats/policy/policy_file.h"
+#include "common/formats/suite_score_json.h"
 #include "pictures/walker_frame.h"
 #include "python/array_args.h"
 #include "python/course_spec.h"

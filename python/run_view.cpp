@@ -2,7 +2,7 @@
 
 #include <stdexcept>
 
-#include "formats/envgen/env_json.h"
+#include "common/formats/envgen/env_json.h"
 #include "run_directory/reading/coverage.h"
 #include "run_directory/reading/report_json.h"
 #include "run_directory/reading/run_metrics.h"

@@ -6,9 +6,9 @@
 #include <sstream>
 #include <string_view>
 
+#include "common/plumbing/text_file.h"
+#include "common/text/csv_fields.h"
 #include "pictures/chart.h"
-#include "plumbing/text_file.h"
-#include "text/csv_fields.h"
 
 namespace poet {
 namespace {

@@ -9,8 +9,8 @@
 #include <string>
 #include <vector>
 
+#include "common/plumbing/expected.h"
 #include "pictures/canvas.h"
-#include "plumbing/expected.h"
 
 namespace poet {
 
@@ -32,7 +32,8 @@ struct LearningCurve {
 // may end in "\r\n" and the text may begin with a UTF-8 byte-order mark, as spreadsheet programs save CSV.
 Expected<LearningCurve> parse_learning_curve(const std::string& text, const std::string& source);
 
-// The curve in the file at path: a regular file of at most 64 MB (plumbing/text_file.h), else an error naming it.
+// The curve in the file at path: a regular file of at most 64 MB (common/plumbing/text_file.h), else an error naming
+// it.
 Expected<LearningCurve> read_learning_curve(const std::string& path);
 
 // The first point that is solved: finished with a score of at least solved_score.

@@ -1,7 +1,7 @@
 #pragma once
 // A pair's episode as the pictures and the dashboard's replay show it.
 
-#include "plumbing/expected.h"
+#include "common/plumbing/expected.h"
 #include "run_directory/reading/run_snapshot.h"
 #include "simulation/rollout.h"
 

@@ -5,7 +5,7 @@
 #include <string>
 #include <vector>
 
-#include "plumbing/expected.h"
+#include "common/plumbing/expected.h"
 #include "run_directory/reading/run_metrics.h"
 #include "run_directory/reading/run_snapshot.h"
 

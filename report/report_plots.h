@@ -11,8 +11,8 @@
 #include <string>
 #include <vector>
 
+#include "common/plumbing/expected.h"
 #include "pictures/canvas.h"
-#include "plumbing/expected.h"
 #include "run_directory/reading/run_metrics.h"
 #include "run_directory/reading/run_snapshot.h"
 

@@ -7,10 +7,10 @@
 #include <optional>
 #include <vector>
 
+#include "common/text/text_format.h"
 #include "engine/engine.h"
 #include "run_directory/reading/goal_switching.h"
 #include "run_directory/reading/report_json.h"
-#include "text/text_format.h"
 
 namespace poet {
 namespace {

@@ -15,9 +15,9 @@
 #include <string>
 #include <vector>
 
+#include "common/formats/tool_flags.h"
+#include "common/plumbing/text_file.h"
 #include "engine/lineage.h"
-#include "formats/tool_flags.h"
-#include "plumbing/text_file.h"
 #include "report/report_plots.h"
 #include "run_directory/reading/run_metrics.h"
 #include "run_directory/reading/run_snapshot.h"

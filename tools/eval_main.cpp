@@ -11,13 +11,13 @@
 #include <thread>
 #include <vector>
 
-#include "formats/course_sweep_json.h"
-#include "formats/envgen/env_json.h"
-#include "formats/policy/policy_file.h"
-#include "formats/suite_score_json.h"
-#include "formats/suite_score_table.h"
-#include "formats/tool_flags.h"
-#include "plumbing/text_file.h"
+#include "common/formats/course_sweep_json.h"
+#include "common/formats/envgen/env_json.h"
+#include "common/formats/policy/policy_file.h"
+#include "common/formats/suite_score_json.h"
+#include "common/formats/suite_score_table.h"
+#include "common/formats/tool_flags.h"
+#include "common/plumbing/text_file.h"
 #include "run_directory/reading/run_snapshot.h"
 #include "run_directory/reading/run_suite.h"
 #include "simulation/envgen/named_courses.h"

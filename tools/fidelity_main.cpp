@@ -12,8 +12,8 @@
 #include <string>
 #include <thread>
 
-#include "formats/policy/policy_file.h"
-#include "formats/tool_flags.h"
+#include "common/formats/policy/policy_file.h"
+#include "common/formats/tool_flags.h"
 #include "simulation/course_statistics.h"
 #include "simulation/course_sweep.h"
 #include "simulation/envgen/named_courses.h"

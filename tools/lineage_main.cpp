@@ -12,9 +12,9 @@
 #include <cstdio>
 #include <iostream>
 
+#include "common/formats/envgen/env_proto.h"
+#include "common/formats/tool_flags.h"
 #include "engine/lineage.h"
-#include "formats/envgen/env_proto.h"
-#include "formats/tool_flags.h"
 #include "run_directory/config/run_config.h"
 #include "run_directory/reading/run_snapshot.h"
 

@@ -1,5 +1,5 @@
 #pragma once
-// poetctl keygen: a CURVE key pair from libzmq's generator for --curve-keys, written with plumbing/curve_keys
+// poetctl keygen: a CURVE key pair from libzmq's generator for --curve-keys, written with common/plumbing/curve_keys
 // without replacing any key; no socket involved.
 
 #include <filesystem>

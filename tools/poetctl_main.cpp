@@ -19,10 +19,10 @@
 #include <optional>
 #include <string>
 
-#include "formats/tool_flags.h"
-#include "plumbing/status_defaults.h"
+#include "common/formats/tool_flags.h"
+#include "common/plumbing/status_defaults.h"
+#include "common/text/utf8.h"
 #include "status.pb.h"
-#include "text/utf8.h"
 #include "tools/poetctl_exit.h"
 #include "tools/poetctl_keygen.h"
 #include "tools/poetctl_pack.h"

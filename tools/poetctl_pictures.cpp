@@ -4,11 +4,11 @@
 #include <cctype>
 #include <cstdio>
 
-#include "formats/tool_flags.h"
+#include "common/formats/tool_flags.h"
+#include "common/text/utf8.h"
 #include "pictures/canvas.h"
 #include "report/run_pictures.h"
 #include "run_directory/reading/run_snapshot.h"
-#include "text/utf8.h"
 #include "tools/poetctl_exit.h"
 
 namespace poet {

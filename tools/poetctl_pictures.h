@@ -6,7 +6,7 @@
 #include <string>
 #include <string_view>
 
-#include "plumbing/expected.h"
+#include "common/plumbing/expected.h"
 #include "report/picture_request.h"
 #include "tools/status_client/status_request.h"
 

@@ -11,10 +11,10 @@
 #include <string>
 #include <vector>
 
+#include "common/formats/tool_flags.h"
+#include "common/plumbing/expected.h"
+#include "common/plumbing/text_file.h"
 #include "coordinator/status/status_reference.h"
-#include "formats/tool_flags.h"
-#include "plumbing/expected.h"
-#include "plumbing/text_file.h"
 #include "run_directory/config/config_reference.h"
 
 namespace {

@@ -18,10 +18,10 @@
 #include <optional>
 #include <thread>
 
-#include "formats/envgen/env_json.h"
-#include "formats/tool_flags.h"
+#include "common/formats/envgen/env_json.h"
+#include "common/formats/tool_flags.h"
+#include "common/plumbing/text_file.h"
 #include "pictures/canvas.h"
-#include "plumbing/text_file.h"
 #include "report/report_plot_files.h"
 #include "report/report_tables.h"
 #include "run_directory/reading/coverage.h"

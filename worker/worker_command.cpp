@@ -18,12 +18,12 @@
 #include <string>
 #include <thread>
 
-#include "formats/build_fingerprint.h"
-#include "formats/tool_flags.h"
-#include "plumbing/curve_keys.h"
-#include "plumbing/local_token.h"
-#include "plumbing/stop_signals.h"
-#include "plumbing/zmq_endpoint.h"
+#include "common/formats/build_fingerprint.h"
+#include "common/formats/tool_flags.h"
+#include "common/plumbing/curve_keys.h"
+#include "common/plumbing/local_token.h"
+#include "common/plumbing/stop_signals.h"
+#include "common/plumbing/zmq_endpoint.h"
 #include "worker/job_runner.h"
 #include "worker/worker_loop.h"
 

@@ -12,13 +12,13 @@
 #include <optional>
 #include <string>
 
-#include "plumbing/wake_pipe.h"
+#include "common/plumbing/wake_pipe.h"
 #include "worker/job_executor.h"
 #include "worker/worker_session.h"
 
 namespace poet::worker {
 
-// CURVE keys of a worker (plumbing/curve_keys.h): its own pair and the coordinator's public key, all Z85.
+// CURVE keys of a worker (common/plumbing/curve_keys.h): its own pair and the coordinator's public key, all Z85.
 struct CurveClient {
   std::string server_public_key;
   std::string public_key;

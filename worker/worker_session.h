@@ -29,8 +29,8 @@
 #include <string_view>
 #include <vector>
 
-#include "formats/rollout_task_proto.h"
-#include "plumbing/wire_timing.h"
+#include "common/formats/rollout_task_proto.h"
+#include "common/plumbing/wire_timing.h"
 #include "wire.pb.h"
 #include "worker/job_executor.h"
 

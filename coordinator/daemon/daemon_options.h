@@ -8,8 +8,8 @@
 #include <thread>
 #include <vector>
 
-#include "plumbing/status_defaults.h"
-#include "plumbing/wire_timing.h"
+#include "common/plumbing/status_defaults.h"
+#include "common/plumbing/wire_timing.h"
 
 namespace poet {
 

@@ -10,10 +10,10 @@
 #include <thread>
 #include <utility>
 
+#include "common/formats/build_fingerprint.h"
+#include "common/plumbing/curve_keys.h"
+#include "common/plumbing/local_token.h"
 #include "coordinator/evaluator/local_evaluator.h"
-#include "formats/build_fingerprint.h"
-#include "plumbing/curve_keys.h"
-#include "plumbing/local_token.h"
 #include "run_directory/files/run_directory.h"
 
 namespace poet {
@@ -23,7 +23,7 @@ namespace {
 // second worker unless --verify-fraction says otherwise (the cost is about this fraction of the rollouts).
 constexpr double kListenVerifyFraction = 0.05;
 
-// The job socket's CURVE keys from DIR (plumbing/curve_keys.h), checked before anything listens; local workers
+// The job socket's CURVE keys from DIR (common/plumbing/curve_keys.h), checked before anything listens; local workers
 // use DIR's worker key, so it must be there and authorised too.
 std::optional<CurveServer> curve_server(const std::filesystem::path& dir, bool local_workers) {
   Expected<CurveKeyPair> keys = read_key_pair(dir, "coordinator");

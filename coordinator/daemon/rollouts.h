@@ -8,12 +8,12 @@
 #include <string>
 #include <vector>
 
+#include "common/plumbing/stop_signals.h"
 #include "coordinator/daemon/daemon_options.h"
 #include "coordinator/dispatch/local_workers.h"
 #include "coordinator/evaluator/remote_evaluator.h"
 #include "coordinator/status/status_board.h"
 #include "engine/evaluator.h"
-#include "plumbing/stop_signals.h"
 
 namespace poet {
 

@@ -8,17 +8,17 @@
 #include <variant>
 #include <vector>
 
+#include "common/formats/tool_flags.h"
+#include "common/plumbing/text_file.h"
+#include "common/text/event_text.h"
 #include "coordinator/console/progress_display.h"
 #include "coordinator/evaluator/caching_evaluator.h"
 #include "coordinator/evaluator/timed_evaluator.h"
 #include "engine/engine.h"
-#include "formats/tool_flags.h"
-#include "plumbing/text_file.h"
 #include "run_directory/files/checkpoint_anchors.h"
 #include "run_directory/files/checkpoint_file.h"
 #include "run_directory/files/event_json.h"
 #include "run_directory/files/phase_timer.h"
-#include "text/event_text.h"
 
 namespace poet {
 namespace {

@@ -7,11 +7,11 @@
 #include <chrono>
 #include <utility>
 
+#include "common/plumbing/stop_signals.h"
 #include "coordinator/daemon/daemon_options.h"
 #include "coordinator/status/status_board.h"
 #include "engine/evaluator.h"
 #include "engine/run_state.h"
-#include "plumbing/stop_signals.h"
 #include "run_directory/files/run_directory.h"
 #include "run_directory/files/wall_times.h"
 

@@ -6,8 +6,8 @@
 #include <string>
 #include <vector>
 
+#include "common/formats/policy/policy_file.h"
 #include "engine/engine.h"
-#include "formats/policy/policy_file.h"
 #include "run_directory/config/run_config.h"
 #include "run_directory/files/checkpoint_file.h"
 

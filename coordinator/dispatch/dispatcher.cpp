@@ -2,9 +2,9 @@
 
 #include <algorithm>
 
+#include "common/formats/rollout_task_proto.h"
+#include "common/text/text_format.h"
 #include "coordinator/dispatch/hello_check.h"
-#include "formats/rollout_task_proto.h"
-#include "text/text_format.h"
 
 namespace poet {
 

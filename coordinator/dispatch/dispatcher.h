@@ -38,6 +38,7 @@
 #include <utility>
 #include <vector>
 
+#include "common/plumbing/wire_timing.h"
 #include "coordinator/dispatch/batch_results.h"
 #include "coordinator/dispatch/dispatch_view.h"
 #include "coordinator/dispatch/drop_reason.h"
@@ -47,7 +48,6 @@
 #include "coordinator/dispatch/outgoing.h"
 #include "coordinator/dispatch/worker_registry.h"
 #include "coordinator/trust/worker_trust.h"
-#include "plumbing/wire_timing.h"
 #include "simulation/rollout_task.h"
 #include "wire.pb.h"
 

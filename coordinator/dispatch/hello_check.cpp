@@ -5,7 +5,7 @@
 #include <utility>
 #include <vector>
 
-#include "text/text_format.h"
+#include "common/text/text_format.h"
 
 namespace poet {
 

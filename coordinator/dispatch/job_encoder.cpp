@@ -1,6 +1,6 @@
 #include "coordinator/dispatch/job_encoder.h"
 
-#include "formats/rollout_task_proto.h"
+#include "common/formats/rollout_task_proto.h"
 
 namespace poet {
 

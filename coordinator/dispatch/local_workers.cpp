@@ -10,7 +10,7 @@
 #include <filesystem>
 #include <string_view>
 
-#include "plumbing/local_token.h"
+#include "common/plumbing/local_token.h"
 
 extern char** environ;
 

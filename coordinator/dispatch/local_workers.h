@@ -14,14 +14,14 @@
 #include <thread>
 #include <vector>
 
-#include "plumbing/expected.h"
+#include "common/plumbing/expected.h"
 
 namespace poet {
 
 class LocalWorkers {
  public:
   // Starts `count` workers of `binary` connecting to endpoint, each with `threads` threads and `token` in its
-  // environment (plumbing/local_token.h). extra_args go to every worker (tests pass fault switches this way).
+  // environment (common/plumbing/local_token.h). extra_args go to every worker (tests pass fault switches this way).
   static Expected<std::unique_ptr<LocalWorkers>> start(const std::string& binary, const std::string& endpoint,
                                                        int count, int threads, const std::string& token,
                                                        std::vector<std::string> extra_args = {});

@@ -4,7 +4,7 @@
 #include <string>
 #include <utility>
 
-#include "formats/rollout_task_proto.h"
+#include "common/formats/rollout_task_proto.h"
 
 namespace poet {
 

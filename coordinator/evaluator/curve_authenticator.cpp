@@ -7,8 +7,8 @@
 #include <sstream>
 #include <vector>
 
-#include "plumbing/curve_keys.h"
-#include "plumbing/text_file.h"
+#include "common/plumbing/curve_keys.h"
+#include "common/plumbing/text_file.h"
 #include "run_directory/files/run_directory.h"
 
 namespace poet {

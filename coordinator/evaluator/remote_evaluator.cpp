@@ -8,10 +8,10 @@
 #include <utility>
 #include <zmq.hpp>
 
+#include "common/plumbing/zmq_endpoint.h"
+#include "common/text/text_format.h"
 #include "coordinator/evaluator/curve_authenticator.h"
-#include "plumbing/zmq_endpoint.h"
 #include "simulation/rollout_task.h"
-#include "text/text_format.h"
 
 namespace poet {
 namespace {

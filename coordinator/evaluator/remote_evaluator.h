@@ -19,11 +19,11 @@
 #include <unordered_map>
 #include <vector>
 
+#include "common/plumbing/expected.h"
+#include "common/plumbing/wake_pipe.h"
 #include "coordinator/dispatch/dispatcher.h"
 #include "coordinator/evaluator/log_throttle.h"
 #include "engine/evaluator.h"
-#include "plumbing/expected.h"
-#include "plumbing/wake_pipe.h"
 
 namespace zmq {
 class context_t;
@@ -36,7 +36,7 @@ namespace poet {
 class CurveAuthenticator;
 
 // CURVE on the job socket: the coordinator's secret key, and the key directory whose authorized/*.key are the
-// workers it accepts (plumbing/curve_keys.h).
+// workers it accepts (common/plumbing/curve_keys.h).
 struct CurveServer {
   std::string secret_key;  // Z85
   std::filesystem::path key_dir;
@@ -46,10 +46,9 @@ struct CurveServer {
 
 class RemoteEvaluator final : public Evaluator {
  public:
-  // Binds endpoint ("tcp://0.0.0.0:5555"; "tcp://127.0.0.1:*" picks a free port; plumbing/zmq_endpoint.h says which
-  // are refused before ZeroMQ sees them) and starts the socket thread.
-  // A stop request on `stop` abandons a batch in flight (EvaluationStopped). With `curve`, only workers holding an
-  // authorised key can connect.
+  // Binds endpoint ("tcp://0.0.0.0:5555"; "tcp://127.0.0.1:*" picks a free port; common/plumbing/zmq_endpoint.h says
+  // which are refused before ZeroMQ sees them) and starts the socket thread. A stop request on `stop` abandons a batch
+  // in flight (EvaluationStopped). With `curve`, only workers holding an authorised key can connect.
   static Expected<std::unique_ptr<RemoteEvaluator>> bind(const std::string& endpoint, DispatchSettings settings,
                                                          std::stop_token stop,
                                                          std::optional<CurveServer> curve = std::nullopt);

@@ -12,7 +12,7 @@
 #include <string>
 #include <string_view>
 
-#include "plumbing/expected.h"
+#include "common/plumbing/expected.h"
 #include "report/picture_request.h"
 #include "run_directory/reading/run_snapshot.h"
 

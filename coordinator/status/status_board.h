@@ -19,11 +19,11 @@
 #include <string>
 #include <string_view>
 
+#include "common/plumbing/expected.h"
+#include "common/plumbing/status_defaults.h"
 #include "coordinator/status/board_view.h"
 #include "coordinator/status/run_picture_cache.h"
 #include "engine/run_state.h"
-#include "plumbing/expected.h"
-#include "plumbing/status_defaults.h"
 #include "run_directory/reading/pair_stats_log.h"
 #include "status.pb.h"
 

@@ -2,8 +2,8 @@
 
 #include <google/protobuf/util/json_util.h>
 
+#include "common/text/utf8.h"
 #include "status.pb.h"
-#include "text/utf8.h"
 
 namespace poet {
 

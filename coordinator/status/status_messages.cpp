@@ -5,12 +5,12 @@
 #include <algorithm>
 #include <unordered_map>
 
+#include "common/formats/envgen/env_proto.h"
+#include "common/text/text_format.h"
+#include "common/text/utf8.h"
 #include "coordinator/status/status_board.h"
-#include "formats/envgen/env_proto.h"
 #include "run_directory/reading/events_log.h"
 #include "simulation/envgen/env_distance.h"
-#include "text/text_format.h"
-#include "text/utf8.h"
 
 namespace poet {
 namespace {

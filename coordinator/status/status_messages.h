@@ -9,8 +9,8 @@
 #include <string>
 #include <vector>
 
+#include "common/plumbing/expected.h"
 #include "coordinator/status/board_view.h"
-#include "plumbing/expected.h"
 #include "run_directory/reading/pair_stats_log.h"
 #include "status.pb.h"
 

@@ -12,10 +12,10 @@
 #include <stdexcept>
 #include <vector>
 
+#include "common/plumbing/text_file.h"
 #include "coordinator/status/metric_families.h"
 #include "coordinator/status/run_picture_cache.h"
 #include "coordinator/status/status_server.h"
-#include "plumbing/text_file.h"
 #include "proto/schema_comments.h"
 #include "status.pb.h"
 

@@ -11,8 +11,8 @@
 #include <string>
 #include <string_view>
 
+#include "common/plumbing/expected.h"
 #include "coordinator/status/status_route_table.h"
-#include "plumbing/expected.h"
 
 namespace poet {
 

@@ -7,9 +7,9 @@
 #include <optional>
 #include <string_view>
 
+#include "common/text/utf8.h"
 #include "coordinator/status/dashboard.h"
 #include "coordinator/status/status_json.h"
-#include "text/utf8.h"
 
 namespace poet {
 namespace {

@@ -14,8 +14,8 @@
 #include <mutex>
 #include <unordered_map>
 
+#include "common/text/utf8.h"
 #include "coordinator/status/status_routes.h"
-#include "text/utf8.h"
 
 namespace poet {
 namespace {

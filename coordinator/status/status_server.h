@@ -25,11 +25,11 @@
 #include <memory>
 #include <string>
 
+#include "common/plumbing/expected.h"
+#include "common/plumbing/host_port.h"
+#include "common/plumbing/status_defaults.h"
 #include "coordinator/status/connection_shedder.h"
 #include "coordinator/status/status_board.h"
-#include "plumbing/expected.h"
-#include "plumbing/host_port.h"
-#include "plumbing/status_defaults.h"
 
 namespace poet {
 

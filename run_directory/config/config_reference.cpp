@@ -11,14 +11,14 @@
 #include <string_view>
 #include <vector>
 
-#include "formats/envgen/env_proto.h"
-#include "plumbing/text_file.h"
+#include "common/formats/envgen/env_proto.h"
+#include "common/plumbing/text_file.h"
+#include "common/text/text_format.h"
 #include "proto/schema_comments.h"
 #include "run_directory/config/config_rules.h"
 #include "run_directory/config/run_config.h"
 #include "simulation/envgen/cppn_genome.h"
 #include "simulation/envgen/env_encoding.h"
-#include "text/text_format.h"
 
 namespace poet {
 namespace {
@@ -432,8 +432,8 @@ Expected<std::string> environments_intro() {
          "either, and `<interval>` for any interval gene of the encoding (" +
          interval_genes() +
          "). `env_def_from_proto` "
-         "(`formats/envgen/env_proto.h`) checks a target as it checks an environment read from a file; the bounds "
-         "shown are its limits, which are data (`simulation/envgen/env_encoding.h`, "
+         "(`common/formats/envgen/env_proto.h`) checks a target as it checks an environment read from a file; the "
+         "bounds shown are its limits, which are data (`simulation/envgen/env_encoding.h`, "
          "`simulation/envgen/cppn_genome.h`). Its other rules are the encoding's own, in "
          "`validate()` of `simulation/envgen/env_encoding.h`: counts and widths (`stump_width`, `stump_float`, "
          "`stair_width`, `stair_steps`) are whole numbers with lo < hi; a type's intervals are all given or none; "

@@ -8,7 +8,7 @@
 #include <filesystem>
 #include <string>
 
-#include "plumbing/expected.h"
+#include "common/plumbing/expected.h"
 
 namespace poet {
 

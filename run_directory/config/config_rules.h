@@ -20,7 +20,7 @@ struct ConfigRule {
 
 // Every rule of validate(), recorded over a config of each mode, in the order the checks run (the schema's);
 // a rule recorded in several modes appears once, with those modes. Excludes the fields inside an environment
-// target (es_alone.target, direct_path.target): env_def_from_proto checks those (formats/envgen/env_proto.h),
+// target (es_alone.target, direct_path.target): env_def_from_proto checks those (common/formats/envgen/env_proto.h),
 // and the target's own rule says so.
 std::vector<ConfigRule> config_rules();
 

@@ -14,10 +14,10 @@
 #include <utility>
 #include <vector>
 
-#include "formats/envgen/env_proto.h"
-#include "plumbing/text_file.h"
+#include "common/formats/envgen/env_proto.h"
+#include "common/plumbing/text_file.h"
+#include "common/text/text_format.h"
 #include "run_directory/config/config_rules.h"
-#include "text/text_format.h"
 
 namespace poet {
 namespace {

@@ -8,8 +8,8 @@
 #include <string>
 #include <string_view>
 
+#include "common/plumbing/expected.h"
 #include "engine/run_settings.h"
-#include "plumbing/expected.h"
 #include "poet.pb.h"
 
 namespace poet {

@@ -8,12 +8,12 @@
 #include <utility>
 #include <vector>
 
+#include "common/formats/build_fingerprint.h"
+#include "common/formats/envgen/env_proto.h"
+#include "common/text/text_format.h"
 #include "engine/state_consistency.h"
-#include "formats/build_fingerprint.h"
-#include "formats/envgen/env_proto.h"
 #include "run_directory/config/run_config.h"
 #include "simulation/policy/mlp.h"
-#include "text/text_format.h"
 
 namespace poet {
 namespace {

@@ -8,8 +8,8 @@
 #include <optional>
 #include <string>
 
+#include "common/plumbing/expected.h"
 #include "engine/run_state.h"
-#include "plumbing/expected.h"
 #include "poet.pb.h"
 
 namespace poet {

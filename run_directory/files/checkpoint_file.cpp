@@ -3,10 +3,10 @@
 #include <google/protobuf/io/coded_stream.h>
 #include <google/protobuf/io/zero_copy_stream_impl_lite.h>
 
-#include "plumbing/text_file.h"
+#include "common/plumbing/text_file.h"
+#include "common/text/text_format.h"
 #include "run_directory/files/crc32.h"
 #include "run_directory/files/little_endian.h"
-#include "text/text_format.h"
 
 namespace poet {
 

@@ -13,7 +13,7 @@
 #include <string>
 #include <string_view>
 
-#include "plumbing/expected.h"
+#include "common/plumbing/expected.h"
 #include "poet.pb.h"
 
 namespace poet {

@@ -11,15 +11,15 @@
 #include <system_error>
 #include <tuple>
 
-#include "formats/envgen/env_json.h"
-#include "formats/policy/policy_file.h"
-#include "plumbing/text_file.h"
+#include "common/formats/envgen/env_json.h"
+#include "common/formats/policy/policy_file.h"
+#include "common/plumbing/text_file.h"
+#include "common/text/text_format.h"
 #include "run_directory/config/run_config.h"
 #include "run_directory/files/annecs_log.h"
 #include "run_directory/files/checkpoint.h"
 #include "run_directory/files/crc32.h"
 #include "run_directory/files/event_json.h"
-#include "text/text_format.h"
 
 namespace poet {
 namespace {

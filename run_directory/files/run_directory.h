@@ -33,10 +33,10 @@
 #include <utility>
 #include <vector>
 
+#include "common/plumbing/expected.h"
+#include "common/plumbing/unique_fd.h"
 #include "engine/iteration_report.h"
 #include "engine/run_state.h"
-#include "plumbing/expected.h"
-#include "plumbing/unique_fd.h"
 #include "poet.pb.h"
 #include "run_directory/files/checkpoint.h"
 #include "run_directory/files/checkpoint_file.h"

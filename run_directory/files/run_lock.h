@@ -6,7 +6,7 @@
 
 #include <filesystem>
 
-#include "plumbing/expected.h"
+#include "common/plumbing/expected.h"
 
 namespace poet {
 

@@ -9,9 +9,9 @@
 #include <optional>
 #include <system_error>
 
+#include "common/plumbing/curve_keys.h"
+#include "common/plumbing/text_file.h"
 #include "engine/run_state.h"
-#include "plumbing/curve_keys.h"
-#include "plumbing/text_file.h"
 #include "run_directory/files/checkpoint.h"
 #include "run_directory/files/checkpoint_file.h"
 #include "run_directory/files/crc32.h"

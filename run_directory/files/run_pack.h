@@ -23,7 +23,7 @@
 #include <string_view>
 #include <vector>
 
-#include "plumbing/expected.h"
+#include "common/plumbing/expected.h"
 #include "run_directory/files/checkpoint.h"
 
 namespace poet {

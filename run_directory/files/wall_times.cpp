@@ -12,7 +12,7 @@
 #include <system_error>
 #include <vector>
 
-#include "plumbing/text_file.h"
+#include "common/plumbing/text_file.h"
 
 namespace poet {
 namespace {

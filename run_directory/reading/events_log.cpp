@@ -2,7 +2,7 @@
 
 #include <fstream>
 
-#include "plumbing/text_file.h"
+#include "common/plumbing/text_file.h"
 #include "run_directory/reading/log_lines.h"
 
 namespace poet {

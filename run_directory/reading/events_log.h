@@ -10,7 +10,7 @@
 #include <string_view>
 #include <vector>
 
-#include "plumbing/expected.h"
+#include "common/plumbing/expected.h"
 
 namespace poet {
 

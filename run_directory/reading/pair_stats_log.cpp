@@ -5,8 +5,8 @@
 #include <optional>
 #include <utility>
 
+#include "common/text/csv_fields.h"
 #include "run_directory/reading/log_lines.h"
-#include "text/csv_fields.h"
 
 namespace poet {
 

@@ -10,8 +10,8 @@
 #include <string_view>
 #include <vector>
 
+#include "common/plumbing/expected.h"
 #include "engine/lineage.h"
-#include "plumbing/expected.h"
 
 namespace poet {
 

@@ -5,7 +5,7 @@
 #include <map>
 #include <tuple>
 
-#include "formats/envgen/env_proto.h"
+#include "common/formats/envgen/env_proto.h"
 #include "run_directory/reading/event_fields.h"
 
 namespace poet {

@@ -2,7 +2,7 @@
 
 #include <optional>
 
-#include "plumbing/text_file.h"
+#include "common/plumbing/text_file.h"
 #include "run_directory/config/run_config.h"
 #include "run_directory/files/checkpoint.h"
 #include "run_directory/files/checkpoint_file.h"

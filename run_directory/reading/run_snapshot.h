@@ -10,9 +10,9 @@
 #include <string>
 #include <vector>
 
+#include "common/plumbing/expected.h"
+#include "common/plumbing/text_file.h"  // is_inside: the analysis tools write nothing in the run directory
 #include "engine/run_state.h"
-#include "plumbing/expected.h"
-#include "plumbing/text_file.h"  // is_inside: the analysis tools write nothing in the run directory
 #include "poet.pb.h"
 #include "run_directory/files/wall_times.h"
 #include "run_directory/reading/pair_stats_log.h"

@@ -4,8 +4,8 @@
 #include <map>
 #include <tuple>
 
-#include "formats/suite_score_json.h"
-#include "formats/suite_score_table.h"
+#include "common/formats/suite_score_json.h"
+#include "common/formats/suite_score_table.h"
 
 namespace poet {
 namespace {

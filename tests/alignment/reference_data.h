@@ -9,7 +9,7 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
-#include "formats/policy/policy_file.h"
+#include "common/formats/policy/policy_file.h"
 
 namespace poet::alignment {
 

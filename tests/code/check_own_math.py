@@ -15,7 +15,7 @@ import os
 import re
 import sys
 
-FOLDERS = ["simulation", "engine", "formats", "run_directory", "coordinator", "worker", "third_party/box2d"]
+FOLDERS = ["simulation", "engine", "common/formats", "run_directory", "coordinator", "worker", "third_party/box2d"]
 FUNCTIONS = ("exp", "exp2", "expm1", "log", "log2", "log10", "log1p", "pow", "sin", "cos", "tan", "sincos", "asin",
              "acos", "atan", "atan2", "sinh", "cosh", "tanh", "asinh", "acosh", "atanh", "hypot", "cbrt", "erf",
              "erfc", "lgamma", "tgamma")

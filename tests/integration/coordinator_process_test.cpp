@@ -18,7 +18,7 @@
 #include <vector>
 
 #include "child_process.h"
-#include "formats/policy/policy_file.h"
+#include "common/formats/policy/policy_file.h"
 #include "run_directory/files/checkpoint_file.h"
 #include "run_directory/files/run_pack.h"
 #include "scratch_dir.h"

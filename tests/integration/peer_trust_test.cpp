@@ -15,8 +15,8 @@
 #include <vector>
 #include <zmq.hpp>
 
+#include "common/formats/build_fingerprint.h"
 #include "coordinator_run_fixture.h"
-#include "formats/build_fingerprint.h"
 #include "rogue_peer.h"
 #include "status.pb.h"
 #include "tools/status_client/status_request.h"

@@ -12,7 +12,7 @@
 #include <string>
 #include <zmq.hpp>
 
-#include "formats/build_fingerprint.h"
+#include "common/formats/build_fingerprint.h"
 #include "loopback_port.h"
 #include "wire.pb.h"
 

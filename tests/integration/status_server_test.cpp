@@ -25,9 +25,9 @@
 #include <vector>
 
 #include "child_process.h"
+#include "common/formats/build_fingerprint.h"
 #include "coordinator/status/status_board.h"
 #include "engine/run_state.h"
-#include "formats/build_fingerprint.h"
 #include "loopback_port.h"
 #include "poetctl_child.h"
 #include "raw_client.h"

@@ -11,8 +11,8 @@
 #include <optional>
 #include <string>
 
-#include "plumbing/expected.h"
-#include "plumbing/host_port.h"
+#include "common/plumbing/expected.h"
+#include "common/plumbing/host_port.h"
 
 namespace poet {
 

@@ -9,9 +9,9 @@
 #include <string>
 #include <vector>
 
-#include "text/event_text.h"
-#include "text/text_format.h"
-#include "text/utf8.h"
+#include "common/text/event_text.h"
+#include "common/text/text_format.h"
+#include "common/text/utf8.h"
 
 namespace poet {
 namespace {

@@ -1,12 +1,12 @@
 #pragma once
 // The status socket's answers printed for people on stdout, as poetctl shows them: tables with columns sized
 // to their widest cell and numbers right-aligned, one line per event. The server's strings are printed with their
-// control characters written out (text/utf8.h's printable_text): they cannot drive the terminal.
+// control characters written out (common/text/utf8.h's printable_text): they cannot drive the terminal.
 
 #include <google/protobuf/struct.pb.h>
 
+#include "common/text/event_text.h"
 #include "status.pb.h"
-#include "text/event_text.h"
 
 namespace poet {
 

@@ -3,7 +3,7 @@
 
 #include <gtest/gtest.h>
 
-#include "formats/policy/policy_file.h"
+#include "common/formats/policy/policy_file.h"
 #include "simulation/envgen/named_courses.h"
 #include "simulation/rollout_task.h"
 

@@ -10,7 +10,7 @@
 #include <nlohmann/json.hpp>
 #include <optional>
 
-#include "formats/policy/policy_file.h"
+#include "common/formats/policy/policy_file.h"
 #include "simulation/rollout.h"
 #include "simulation/suite/course_suite.h"
 #include "walker_manifest.h"

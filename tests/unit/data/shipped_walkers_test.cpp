@@ -8,8 +8,8 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 
-#include "formats/envgen/env_json.h"
-#include "formats/policy/policy_file.h"
+#include "common/formats/envgen/env_json.h"
+#include "common/formats/policy/policy_file.h"
 #include "simulation/envgen/env_distance.h"
 #include "simulation/rollout_task.h"
 #include "walker_manifest.h"

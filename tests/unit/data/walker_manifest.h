@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "formats/policy/policy_file.h"
+#include "common/formats/policy/policy_file.h"
 
 namespace poet::test {
 

@@ -5,10 +5,10 @@
 
 #include <cmath>
 
+#include "common/formats/envgen/env_proto.h"
 #include "engine/curriculum.h"
 #include "engine/state_consistency.h"
 #include "engine_test_support.h"
-#include "formats/envgen/env_proto.h"
 #include "scripted_evaluator.h"
 #include "simulation/es/perturbation.h"
 

@@ -11,11 +11,11 @@
 #include <string>
 #include <vector>
 
+#include "common/formats/build_fingerprint.h"
 #include "coordinator/evaluator/caching_evaluator.h"
 #include "coordinator/evaluator/local_evaluator.h"
 #include "engine/engine.h"
 #include "engine_test_support.h"
-#include "formats/build_fingerprint.h"
 #include "run_directory/files/checkpoint.h"
 #include "run_directory/files/checkpoint_file.h"
 #include "simulation/arithmetic_probe.h"

@@ -9,8 +9,8 @@
 #include <map>
 #include <string>
 
+#include "common/formats/envgen/env_proto.h"
 #include "engine_test_support.h"
-#include "formats/envgen/env_proto.h"
 #include "run_directory/files/checkpoint.h"
 #include "run_directory/files/checkpoint_file.h"
 #include "scripted_evaluator.h"

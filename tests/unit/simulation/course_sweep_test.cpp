@@ -4,7 +4,7 @@
 
 #include <gtest/gtest.h>
 
-#include "formats/policy/policy_file.h"
+#include "common/formats/policy/policy_file.h"
 #include "simulation/envgen/named_courses.h"
 #include "simulation/policy/mlp.h"
 

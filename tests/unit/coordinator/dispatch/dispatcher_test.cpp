@@ -13,8 +13,8 @@
 #include <span>
 #include <tuple>
 
+#include "common/formats/rollout_task_proto.h"
 #include "dispatch_fixture.h"
-#include "formats/rollout_task_proto.h"
 #include "simulation/envgen/named_courses.h"
 #include "simulation/policy/mlp.h"
 #include "simulation/rng.h"

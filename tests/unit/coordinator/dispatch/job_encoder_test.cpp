@@ -8,7 +8,7 @@
 #include <set>
 #include <vector>
 
-#include "formats/rollout_task_proto.h"
+#include "common/formats/rollout_task_proto.h"
 #include "simulation/envgen/named_courses.h"
 
 namespace poet {

@@ -18,10 +18,10 @@
 #include <thread>
 
 #include "../../engine/engine_test_support.h"
+#include "common/text/utf8.h"
 #include "coordinator/status/status_json.h"
 #include "run_directory/files/run_directory.h"
 #include "scratch_dir.h"
-#include "text/utf8.h"
 
 namespace poet {
 namespace {

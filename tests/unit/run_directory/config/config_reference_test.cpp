@@ -18,12 +18,12 @@
 #include <utility>
 #include <vector>
 
-#include "formats/envgen/env_proto.h"
+#include "common/formats/envgen/env_proto.h"
+#include "common/text/text_format.h"
 #include "poet.pb.h"
 #include "run_directory/config/config_rules.h"
 #include "run_directory/config/run_config.h"
 #include "scratch_dir.h"
-#include "text/text_format.h"
 
 namespace poet {
 namespace {

@@ -22,7 +22,7 @@
 #include <utility>
 #include <vector>
 
-#include "formats/envgen/env_proto.h"
+#include "common/formats/envgen/env_proto.h"
 #include "scratch_dir.h"
 
 namespace poet {

@@ -13,7 +13,7 @@
 #include <string>
 #include <vector>
 
-#include "formats/envgen/env_proto.h"
+#include "common/formats/envgen/env_proto.h"
 #include "run_directory/config/run_config.h"
 #include "simulation/policy/mlp.h"
 #include "simulation/rng.h"

@@ -17,8 +17,8 @@
 #include <string>
 #include <vector>
 
-#include "formats/envgen/env_json.h"
-#include "formats/policy/policy_file.h"
+#include "common/formats/envgen/env_json.h"
+#include "common/formats/policy/policy_file.h"
 #include "run_directory/config/run_config.h"
 #include "run_directory/files/annecs_log.h"
 #include "run_directory/files/checkpoint.h"

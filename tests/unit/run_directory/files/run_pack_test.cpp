@@ -17,10 +17,10 @@
 #include <vector>
 
 #include "../../engine/engine_test_support.h"
+#include "common/formats/build_fingerprint.h"
+#include "common/plumbing/text_file.h"
 #include "coordinator/evaluator/local_evaluator.h"
 #include "engine/engine.h"
-#include "formats/build_fingerprint.h"
-#include "plumbing/text_file.h"
 #include "run_directory/files/checkpoint_file.h"
 #include "run_directory/files/run_directory.h"
 #include "run_directory/files/wall_times.h"

@@ -2,7 +2,7 @@
 
 #include <gtest/gtest.h>
 
-#include "formats/envgen/env_proto.h"
+#include "common/formats/envgen/env_proto.h"
 
 namespace poet {
 namespace {

@@ -6,7 +6,7 @@
 
 #include <gtest/gtest.h>
 
-#include "formats/policy/policy_file.h"
+#include "common/formats/policy/policy_file.h"
 
 namespace poet {
 namespace {

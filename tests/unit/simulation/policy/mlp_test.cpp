@@ -13,7 +13,7 @@
 #include <string>
 #include <vector>
 
-#include "formats/policy/policy_file.h"
+#include "common/formats/policy/policy_file.h"
 #include "simulation/rng.h"
 
 namespace poet {

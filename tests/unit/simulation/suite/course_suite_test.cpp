@@ -9,7 +9,7 @@
 #include <bit>
 #include <cmath>
 
-#include "formats/policy/policy_file.h"
+#include "common/formats/policy/policy_file.h"
 #include "simulation/envgen/env_distance.h"
 #include "simulation/policy/mlp.h"
 #include "simulation/rng.h"

@@ -1,5 +1,5 @@
 // Tests tools/status_client/status_tables.cpp's event_view: an /events entry becomes the same line shape as
-// the coordinator's log (text/event_text), its fields sorted by name and whole numbers written out in full.
+// the coordinator's log (common/text/event_text), its fields sorted by name and whole numbers written out in full.
 
 #include "tools/status_client/status_tables.h"
 
