@@ -1,4 +1,4 @@
-#include "run_directory/config/config_reference.h"
+#include "tools/reference/config_reference.h"
 
 #include <google/protobuf/descriptor.h>
 #include <google/protobuf/message.h>

@@ -1,4 +1,4 @@
-#include "coordinator/status/status_reference.h"
+#include "tools/reference/status_reference.h"
 
 #include <google/protobuf/dynamic_message.h>
 #include <google/protobuf/util/json_util.h>

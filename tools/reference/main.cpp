@@ -14,8 +14,8 @@
 #include "common/formats/tool_flags.h"
 #include "common/plumbing/expected.h"
 #include "common/plumbing/text_file.h"
-#include "coordinator/status/status_reference.h"
-#include "run_directory/config/config_reference.h"
+#include "tools/reference/status_reference.h"
+#include "tools/reference/config_reference.h"
 
 namespace {
 

@@ -1,11 +1,11 @@
-// Tests coordinator/status/status_reference.cpp and the committed pages it writes: every route of the table, every
+// Tests tools/reference/status_reference.cpp and the committed pages it writes: every route of the table, every
 // field of every answer message (and of the messages they hold) and every declared metric with its type, labels
 // and HELP are on docs/reference/http.md and docs/reference/metrics.md; each route's example answer is one of its
 // answers (JSON parsed strictly into its message with every field protobuf prints, the episode with the writer's
 // keys, /metrics lines of declared families, a 200 of the route's content type). (tests/docs/
 // check_reference_pages.py checks the pages are the generator's output, with a diff.)
 
-#include "coordinator/status/status_reference.h"
+#include "tools/reference/status_reference.h"
 
 #include <google/protobuf/descriptor.h>
 #include <gtest/gtest.h>
