@@ -25,14 +25,10 @@ done
 scratch=$(mktemp -d)
 trap 'rm -rf "$scratch"' EXIT
 
-load_before=$(cut -d' ' -f1-3 /proc/loadavg)
-for ((round = 1; round <= rounds; round++)); do
-  for program in walker_bench walker_bench_libm; do
-    "$build/bench/$program" --benchmark_filter='BM_(Walker)?Rollout(Set)?/' --benchmark_min_time=2 --benchmark_format=json \
-      >"$scratch/$program-$round.json"
-  done
-done
-load_after=$(cut -d' ' -f1-3 /proc/loadavg)
+source "$(dirname "$0")/alternate.sh"
+alternate_rounds "$rounds" "$scratch" "walker_bench=$build/bench/walker_bench" \
+  "walker_bench_libm=$build/bench/walker_bench_libm" -- '--benchmark_filter=BM_(Walker)?Rollout(Set)?/' \
+  --benchmark_min_time=2
 
 python3 - "$scratch" "$rounds" "$load_before" "$load_after" <<'PY'
 import json, statistics, sys

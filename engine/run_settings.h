@@ -38,7 +38,8 @@ struct EpisodeSettings {
   std::optional<Difficulty> random_courses;
 };
 
-// The POET loop (spec §3); the fields of the schema's PoetConfig.
+// The POET loop (spec §3); the fields of the schema's PoetConfig, every one set from it (run_directory/config): no
+// defaults of its own, the schema's (proto/poet.proto) are the only ones.
 struct PoetSettings {
   int mutation_interval = 0;
   int transfer_interval = 0;
@@ -50,15 +51,15 @@ struct PoetSettings {
   int active_cap = 0;
   int novelty_k = 0;
   bool novelty_normalized = false;  // ENCODING_DISTANCE only
-  NoveltyMeasure novelty = NoveltyMeasure::kEncodingDistance;
-  ChildRanking child_ranking = ChildRanking::kNovelty;
-  ProposalKind admission_proposal = ProposalKind::kSgd;
-  ProposalKind transfer_proposal = ProposalKind::kAdam;
+  NoveltyMeasure novelty{};
+  ChildRanking child_ranking{};
+  ProposalKind admission_proposal{};
+  ProposalKind transfer_proposal{};
   double solved_score = 0;
   bool keep_admission_selection = false;
-  TransferTest transfer_test = TransferTest::kFull;
-  EnvironmentKind environments = EnvironmentKind::kObstacleCourses;
-  ReproductionAgent reproduction_agent = ReproductionAgent::kCurrentTheta;
+  TransferTest transfer_test{};
+  EnvironmentKind environments{};
+  ReproductionAgent reproduction_agent{};
   bool confirm_transfers = false;  // stochastic courses: the best candidate must beat θ again on fresh courses
   MutationOptions mutation;
 

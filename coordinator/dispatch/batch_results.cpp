@@ -46,6 +46,29 @@ std::vector<BatchResults::Range> BatchResults::withdraw(const WorkerId& from) {
   return ranges;
 }
 
+std::vector<BatchResults::Range> BatchResults::missing(size_t first, size_t end, size_t most) const {
+  std::vector<Range> out;
+  for (size_t t = first; t < end;) {
+    if (have_[t]) {
+      ++t;
+      continue;
+    }
+    size_t stop = t + 1;
+    while (stop < end && stop - t < most && !have_[stop]) ++stop;
+    out.emplace_back(t, stop);
+    t = stop;
+  }
+  return out;
+}
+
+std::optional<BatchResults::Answer> BatchResults::one_answer(size_t first, size_t end) const {
+  if (first >= end || !have_[first]) return std::nullopt;
+  const Answer answer{from_[first], final_[first]};
+  for (size_t t = first; t < end; ++t)
+    if (!have_[t] || from_[t] != answer.from || final_[t] != answer.final) return std::nullopt;
+  return answer;
+}
+
 void BatchResults::reopen(size_t first, size_t end) {
   for (size_t t = first; t < end; ++t)
     if (have_[t] && !final_[t]) unset(t);
@@ -57,7 +80,7 @@ void BatchResults::unset(size_t task) {
   remaining_ += 1;
 }
 
-std::vector<BatchResults::Range> BatchResults::take_ready_ranges(bool whole) {
+std::vector<BatchResults::Ready> BatchResults::take_ready(bool whole) {
   if (whole) {  // what was held back for a check is final now
     for (size_t t = 0; t < final_.size(); ++t) {
       if (final_[t]) continue;
@@ -67,7 +90,12 @@ std::vector<BatchResults::Range> BatchResults::take_ready_ranges(bool whole) {
       t = end - 1;
     }
   }
-  return std::exchange(ready_, {});
+  std::vector<Ready> out;
+  for (const auto& [first, end] : std::exchange(ready_, {}))
+    out.push_back(
+        {first,
+         {results_.begin() + static_cast<std::ptrdiff_t>(first), results_.begin() + static_cast<std::ptrdiff_t>(end)}});
+  return out;
 }
 
 std::vector<RolloutResult> BatchResults::take() {

@@ -4,6 +4,7 @@
 // if that worker is found wrong first, its results not yet final are withdrawn and the tasks computed again.
 
 #include <cstddef>
+#include <optional>
 #include <span>
 #include <utility>
 #include <vector>
@@ -28,11 +29,23 @@ class BatchResults {
   // Who answered a task (empty: no result), and whether its result is final.
   const WorkerId& from(size_t task) const { return from_[task]; }
   bool is_final(size_t task) const { return final_[task]; }
+  // The tasks of [first, end) without a result, as ranges of at most `most` tasks, in order.
+  std::vector<Range> missing(size_t first, size_t end, size_t most) const;
+  // Whose answer the results of tasks [first, end) are, and whether final, when they are one answer's, whole.
+  struct Answer {
+    WorkerId from;
+    bool final = false;
+  };
+  std::optional<Answer> one_answer(size_t first, size_t end) const;
   // Tasks [first, end), each with a result not final, are without one again: their answer is disputed.
   void reopen(size_t first, size_t end);
-  // The ranges that became final since the last call; with `whole` (the batch is done), every result held back
-  // becomes final first.
-  std::vector<Range> take_ready_ranges(bool whole);
+  // The results that became final since the last call, each range's first task and its results; with `whole` (the
+  // batch is done), every result held back becomes final first.
+  struct Ready {
+    size_t first = 0;
+    std::vector<RolloutResult> results;
+  };
+  std::vector<Ready> take_ready(bool whole);
   std::span<const RolloutResult> results(size_t first, size_t end) const {
     return std::span<const RolloutResult>(results_).subspan(first, end - first);
   }

@@ -13,8 +13,8 @@
 
 namespace poet {
 
-// A connected worker as the status socket shows it: its standing (trust's) and what the dispatcher knows of it.
-struct WorkerView : Standing {
+// What the dispatcher knows of a connected worker: what its Hello said, and what it did since.
+struct WorkerFacts {
   WorkerId id;       // any bytes: shown as is when printable ASCII, else as hex
   std::string name;  // the name it gave (host and pid)
   int threads = 0;
@@ -23,8 +23,12 @@ struct WorkerView : Standing {
   int64_t jobs_done = 0;
   int64_t results_done = 0;
   Millis last_heard = 0;
+};
+
+// A connected worker as the status socket shows it: its standing (the referee's) and what the dispatcher knows of it.
+struct WorkerView : Standing, WorkerFacts {
   size_t jobs_held = 0;
-  Trust trust = Trust::kTrial;  // filled by Dispatcher::view and workers()
+  Trust trust = Trust::kTrial;
 };
 
 inline constexpr size_t kMaxRefusedShown = 64;

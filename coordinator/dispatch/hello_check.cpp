@@ -69,14 +69,14 @@ std::optional<HelloRefusal> hello_refusal(const wire::Hello& hello, const HelloE
   return std::nullopt;
 }
 
-WorkerView view_of_hello(const WorkerId& id, const wire::Hello& hello) {
-  WorkerView view;
-  view.id = id;
-  view.name = hello.name().substr(0, 200);
-  view.threads = static_cast<int>(std::clamp<uint32_t>(hello.threads(), 1, 4096));
-  view.fingerprint_digest = hello.fingerprint_digest();
-  view.arithmetic_digest = hello.arithmetic_digest();
-  return view;
+WorkerFacts facts_of_hello(const WorkerId& id, const wire::Hello& hello) {
+  WorkerFacts facts;
+  facts.id = id;
+  facts.name = hello.name().substr(0, 200);
+  facts.threads = static_cast<int>(std::clamp<uint32_t>(hello.threads(), 1, 4096));
+  facts.fingerprint_digest = hello.fingerprint_digest();
+  facts.arithmetic_digest = hello.arithmetic_digest();
+  return facts;
 }
 
 }  // namespace poet

@@ -1,6 +1,6 @@
 #pragma once
 // What a Hello says before its worker is registered: why it is refused (another protocol version, a machine that
-// computes differently, another build), and the worker's view as it introduced itself (its name cut to 200 bytes,
+// computes differently, another build), and the facts of the worker as it introduced itself (its name cut to 200 bytes,
 // its threads within 1 to 4,096).
 
 #include <cstdint>
@@ -27,6 +27,6 @@ struct HelloExpectation {
 };
 
 std::optional<HelloRefusal> hello_refusal(const wire::Hello& hello, const HelloExpectation& expected);
-WorkerView view_of_hello(const WorkerId& id, const wire::Hello& hello);
+WorkerFacts facts_of_hello(const WorkerId& id, const wire::Hello& hello);
 
 }  // namespace poet

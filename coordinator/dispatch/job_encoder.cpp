@@ -1,6 +1,7 @@
 #include "coordinator/dispatch/job_encoder.h"
 
 #include "common/formats/rollout_task_proto.h"
+#include "common/text/text_format.h"
 
 namespace poet {
 
@@ -40,6 +41,15 @@ Outgoing JobEncoder::job(const WorkerId& to, uint64_t job_id, size_t begin, size
     *message.add_tasks() = to_wire(tasks_[t], hash);
   }
   return out;
+}
+
+std::string JobEncoder::describe(size_t task) const {
+  const RolloutTask& t = tasks_[task];
+  std::string text = "task " + std::to_string(task) + " of the batch (course " + t.env.encoding.name + " seed " +
+                     std::to_string(t.env.seed) + ", θ " + hex_text(task_theta_hash_.at(task));
+  if (t.perturbation)
+    text += ", perturbation " + hex_text(t.perturbation->key) + " sign " + std::to_string(t.perturbation->sign);
+  return text + ")";
 }
 
 }  // namespace poet

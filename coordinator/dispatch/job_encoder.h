@@ -24,6 +24,8 @@ class JobEncoder {
   void start_batch(std::span<const RolloutTask> tasks, uint64_t batch_id);
   void clear();
   uint64_t theta_hash_of(size_t task) const { return task_theta_hash_.at(task); }
+  // A task as people read it where it stops the run: its index, course, seed, θ's hash and perturbation.
+  std::string describe(size_t task) const;
   // The Job of tasks [begin, end) for a worker; `sent`, the θs that worker was sent in this batch, gains those
   // this Job carries.
   Outgoing job(const WorkerId& to, uint64_t job_id, size_t begin, size_t end, std::set<uint64_t>& sent);

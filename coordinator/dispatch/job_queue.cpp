@@ -27,14 +27,30 @@ void JobQueue::clear() {  // job ids go on across batches: a late result of an e
   backup_after_ = 0;
 }
 
-OpenJob& JobQueue::add(size_t begin, size_t end, int deaths, JobTrust trust) {
+OpenJob& JobQueue::add(size_t begin, size_t end, int deaths) {
   OpenJob job;
   job.id = next_id_++;
   job.begin = begin;
   job.end = end;
   job.deaths = deaths;
-  job.trust = std::move(trust);
   return jobs_.emplace(job.id, std::move(job)).first->second;
+}
+
+void JobQueue::forget_holder(const WorkerId& worker) {
+  for (auto& [id, job] : jobs_) job.taken_back.erase(worker);
+}
+
+JobQueue::HandIn JobQueue::hand_in(uint64_t id, const WorkerId& worker, Millis now) {
+  OpenJob* job = find(id);
+  if (job == nullptr) return {};
+  const auto lease =
+      std::find_if(job->leases.begin(), job->leases.end(), [&](const Lease& l) { return l.worker == worker; });
+  const bool held = lease != job->leases.end();
+  const bool taken_back = job->taken_back.erase(worker) > 0;
+  if (!held && !taken_back) return {};
+  const Millis took = held ? now - lease->since : 0;
+  if (held) job->leases.erase(lease);
+  return {job, held, took};
 }
 
 void JobQueue::enqueue(const std::vector<uint64_t>& ids, bool front) {

@@ -32,7 +32,7 @@ struct OpenJob {
   int deaths = 0;             // proven workers that died holding it
   std::vector<Lease> leases;  // its holders: none while queued, more once backed up
   bool queued = false;
-  JobTrust trust;                    // chosen for a check, failed by whom, the answers it holds (trust's to change)
+  const JobTrust* trust = nullptr;   // the referee's record: chosen for a check, failed by whom, the answers it holds
   std::set<WorkerId> missing_theta;  // workers that said they lacked its θ (once each is believed)
   std::set<WorkerId> taken_back;     // not proven, their lease expired: a result that still comes in time is taken
 
@@ -56,11 +56,12 @@ class JobQueue {
   void clear();  // a new batch, or none
 
   // A new job of tasks [begin, end), not queued yet; its id is the next one.
-  OpenJob& add(size_t begin, size_t end, int deaths, JobTrust trust = {});
+  OpenJob& add(size_t begin, size_t end, int deaths);
   // Jobs queued in this order, at the back of the queue or at its front (keeping their order).
   void enqueue(const std::vector<uint64_t>& ids, bool front);
   void enqueue_front(OpenJob& job);  // put back: first to go out again (nothing when queued already)
   void erase(uint64_t id);           // finished or cut again: out of the queue and forgotten
+  void forget_holder(const WorkerId& worker);  // it left: a lease taken back from it no longer takes its result
 
   OpenJob* find(uint64_t id);
   OpenJob& at(uint64_t id) { return jobs_.at(id); }
@@ -68,6 +69,14 @@ class JobQueue {
   std::map<uint64_t, OpenJob>& open() { return jobs_; }  // by id
   const std::deque<uint64_t>& queued() const { return queue_; }
 
+  // A result for job `id` from `worker`: the job, when the worker holds it (the lease ends: `took` ms after it
+  // began) or held it until its lease was taken back (a result that still comes is taken); nullptr otherwise.
+  struct HandIn {
+    OpenJob* job = nullptr;
+    bool held = false;
+    Millis took = 0;
+  };
+  HandIn hand_in(uint64_t id, const WorkerId& worker, Millis now);
   // The lease held on it by `worker` from now.
   void lease(OpenJob& job, const WorkerId& worker, Millis now) { job.leases.push_back({worker, now}); }
   // A held job finished after `took` ms: the lease follows the batch's median.

@@ -58,4 +58,16 @@ std::string encode_theta_field(uint64_t hash, std::span<const double> values) {
   return carrier.SerializeAsString();
 }
 
+Outgoing heartbeat_to(const WorkerId& to) {
+  Outgoing out(to);
+  out.message.mutable_heartbeat();
+  return out;
+}
+
+Outgoing refusal_to(const WorkerId& to, const std::string& reason) {
+  Outgoing out(to);
+  out.message.mutable_refused()->set_reason(reason);
+  return out;
+}
+
 }  // namespace poet

@@ -32,6 +32,10 @@ struct Outgoing {
   std::string frame() const;          // both, into a string
 };
 
+// A Heartbeat; a Refused telling why.
+Outgoing heartbeat_to(const WorkerId& to);
+Outgoing refusal_to(const WorkerId& to, const std::string& reason);
+
 // One θ as the bytes of a Job.thetas field (tag, length, Theta).
 std::string encode_theta_field(uint64_t hash, std::span<const double> values);
 

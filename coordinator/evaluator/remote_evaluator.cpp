@@ -116,15 +116,14 @@ void RemoteEvaluator::check_loop() {
 Withdrawals RemoteEvaluator::withdrawals() {
   std::lock_guard lock(mutex_);
   // a rollback asked for stands, and stays reachable, until the caller goes back
-  const WorkerTrust& trust = dispatcher_.trust();
-  return {dispatcher_.settings().verify_fraction > 0, dispatcher_.batch_id(), trust.rollback_asked(),
-          trust.unchecked_since()};
+  const Referee& referee = dispatcher_.referee();
+  return {dispatcher_.settings().verify_fraction > 0, dispatcher_.batch_id(), referee.rollback_asked(),
+          referee.unchecked_since()};
 }
 
 void RemoteEvaluator::went_back(uint64_t last_batch) {
   std::lock_guard lock(mutex_);
-  dispatcher_.take_rollback();  // done: counted once
-  dispatcher_.forget_batches_from(last_batch + 1);
+  dispatcher_.went_back(last_batch);
 }
 
 void RemoteEvaluator::on_snapshot(std::function<void(DispatchView)> publish) {
@@ -203,7 +202,7 @@ std::vector<RolloutResult> RemoteEvaluator::evaluate(std::span<const RolloutTask
       said_waiting = false;
     } else if (now_ms() - waiting_since >= patience) {
       spdlog::warn("waiting for workers: none is connected to {} ({} jobs queued)", endpoint_,
-                   dispatcher_.queue_depth());
+                   dispatcher_.view(now_ms()).queue_depth);
       waiting_since = now_ms();
       said_waiting = true;
     }
@@ -211,10 +210,10 @@ std::vector<RolloutResult> RemoteEvaluator::evaluate(std::span<const RolloutTask
 }
 
 void RemoteEvaluator::tell_ready(std::unique_lock<std::mutex>& lock, const ResultsReady& ready) {
-  const std::vector<ReadyResults> told = std::exchange(ready_results_, {});
+  const std::vector<Dispatcher::Ready> told = std::exchange(ready_results_, {});
   lock.unlock();
   try {
-    for (const ReadyResults& range : told) ready(range.first, range.results);
+    for (const Dispatcher::Ready& range : told) ready(range.first, range.results);
   } catch (...) {
     lock.lock();
     dispatcher_.abandon_batch();
@@ -251,13 +250,10 @@ void RemoteEvaluator::serve(Millis now) {
       note_drop(DropReason::kUnauthorisedKey, "a worker with CURVE key " + key + " (" + reason + ")");
     });
   }
-  const int64_t demoted_before = dispatcher_.workers_demoted();
+  const int64_t demoted_before = dispatcher_.referee().demoted();
   receive_all(now);
-  for (const auto& [first, end] : dispatcher_.take_ready_ranges()) {
-    if (!collect_ready_) continue;  // nobody listens
-    const std::span<const RolloutResult> results = dispatcher_.results(first, end);
-    ready_results_.push_back({first, {results.begin(), results.end()}});
-  }
+  for (Dispatcher::Ready& ready : dispatcher_.take_ready())
+    if (collect_ready_) ready_results_.push_back(std::move(ready));  // (else nobody listens)
   for (const WorkerId& dead : dispatcher_.expire(now)) {
     if (const auto held_back = log_lost_.admit(now))
       spdlog::warn("worker {} silent for {} ms: removed, its jobs go back to the queue{}", peer_id_text(dead),
@@ -265,20 +261,20 @@ void RemoteEvaluator::serve(Millis now) {
   }
   if (shutdown_requested_) send_shutdowns();
   const int64_t backups_before = dispatcher_.backup_jobs();
-  if (authenticator_) refuse_keys_of_wrong_workers();
+  refuse_keys();
   send_outgoing(now);
-  if (const int64_t demoted = dispatcher_.workers_demoted() - demoted_before; demoted > 0) {
+  if (const int64_t demoted = dispatcher_.referee().demoted() - demoted_before; demoted > 0) {
     if (const auto held_back = log_demoted_.admit(now))
       spdlog::warn(
           "{} worker(s) that never returned a result let a lease expire or returned an error: given "
           "no more jobs ({} so far){}",
-          demoted, dispatcher_.workers_demoted(), LogThrottle::held_back_note(*held_back));
+          demoted, dispatcher_.referee().demoted(), LogThrottle::held_back_note(*held_back));
   }
   start_coordinator_checks();
   // from every path: this thread's answers and the checker's (check_loop)
-  for (size_t& i = wrong_logged_; i < dispatcher_.wrong_workers().size(); ++i)
+  for (size_t& i = wrong_logged_; i < dispatcher_.referee().refusals().size(); ++i)
     spdlog::error("worker {} {}: refused, and its results of this batch are computed again",
-                  dispatcher_.wrong_workers()[i].name, dispatcher_.wrong_workers()[i].why);
+                  dispatcher_.referee().refusals()[i].name, dispatcher_.referee().refusals()[i].why);
   if (const int64_t backups = dispatcher_.backup_jobs() - backups_before; backups > 0) {
     if (const auto held_back = log_backups_.admit(now))
       spdlog::warn("{} job(s) held far longer than this batch's jobs take: sent to a second worker too{}", backups,
@@ -297,28 +293,11 @@ void RemoteEvaluator::send_shutdowns() {
   shutting_down_ = true;
 }
 
-// A worker found wrong (by an answer or the checker): its key too, before it is told, so that it cannot come back on
-// a new socket; and every other connection holding the key at once, rather than when one of its own lies happens to
-// be drawn for a check.
-void RemoteEvaluator::refuse_keys_of_wrong_workers() {
-  for (bool refused_more = true; refused_more;) {  // a peer refused for its key joins the refused
-    refused_more = false;
-    const std::set<WorkerId> refused = dispatcher_.trust().refused_ids();
-    for (const WorkerId& id : refused) {
-      if (!keys_refused_for_.insert(id).second) continue;
-      const auto key = peer_keys_.find(id);
-      if (key == peer_keys_.end()) continue;
-      authenticator_->refuse(key->second);
-      for (const auto& [peer, peer_key] : peer_keys_) {
-        if (peer_key != key->second || dispatcher_.trust().refused_ids().contains(peer)) continue;
-        dispatcher_.refuse(peer, "holds the CURVE key of a worker refused for wrong results");
-        refused_more = true;
-      }
-    }
-  }
-  // bounded: the keys of peers that are gone are forgotten once they outnumber the worker limit
-  if (peer_keys_.size() > 2 * dispatcher_.settings().max_workers)
-    std::erase_if(peer_keys_, [&](const auto& peer) { return !dispatcher_.has_worker(peer.first); });
+// A worker found wrong (by an answer or the checker): its key refused before it is told, so that it cannot come back
+// on a new socket (the dispatcher has refused every connection holding it already).
+void RemoteEvaluator::refuse_keys() {
+  for (const std::string& key : dispatcher_.take_refused_keys())
+    if (authenticator_) authenticator_->refuse(key);
 }
 
 void RemoteEvaluator::send_outgoing(Millis now) {
@@ -362,14 +341,6 @@ void RemoteEvaluator::receive_all(Millis now) {
       frames.push_back(std::move(frame));
     }
     const std::string id = peer.to_string();
-    if (authenticator_ && !frames.empty()) {
-      try {
-        // the key the ZAP handler admitted this connection with, read from every message: a routing id freed by
-        // one connection may be taken by another, of another key
-        peer_keys_[id] = frames[0].gets("User-Id");
-      } catch (const zmq::error_t&) {
-      }
-    }
     if (frames.size() != 1) {
       note_drop(DropReason::kMalformed, "peer " + peer_id_text(id));
       continue;
@@ -382,7 +353,18 @@ void RemoteEvaluator::receive_all(Millis now) {
   }
 }
 
-void RemoteEvaluator::handle(const std::string& peer, const zmq::message_t& payload, Millis now) {
+std::string RemoteEvaluator::key_of(zmq::message_t& frame) const {
+  if (!authenticator_) return {};
+  try {
+    // the key the ZAP handler admitted this connection with: a routing id freed by one connection may be taken by
+    // another, of another key, so it is read from the Hello itself
+    return frame.gets("User-Id");
+  } catch (const zmq::error_t&) {
+    return {};
+  }
+}
+
+void RemoteEvaluator::handle(const std::string& peer, zmq::message_t& payload, Millis now) {
   wire::WorkerMessage message;
   if (!message.ParseFromArray(payload.data(), static_cast<int>(payload.size())) ||
       message.kind_case() == wire::WorkerMessage::KIND_NOT_SET) {
@@ -398,9 +380,8 @@ void RemoteEvaluator::handle(const std::string& peer, const zmq::message_t& payl
   }
   switch (message.kind_case()) {
     case wire::WorkerMessage::kHello: {
-      const auto key = peer_keys_.find(peer);  // with CURVE: the connection's key is its witness
-      Outgoing reply{peer, dispatcher_.on_hello(peer, message.hello(), now,
-                                                key != peer_keys_.end() ? key->second : Witness{})};
+      // with CURVE: the connection's key is its witness
+      Outgoing reply{peer, dispatcher_.on_hello(peer, message.hello(), now, key_of(payload))};
       const std::string name = message.hello().name().substr(0, 200);
       if (reply.message.has_refused()) {  // counted by the dispatcher
         if (const auto held_back = log_refused_.admit(now))
@@ -458,11 +439,10 @@ bool RemoteEvaluator::transmit(const Outgoing& message) {
 }
 
 void RemoteEvaluator::note_drop(DropReason reason, const std::string& who) {
-  dispatcher_.count_drop(reason);
+  const int64_t so_far = dispatcher_.count_drop(reason);
   const auto held_back = log_drops_[reason].admit(now_ms());
   if (!held_back) return;
-  spdlog::warn("refused {}: {} ({} so far){}", who, name(reason), dispatcher_.dropped().at(name(reason)),
-               LogThrottle::held_back_note(*held_back));
+  spdlog::warn("refused {}: {} ({} so far){}", who, name(reason), so_far, LogThrottle::held_back_note(*held_back));
 }
 
 }  // namespace poet

@@ -9,14 +9,13 @@
 #include <deque>
 #include <filesystem>
 #include <functional>
+#include <map>
 #include <memory>
 #include <mutex>
 #include <optional>
-#include <set>
 #include <stop_token>
 #include <string>
 #include <thread>
-#include <unordered_map>
 #include <vector>
 
 #include "common/plumbing/expected.h"
@@ -77,12 +76,6 @@ class RemoteEvaluator final : public Evaluator {
   void on_snapshot(std::function<void(DispatchView)> publish);
 
  private:
-  // A range of final results taken from the dispatcher for evaluate()'s thread to tell its listener.
-  struct ReadyResults {
-    size_t first = 0;
-    std::vector<RolloutResult> results;
-  };
-
   RemoteEvaluator(DispatchSettings settings, std::stop_token stop);
   // Tells `ready` of the results collected so far, with the lock released; on a throw the batch is abandoned.
   void tell_ready(std::unique_lock<std::mutex>& lock, const ResultsReady& ready);
@@ -91,11 +84,12 @@ class RemoteEvaluator final : public Evaluator {
   // Shutdowns, refused keys, the messages out, the coordinator's checks, and the log of what changed.
   void serve(Millis now);
   void send_shutdowns();                // to every known worker, once shutdown_workers() asks
-  void refuse_keys_of_wrong_workers();  // with CURVE: the keys of the workers found wrong
+  void refuse_keys();                   // with CURVE: the keys of the workers found wrong, at the handshake
   void send_outgoing(Millis now);       // what the dispatcher has to send; workers that cannot be reached are lost
   void start_coordinator_checks();      // hands the checks only the coordinator can run to check_loop()
   void receive_all(Millis now);
-  void handle(const std::string& peer, const zmq::message_t& payload, Millis now);
+  void handle(const std::string& peer, zmq::message_t& payload, Millis now);
+  std::string key_of(zmq::message_t& frame) const;            // with CURVE: the key its connection was admitted with
   void send(const Outgoing& message);                         // and a worker it cannot reach is lost
   bool transmit(const Outgoing& message);                     // false: the worker cannot be reached
   void note_drop(DropReason reason, const std::string& who);  // counts, and logs at most once a second
@@ -115,7 +109,7 @@ class RemoteEvaluator final : public Evaluator {
   Dispatcher dispatcher_;
   std::function<void(DispatchView)> publish_;
   bool collect_ready_ = false;  // while evaluate() runs with a listener: final results are copied for it
-  std::vector<ReadyResults> ready_results_;
+  std::vector<Dispatcher::Ready> ready_results_;  // final results taken for evaluate()'s thread to tell
   bool quit_ = false;
   std::string shutdown_reason_;
   bool shutdown_requested_ = false;
@@ -129,11 +123,6 @@ class RemoteEvaluator final : public Evaluator {
   LogThrottle log_demoted_{1};
   LogThrottle log_refused_{5};
   size_t wrong_logged_ = 0;  // workers refused for wrong results that the log has named
-  // With CURVE: each worker's public key (the ZAP handler's User-Id on its messages), so that a worker refused for
-  // wrong results is refused by its key, whatever socket it comes back on. Pruned to the connected workers when it
-  // outgrows twice the worker limit.
-  std::unordered_map<WorkerId, std::string> peer_keys_;
-  std::set<WorkerId> keys_refused_for_;  // the refused workers whose key is refused already
   std::thread thread_;
   std::deque<Dispatcher::CoordinatorCheck> checks_;  // waiting for the checker (under mutex_)
   std::condition_variable checks_changed_;

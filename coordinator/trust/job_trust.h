@@ -1,6 +1,7 @@
 #pragma once
 // A job as trust sees it: whether it was chosen for a check, who failed it, and the answers it holds until another
-// agrees or decides. Kept with the job the dispatcher queues; only WorkerTrust (worker_trust.h) changes it.
+// agrees or decides. A record of the referee's (referee.h), which the dispatcher reads to schedule; only WorkerTrust
+// (worker_trust.h) changes it.
 
 #include <algorithm>
 #include <set>

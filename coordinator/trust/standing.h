@@ -1,7 +1,7 @@
 #pragma once
 // A worker as trust sees it: who it is (a routing id), and its standing — proven or not, demoted, local, and what
-// its answers showed. The standing is kept with the worker the dispatcher registers, so that scheduling reads it
-// without a lookup; only WorkerTrust (worker_trust.h) changes it.
+// its answers showed. A record of the referee's (referee.h), which the dispatcher reads to schedule; only
+// WorkerTrust (worker_trust.h) changes it.
 
 #include <cstddef>
 #include <cstdint>

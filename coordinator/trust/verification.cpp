@@ -17,6 +17,11 @@ bool same_results(const std::vector<RolloutResult>& a, const std::vector<Rollout
   return true;
 }
 
+bool disputed(const std::vector<Answer>& held) {
+  return std::any_of(held.begin(), held.end(),
+                     [&](const Answer& answer) { return !same_results(answer.results, held[0].results); });
+}
+
 bool Verification::chosen(uint64_t batch, size_t begin, size_t end) const {
   if (!enabled()) return false;
   const uint64_t key = stream_key(secret_, "verify", {batch, begin, end});
@@ -34,9 +39,7 @@ bool Verification::needs_check(bool job_chosen, const Standing& worker, bool ans
 bool Verification::needs_witness_past_probation(const std::vector<Answer>& held) {
   const bool all_on_probation =
       std::all_of(held.begin(), held.end(), [](const Answer& answer) { return answer.probation; });
-  const bool disputed = std::any_of(
-      held.begin(), held.end(), [&](const Answer& answer) { return !same_results(answer.results, held[0].results); });
-  return !held.empty() && (all_on_probation || disputed);
+  return !held.empty() && (all_on_probation || disputed(held));
 }
 
 Verdict Verification::judge(const std::vector<Answer>& held, const Answer& incoming, bool incoming_local) {
@@ -62,16 +65,16 @@ Verdict Verification::judge(const std::vector<Answer>& held, const Answer& incom
     verdict.keep = false;  // rule 1: not a second witness
     return verdict;
   }
-  const bool disputed = std::any_of(held.begin(), held.end(), [&](const Answer& answer) { return !alike(answer); });
+  const bool dispute = std::any_of(held.begin(), held.end(), [&](const Answer& answer) { return !alike(answer); });
   // rule 2: alike, and not both on probation; rule 3: in a dispute, only an answer past probation decides
   const auto confirms = [&](const Answer& answer) {
     return alike(answer) && !(answer.probation && incoming.probation);
   };
   const auto confirmed = std::find_if(held.begin(), held.end(), confirms);
-  if (confirmed != held.end() && !(disputed && incoming.probation)) {
+  if (confirmed != held.end() && !(dispute && incoming.probation)) {
     verified_ += 1;
     // an undisputed answer held is credited; a decider is, where it settles a dispute
-    take(disputed ? incoming.worker : confirmed->worker);
+    take(dispute ? incoming.worker : confirmed->worker);
     verdict.passed.push_back(incoming.worker);
     return verdict;
   }

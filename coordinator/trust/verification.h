@@ -42,6 +42,9 @@ struct Answer {
   const Witness& vouched_by() const { return witness.empty() ? worker : witness; }
 };
 
+// Whether the answers held differ (a dispute: rule 3).
+bool disputed(const std::vector<Answer>& held);
+
 // What an answer to a job held for a check means.
 struct Verdict {
   enum class Kind {

@@ -60,7 +60,7 @@ void WorkerTrust::checked_since(Standing& worker) const {
 
 JobTrust WorkerTrust::new_job(uint64_t batch, size_t begin, size_t end) const {
   JobTrust job;
-  job.chosen = verification_.chosen(batch, begin, end);
+  job.chosen = chosen(batch, begin, end);
   return job;
 }
 

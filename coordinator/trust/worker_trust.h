@@ -1,10 +1,10 @@
 #pragma once
-// How far the coordinator trusts its workers, as decisions the dispatcher acts on: may this worker take this job,
-// what does this answer settle, must the run go back and to where. Pure: no queue, no sockets, no clock of its own
-// (its verdicts follow from the standings and jobs it is given, and what it has recorded). It holds verification
-// (which answers are checked, what they say), the refusal ledger, the coordinator's own checks waiting and the
-// rollback record; the standing of each worker (standing.h) and the checks of each job (job_trust.h) are kept with
-// the worker and the job, and changed only here.
+// How far the coordinator trusts its workers: the rule book of the referee (referee.h), as decisions on the records
+// it is given — may this worker take this job, what does this answer settle, must the run go back and to where.
+// Pure: no queue, no sockets, no clock of its own (its verdicts follow from the standings and jobs it is given, and
+// what it has recorded). It holds verification (which answers are checked, what they say), the refusal ledger, the
+// coordinator's own checks waiting and the rollback record; the standing of each worker (standing.h) and the checks
+// of each job (job_trust.h) are the referee's records, changed only here.
 //
 // Trust. A worker is proven — alive and answering — once it has returned a valid result (or, started by this
 // coordinator, from its Hello: it showed local_token); whether its answers are right is verification's to say.
@@ -37,6 +37,7 @@
 #include <utility>
 #include <vector>
 
+#include "coordinator/trust/effects.h"
 #include "coordinator/trust/job_trust.h"
 #include "coordinator/trust/refusal_ledger.h"
 #include "coordinator/trust/standing.h"
@@ -84,13 +85,6 @@ struct Settlement {
   std::vector<Answer> reopened;
 };
 
-// What an error Result from a holder means.
-enum class ErrorVerdict {
-  kFromUnproven,  // from a worker not proven: demoted, and the job goes to proven workers
-  kRetry,         // from a proven worker: another proven worker says whether the error is real
-  kStop,          // proven workers agree: the job fails, and the run stops
-};
-
 class WorkerTrust {
  public:
   explicit WorkerTrust(TrustSettings settings)
@@ -123,6 +117,7 @@ class WorkerTrust {
 
   // Jobs.
   JobTrust new_job(uint64_t batch, size_t begin, size_t end) const;  // chosen for a check or not, by the secret
+  bool chosen(uint64_t batch, size_t begin, size_t end) const { return verification_.chosen(batch, begin, end); }
   Eligibility may_take(const JobTrust& job, const WorkerId& id, const Standing& worker) const;
   // A holder died with the job: whether that counts towards the poison rule (a proven worker's death); a worker not
   // proven proves nothing by dying, and taints the job.

@@ -22,17 +22,27 @@ std::vector<RolloutResult> scores(std::initializer_list<double> values) {
 
 using Ranges = std::vector<BatchResults::Range>;
 
+// The ranges of what take_ready reports, each checked to hold its tasks' results (reward = task + 1, scores()).
+Ranges ranges(const std::vector<BatchResults::Ready>& ready) {
+  Ranges out;
+  for (const BatchResults::Ready& r : ready) {
+    for (size_t i = 0; i < r.results.size(); ++i) EXPECT_EQ(r.results[i].total_reward, double(r.first + i + 1));
+    out.emplace_back(r.first, r.first + r.results.size());
+  }
+  return out;
+}
+
 TEST(BatchResults, FinalResultsAreReportedOnceAndHeldBackOnesWhenTheBatchIsWhole) {
   BatchResults book;
   book.start(6);
   EXPECT_EQ(book.remaining(), 6u);
   book.put(0, scores({1, 2}), "a", /*final_now=*/true);
   book.put(2, scores({3, 4}), "b", /*final_now=*/false);  // b may still be found wrong
-  EXPECT_EQ(book.take_ready_ranges(false), (Ranges{{0, 2}}));
-  EXPECT_TRUE(book.take_ready_ranges(false).empty());  // once
+  EXPECT_EQ(ranges(book.take_ready(false)), (Ranges{{0, 2}}));
+  EXPECT_TRUE(book.take_ready(false).empty());  // once
   book.put(4, scores({5, 6}), "a", true);
   EXPECT_EQ(book.remaining(), 0u);
-  EXPECT_EQ(book.take_ready_ranges(true), (Ranges{{4, 6}, {2, 4}}));  // b's, now that the batch is whole
+  EXPECT_EQ(ranges(book.take_ready(true)), (Ranges{{4, 6}, {2, 4}}));  // b's, now that the batch is whole
   EXPECT_EQ(book.results(2, 4)[1].total_reward, 4);
   const std::vector<RolloutResult> all = book.take();
   ASSERT_EQ(all.size(), 6u);

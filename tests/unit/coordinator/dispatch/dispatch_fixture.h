@@ -5,7 +5,9 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -41,10 +43,23 @@ inline wire::Hello hello(uint32_t threads = 1, uint64_t fingerprint = 42) {
 }
 
 // A worker's Hello and the Heartbeat that answers its Welcome: from then on it gets jobs.
-// `witness`: the CURVE key it connected with (empty: none, as without CURVE).
-inline void join(Dispatcher& d, const WorkerId& id, const wire::Hello& h, Millis now, const Witness& witness = {}) {
-  ASSERT_TRUE(d.on_hello(id, h, now, witness).has_welcome());
+// `key`: the CURVE key it connected with (empty: none, as without CURVE).
+inline void join(Dispatcher& d, const WorkerId& id, const wire::Hello& h, Millis now, const std::string& key = {}) {
+  ASSERT_TRUE(d.on_hello(id, h, now, key).has_welcome());
   ASSERT_TRUE(d.heard_from(id, now));
+}
+
+// Whether a worker is connected, as the status socket shows it.
+inline bool connected(const Dispatcher& d, const WorkerId& id) {
+  const std::vector<WorkerView> workers = d.workers();
+  return std::any_of(workers.begin(), workers.end(), [&](const WorkerView& w) { return w.id == id; });
+}
+
+// The rollback the referee asks for, taken as the run loop takes it: it goes back to before that batch.
+inline std::optional<uint64_t> take_rollback(Dispatcher& d) {
+  const std::optional<uint64_t> asked = d.referee().rollback_asked();
+  if (asked) d.went_back(*asked - 1);
+  return asked;
 }
 
 // The answer a worker gives to a job: reward = the task's course seed, so results show their task.

@@ -40,8 +40,8 @@ TEST(Dispatcher, RefusesOtherVersionsAndBuilds) {
   ASSERT_TRUE(other.has_refused());
   EXPECT_TRUE(contains(other.refused().reason(), "fingerprint")) << other.refused().reason();
   EXPECT_EQ(d.worker_count(), 0u);
-  EXPECT_EQ(d.dropped().at("wrong_version"), 1);
-  EXPECT_EQ(d.dropped().at("wrong_fingerprint"), 1);
+  EXPECT_EQ(d.view(0).dropped_frames.at("wrong_version"), 1);
+  EXPECT_EQ(d.view(0).dropped_frames.at("wrong_fingerprint"), 1);
   const wire::CoordinatorMessage ok = d.on_hello("c", hello(), 0);
   ASSERT_TRUE(ok.has_welcome());
   EXPECT_EQ(ok.welcome().liveness_ms(), 500u);
@@ -95,7 +95,7 @@ TEST(Dispatcher, ABatchThatGoesOutWholeAtOnceIsCutIntoOneJobAWorker) {
     for (const char* id : {"a", "b", "c", "d"}) join(d, id, hello(), 0);
     d.start_batch(batch(static_cast<size_t>(tasks)));
     std::vector<Outgoing> sent = jobs_in(d.outgoing(1));
-    EXPECT_EQ(sent.size() + static_cast<size_t>(d.queue_depth()), static_cast<size_t>(expected_jobs)) << tasks;
+    EXPECT_EQ(sent.size() + static_cast<size_t>(d.view(0).queue_depth), static_cast<size_t>(expected_jobs)) << tasks;
     EXPECT_EQ(sent.front().message.job().tasks_size(), expected_per_job) << tasks;
     std::set<WorkerId> workers;
     for (const Outgoing& o : sent) workers.insert(o.worker);
@@ -119,7 +119,7 @@ TEST(Dispatcher, ItsViewHoldsItsWorkersWhenLastHeardAndEveryCounter) {
   EXPECT_EQ(view.workers[0].last_heard, 1'200);  // a heartbeat 1.3 s before the view
   EXPECT_EQ(view.ready_workers, 2u);
   EXPECT_EQ(view.in_flight_jobs, static_cast<int64_t>(sent.size()));  // every job sent is held
-  EXPECT_EQ(view.queue_depth, d.queue_depth());
+  EXPECT_EQ(view.queue_depth, 8 - static_cast<int64_t>(sent.size()));  // one task a job
   EXPECT_EQ(view.workers_joined, 2);
   EXPECT_EQ(view.dropped_frames.at("unexpected_result"), 1);
 }
@@ -132,15 +132,15 @@ TEST(Dispatcher, DuplicatesAndStrangersAreDropped) {
   ASSERT_FALSE(jobs.empty());
   const wire::Result result = answer(jobs[0].message.job());
   d.on_result("stranger", result, 2);
-  EXPECT_EQ(d.dropped().at("unexpected_result"), 1);
+  EXPECT_EQ(d.view(0).dropped_frames.at("unexpected_result"), 1);
   d.on_result("a", result, 2);
   d.on_result("a", result, 3);  // again
-  EXPECT_EQ(d.dropped().at("unexpected_result"), 2);
+  EXPECT_EQ(d.view(0).dropped_frames.at("unexpected_result"), 2);
   ASSERT_EQ(jobs.size(), 2u);  // one task a job, both sent at once
   wire::Result short_result = answer(jobs[1].message.job());
   short_result.mutable_results()->RemoveLast();
   d.on_result("a", short_result, 5);
-  EXPECT_EQ(d.dropped().at("bad_result"), 1);
+  EXPECT_EQ(d.view(0).dropped_frames.at("bad_result"), 1);
   EXPECT_FALSE(d.heard_from("stranger", 5));
 }
 
@@ -208,7 +208,7 @@ TEST(Dispatcher, AWorkerGetsJobsOnlyOnceItAnswersTheWelcome) {
   EXPECT_TRUE(jobs_in(d.outgoing(1)).empty()) << "a peer that only said Hello holds no work";
   // it stays silent and expires: nothing was lost with it, so no task counts a death
   EXPECT_EQ(d.expire(600), std::vector<WorkerId>{"mute"});
-  EXPECT_EQ(d.queue_depth(), 4);  // one task a job (nobody ready when the batch was cut), none split
+  EXPECT_EQ(d.view(0).queue_depth, 4);  // one task a job (nobody ready when the batch was cut), none split
   join(d, "real", hello(), 600);
   for (Millis now = 601; !d.batch_done() && now < 700; ++now) {
     for (const Outgoing& o : jobs_in(d.outgoing(now))) d.on_result("real", answer(o.message.job()), now);
@@ -223,7 +223,7 @@ TEST(Dispatcher, HellosBeyondTheWorkerLimitAreRefusedAndCounted) {
   Dispatcher d(s);
   for (int i = 0; i < 5; ++i) d.on_hello("w" + std::to_string(i), hello(), 0);
   EXPECT_EQ(d.worker_count(), 3u);
-  EXPECT_EQ(d.dropped().at("worker_limit"), 2);
+  EXPECT_EQ(d.view(0).dropped_frames.at("worker_limit"), 2);
   const wire::CoordinatorMessage again = d.on_hello("w0", hello(), 1);  // a known worker starting afresh
   EXPECT_TRUE(again.has_welcome());
   const wire::CoordinatorMessage refused = d.on_hello("w9", hello(), 1);
@@ -276,8 +276,8 @@ TEST(Dispatcher, AJobHeldFarLongerThanTheBatchsJobsGoesToAnIdleWorkerToo) {
   ASSERT_TRUE(d.batch_done());
   // a's answers come late: dropped and counted, the results unchanged
   for (const wire::Job& job : held_by_a) d.on_result("a", answer(job), 1200);
-  EXPECT_EQ(d.dropped().at("late_result"), 2);
-  EXPECT_FALSE(d.dropped().contains("unexpected_result"));
+  EXPECT_EQ(d.view(0).dropped_frames.at("late_result"), 2);
+  EXPECT_FALSE(d.view(0).dropped_frames.contains("unexpected_result"));
   const std::vector<RolloutResult> results = d.take_results();
   ASSERT_EQ(results.size(), 4u);
   expect_task_order(results);
@@ -293,7 +293,7 @@ TEST(Dispatcher, TheFirstHolderToAnswerABackedUpJobWins) {
   d.on_result("b", answer(to_b[1]), 1080);
   d.on_result("a", answer(held_by_a[1]), 1090);
   ASSERT_TRUE(d.batch_done());
-  EXPECT_EQ(d.dropped().at("late_result"), 2);  // one from each
+  EXPECT_EQ(d.view(0).dropped_frames.at("late_result"), 2);  // one from each
   EXPECT_EQ(d.view(0).in_flight_jobs, 0);
   const std::vector<RolloutResult> results = d.take_results();
   expect_task_order(results);
@@ -305,7 +305,7 @@ TEST(Dispatcher, AHolderLostWhileItsBackupRunsLeavesTheJobToTheBackup) {
   const std::vector<wire::Job> to_b = backups_at(d, 1050);
   ASSERT_EQ(to_b.size(), 2u);
   d.remove_worker("a", /*died=*/true);
-  EXPECT_EQ(d.queue_depth(), 0);  // nothing re-queued: b holds both
+  EXPECT_EQ(d.view(0).queue_depth, 0);  // nothing re-queued: b holds both
   EXPECT_TRUE(jobs_in(d.outgoing(1100)).empty());
   for (const wire::Job& job : to_b) d.on_result("b", answer(job), 1150);
   ASSERT_TRUE(d.batch_done());
@@ -340,7 +340,7 @@ TEST(Dispatcher, NoBackupsWhenTurnedOffOrWhileJobsWait) {
     EXPECT_EQ(o.worker, "b");
     EXPECT_FALSE(held_by_a.contains(o.message.job().job_id()));
   }
-  EXPECT_EQ(e.queue_depth(), 2);
+  EXPECT_EQ(e.view(0).queue_depth, 2);
   EXPECT_EQ(e.backup_jobs(), 0);
 }
 
@@ -449,8 +449,8 @@ TEST(Dispatcher, ErrorsAndDeathsOfPeersNotProvenDoNotStopTheRun) {
     }
   }
   EXPECT_FALSE(d.failure()) << *d.failure();
-  EXPECT_EQ(d.dropped().at("error_from_unproven"), 3);
-  EXPECT_EQ(d.workers_demoted(), 3);
+  EXPECT_EQ(d.view(0).dropped_frames.at("error_from_unproven"), 3);
+  EXPECT_EQ(d.referee().demoted(), 3);
   drive(d, for_real, now);
   EXPECT_TRUE(d.batch_done());
   EXPECT_FALSE(d.failure());
@@ -488,6 +488,17 @@ wire::Result answer_lying_as(const Outgoing& job, const WorkerId& liar) {
   return r;
 }
 
+// One round of a batch with a liar: every job answered (the liar's wrongly), the coordinator's own checks settled
+// honestly, then 10 ms on, every worker heard from, and what goes out next.
+std::vector<Outgoing> answer_round(Dispatcher& d, const std::vector<Outgoing>& out, Millis& now) {
+  for (const Outgoing& o : jobs_in(out)) d.on_result(o.worker, answer_lying_as(o, "liar"), now);
+  for (const Dispatcher::CoordinatorCheck& check : d.take_coordinator_checks())
+    d.settle_by_coordinator(check.batch_id, check.job_id, coordinators_results(check));
+  now += 10;
+  for (const WorkerView& w : d.workers()) d.heard_from(w.id, now);
+  return d.outgoing(now);
+}
+
 // Three newcomers on probation, one lying: none confirms another's answers (independent witnesses, rule 2), so the
 // coordinator checks the first ones, and the honest two, once past probation, check the rest.
 TEST(Dispatcher, AWrongWorkerIsFoundRefusedAndItsResultsRedone) {
@@ -511,14 +522,14 @@ TEST(Dispatcher, AWrongWorkerIsFoundRefusedAndItsResultsRedone) {
   ASSERT_FALSE(d.failure()) << *d.failure();
   ASSERT_TRUE(d.batch_done());
   EXPECT_TRUE(refused_sent);
-  ASSERT_EQ(d.wrong_workers().size(), 1u);
-  EXPECT_EQ(d.wrong_workers()[0].name, "liar");
+  ASSERT_EQ(d.referee().refusals().size(), 1u);
+  EXPECT_EQ(d.referee().refusals()[0].name, "liar");
   EXPECT_GT(d.view(0).verified_jobs, 0);
   EXPECT_TRUE(d.on_hello("liar", stranger_hello("liar"), now).has_refused()) << "refused from then on";
   // every range is reported final once, at the end, with the right numbers
   std::vector<int> reported(30, 0);
-  for (const auto& [first, end] : d.take_ready_ranges())
-    for (size_t t = first; t < end; ++t) reported[t] += 1;
+  for (const Dispatcher::Ready& ready : d.take_ready())
+    for (size_t t = ready.first; t < ready.first + ready.results.size(); ++t) reported[t] += 1;
   for (size_t t = 0; t < 30; ++t) EXPECT_EQ(reported[t], 1) << t;
   expect_task_order(d.take_results());
 }
@@ -557,11 +568,11 @@ TEST(Dispatcher, WithNoThirdWorkerTheCoordinatorSettlesAMismatchItself) {
     }
   }
   ASSERT_FALSE(d.failure()) << *d.failure();
-  ASSERT_TRUE(d.batch_done()) << "queue " << d.queue_depth();
+  ASSERT_TRUE(d.batch_done()) << "queue " << d.view(0).queue_depth;
   EXPECT_EQ(disputes, 0) << "no answer on probation is compared with another on probation";
   EXPECT_GE(d.view(0).coordinator_checks, 1);
-  ASSERT_EQ(d.wrong_workers().size(), 1u);
-  EXPECT_EQ(d.wrong_workers()[0].name, "liar");
+  ASSERT_EQ(d.referee().refusals().size(), 1u);
+  EXPECT_EQ(d.referee().refusals()[0].name, "liar");
   EXPECT_TRUE(d.on_hello("liar", stranger_hello("liar"), now).has_refused());
   expect_task_order(d.take_results());
 }
@@ -577,7 +588,7 @@ TEST(Dispatcher, ACheckHeldPastItsLeaseGoesToTheCoordinator) {
   for (const Outgoing& o : jobs_in(d.outgoing(now))) d.on_result(o.worker, answer(o.message.job()), now);
   // both are proven now; each answer waits for the other's check, and m answers nothing more
   drive(d, d.outgoing(++now), now, {"m"});
-  ASSERT_TRUE(d.batch_done()) << "queue " << d.queue_depth();
+  ASSERT_TRUE(d.batch_done()) << "queue " << d.view(0).queue_depth;
   EXPECT_GE(d.view(0).coordinator_checks, 1);
   EXPECT_LT(now, 1 + 3 * 1000) << "about one lease";
   expect_task_order(d.take_results());
@@ -627,7 +638,7 @@ TEST(Dispatcher, ALocalWorkersAnswersAreNotChecked) {
 
 TEST(Dispatcher, WhatIsReportedFinalNeverChangesWhateverTheOrderOfAnswersAndALiar) {
   // a liar among three workers, half the jobs checked, answers in a different order for each seed: a result
-  // reported final (take_ready_ranges) is reported once and is the one the batch returns
+  // reported final (take_ready) is reported once and is the one the batch returns
   for (uint64_t seed = 0; seed < 40; ++seed) {
     DispatchSettings s = settings();
     s.verify_fraction = 0.5;
@@ -653,22 +664,23 @@ TEST(Dispatcher, WhatIsReportedFinalNeverChangesWhateverTheOrderOfAnswersAndALia
       }
       for (const Dispatcher::CoordinatorCheck& check : d.take_coordinator_checks())
         d.settle_by_coordinator(check.batch_id, check.job_id, coordinators_results(check));
-      for (const auto& [first, end] : d.take_ready_ranges()) {
-        const std::span<const RolloutResult> values = d.results(first, end);
-        for (size_t t = first; t < end; ++t) {
-          ASSERT_FALSE(reported[t]) << "seed " << seed << ": task " << t << " reported twice";
-          reported[t] = values[t - first].total_reward;
+      for (const Dispatcher::Ready& ready : d.take_ready()) {
+        for (size_t i = 0; i < ready.results.size(); ++i) {
+          ASSERT_FALSE(reported[ready.first + i])
+              << "seed " << seed << ": task " << ready.first + i << " reported twice";
+          reported[ready.first + i] = ready.results[i].total_reward;
         }
       }
       now += 10;
       for (const WorkerView& w : d.workers()) d.heard_from(w.id, now);
     }
     ASSERT_FALSE(d.failure()) << "seed " << seed << ": " << *d.failure();
-    ASSERT_TRUE(d.batch_done()) << "seed " << seed << ": queue " << d.queue_depth() << ", in flight " << d.view(0).in_flight_jobs
-                                << ", workers " << d.worker_count() << ", held " << held.size() << ", wrong " << d.wrong_workers().size() << " "
-                                << (d.wrong_workers().empty() ? "" : d.wrong_workers()[0].name);
-    for (const auto& [first, end] : d.take_ready_ranges())
-      for (size_t t = first; t < end; ++t) reported[t] = d.results(first, end)[t - first].total_reward;
+    ASSERT_TRUE(d.batch_done()) << "seed " << seed << ": queue " << d.view(0).queue_depth << ", in flight "
+                                << d.view(0).in_flight_jobs << ", workers " << d.worker_count() << ", held "
+                                << held.size() << ", wrong " << d.referee().refusals().size() << " "
+                                << (d.referee().refusals().empty() ? "" : d.referee().refusals()[0].name);
+    for (const Dispatcher::Ready& ready : d.take_ready())
+      for (size_t i = 0; i < ready.results.size(); ++i) reported[ready.first + i] = ready.results[i].total_reward;
     const std::vector<RolloutResult> results = d.take_results();
     for (size_t t = 0; t < results.size(); ++t) {
       ASSERT_TRUE(reported[t]) << "seed " << seed << ": task " << t << " never reported";
@@ -715,7 +727,7 @@ TEST(Dispatcher, APeerSayingItLacksTheThetaOfAJobSentWithItIsRefusedTheJob) {
       d.on_result("peer", missing, now);
     }
   }
-  EXPECT_EQ(d.workers_demoted(), 1) << "believed once, then an error";
+  EXPECT_EQ(d.referee().demoted(), 1) << "believed once, then an error";
   drive(d, for_real, now);
   EXPECT_TRUE(d.batch_done());
 }
@@ -772,7 +784,7 @@ TEST(Dispatcher, AWorkerJoiningAfterTheOthersAreProvenLeavesProbationWithinAFewO
   EXPECT_LE(late.probation_answers, 5 + 1) << "probation took " << late.probation_answers << " of its jobs";
   EXPECT_LE(late.jobs_done, 5 + 3) << "probation took " << late.jobs_done << " of its jobs";
   EXPECT_LE(late.answers_taken_unchecked, late.answers_taken);
-  EXPECT_FALSE(d.take_rollback());
+  EXPECT_FALSE(take_rollback(d));
 }
 
 // Proven workers p and q, past probation; a newcomer n whose trial p backs up and answers first. n's answer, come
@@ -813,8 +825,8 @@ TEST(Dispatcher, ALateAnswerIsComparedWithTheResultsTaken) {
       EXPECT_FALSE(d.batch_done()) << "the task taken from p is disputed";
       drive(d, d.outgoing(now), now, {"n"});
       ASSERT_TRUE(d.batch_done());
-      ASSERT_EQ(d.wrong_workers().size(), 1u);
-      EXPECT_EQ(d.wrong_workers()[0].name, "n");
+      ASSERT_EQ(d.referee().refusals().size(), 1u);
+      EXPECT_EQ(d.referee().refusals()[0].name, "n");
       ASSERT_EQ(d.view(now).refused.size(), 1u);
       EXPECT_EQ(d.view(now).refused[0].trust, Trust::kRefused);
     }
@@ -833,45 +845,54 @@ TEST(Dispatcher, ALateJoinerThatLiesIsRefused) {
   Millis now = 1;
   run_batches(d, now, [&] { return view_of(d, "c").trust == Trust::kProven; });
   join(d, "liar", stranger_hello("liar"), now);
-  for (int b = 0; b < 5 && d.wrong_workers().empty(); ++b) {
+  for (int b = 0; b < 5 && d.referee().refusals().empty(); ++b) {
     d.start_batch(batch(20));
     std::vector<Outgoing> out = d.outgoing(now);
-    for (int round = 0; round < 1000 && !d.batch_done() && !d.failure(); ++round) {
-      for (const Outgoing& o : jobs_in(out)) d.on_result(o.worker, answer_lying_as(o, "liar"), now);
-      for (const Dispatcher::CoordinatorCheck& check : d.take_coordinator_checks())
-        d.settle_by_coordinator(check.batch_id, check.job_id, coordinators_results(check));
-      now += 10;
-      for (const WorkerView& w : d.workers()) d.heard_from(w.id, now);
-      out = d.outgoing(now);
-    }
+    for (int round = 0; round < 1000 && !d.batch_done() && !d.failure(); ++round) out = answer_round(d, out, now);
     ASSERT_TRUE(d.batch_done());
     expect_task_order(d.take_results());
   }
-  ASSERT_EQ(d.wrong_workers().size(), 1u);
-  EXPECT_EQ(d.wrong_workers()[0].name, "liar");
-  EXPECT_FALSE(d.take_rollback()) << "none of its answers became final unchecked";
+  ASSERT_EQ(d.referee().refusals().size(), 1u);
+  EXPECT_EQ(d.referee().refusals()[0].name, "liar");
+  EXPECT_FALSE(take_rollback(d)) << "none of its answers became final unchecked";
 }
 
-// A peer the caller finds shares a refused worker's identity (its CURVE key) is refused at once: told why, its
-// Hellos refused, shown as refused.
-TEST(Dispatcher, APeerRefusedForItsIdentityIsToldAndRefusedFromThenOn) {
+// A worker found wrong is refused with its CURVE key: every other connection holding the key is refused at once,
+// told why and shown as refused, its Hellos refused from then on; the key is handed to the caller once; a worker of
+// another key is not touched.
+TEST(Dispatcher, AWorkerFoundWrongTakesEveryConnectionOfItsKeyWithIt) {
   Dispatcher d(checking_every_job());
-  for (const char* id : {"a", "twin"}) join(d, id, stranger_hello(id), 0);
-  d.refuse("twin", "holds the CURVE key of a worker refused for wrong results");
+  join(d, "liar", stranger_hello("liar"), 0, "key-k");
+  join(d, "twin", stranger_hello("twin"), 0, "key-k");
+  join(d, "b", stranger_hello("b"), 0, "key-b");
+  d.start_batch(batch(30));
+  Millis now = 1;
+  std::vector<Outgoing> out = d.outgoing(now);
   bool told = false;
-  for (const Outgoing& o : d.outgoing(1))
+  std::vector<std::string> keys;
+  for (int round = 0; round < 1000 && d.referee().refusals().empty(); ++round) out = answer_round(d, out, now);
+  for (const std::string& key : d.take_refused_keys()) keys.push_back(key);
+  for (const Outgoing& o : out)
     told = told ||
            (o.worker == "twin" && o.message.has_refused() &&
             o.message.refused().reason() == "this worker holds the CURVE key of a worker refused for wrong results");
   EXPECT_TRUE(told);
-  EXPECT_FALSE(d.has_worker("twin"));
-  EXPECT_TRUE(d.on_hello("twin", stranger_hello("twin"), 2).has_refused());
-  ASSERT_EQ(d.wrong_workers().size(), 1u);
-  EXPECT_TRUE(contains(d.wrong_workers()[0].why, "CURVE key"));
-  const DispatchView view = d.view(3);
-  ASSERT_EQ(view.refused.size(), 1u);
-  EXPECT_EQ(view.refused[0].id, "twin");
-  EXPECT_EQ(view.workers.size(), 1u);
+  EXPECT_EQ(keys, std::vector<std::string>{"key-k"});
+  EXPECT_TRUE(d.take_refused_keys().empty()) << "handed over once";
+  EXPECT_FALSE(connected(d, "twin"));
+  EXPECT_TRUE(connected(d, "b"));
+  const wire::CoordinatorMessage again = d.on_hello("new-id", stranger_hello("third"), now, "key-k");
+  ASSERT_TRUE(again.has_refused());
+  EXPECT_TRUE(contains(again.refused().reason(), "CURVE key")) << again.refused().reason();
+  EXPECT_TRUE(d.on_hello("twin", stranger_hello("twin"), now).has_refused());
+  ASSERT_EQ(d.referee().refusals().size(), 2u);
+  EXPECT_EQ(d.referee().refusals()[0].name, "liar");
+  EXPECT_EQ(d.referee().refusals()[1].name, "twin");
+  EXPECT_TRUE(contains(d.referee().refusals()[1].why, "CURVE key"));
+  const DispatchView view = d.view(now);
+  ASSERT_EQ(view.refused.size(), 2u);
+  EXPECT_EQ(view.refused[1].id, "twin");
+  EXPECT_EQ(view.refused[1].trust, Trust::kRefused);
 }
 }  // namespace
 
@@ -898,7 +919,7 @@ TEST(Dispatcher, AWorkerOnProbationHasEveryAnswerCheckedUntilItPassedEnoughCheck
   EXPECT_LE(d.view(0).verified_jobs, probation_answers);
   EXPECT_GE(d.view(0).coordinator_checks, 1);
   expect_task_order(d.take_results());
-  EXPECT_FALSE(d.take_rollback());
+  EXPECT_FALSE(take_rollback(d));
 }
 
 TEST(Dispatcher, ALiarPastItsProbationIsCaughtAndTheRunAskedToGoBackToBeforeItsUncheckedAnswers) {
@@ -915,7 +936,7 @@ TEST(Dispatcher, ALiarPastItsProbationIsCaughtAndTheRunAskedToGoBackToBeforeItsU
     for (const char* id : {"liar", "b", "c"}) join(d, id, stranger_hello(id), 0);
     Millis now = 1;
     std::optional<uint64_t> first_unchecked_final;  // the first batch in which a lie was reported final
-    for (int b = 0; b < 6 && d.wrong_workers().empty(); ++b) {
+    for (int b = 0; b < 6 && d.referee().refusals().empty(); ++b) {
       // from the first batch that starts with every worker past probation: none of its answers is held for a check
       const std::vector<WorkerView> workers = d.workers();
       const bool lying = std::all_of(workers.begin(), workers.end(),
@@ -932,21 +953,21 @@ TEST(Dispatcher, ALiarPastItsProbationIsCaughtAndTheRunAskedToGoBackToBeforeItsU
         out = d.outgoing(now);
       }
       ASSERT_TRUE(d.batch_done()) << "secret " << secret;
-      d.take_ready_ranges();
+      d.take_ready();
       const std::vector<RolloutResult> results = d.take_results();
       bool lie = false;
       for (size_t i = 0; i < results.size(); ++i) lie = lie || results[i].total_reward != double(i);
       if (lie && !first_unchecked_final) first_unchecked_final = d.batch_id();
     }
-    const std::optional<uint64_t> rollback = d.take_rollback();
+    const std::optional<uint64_t> rollback = take_rollback(d);
     if (first_unchecked_final) {
       // a lie became final: the liar must have been caught later (it lies on every job), and the run sent back
-      ASSERT_EQ(d.wrong_workers().size(), 1u) << "secret " << secret;
+      ASSERT_EQ(d.referee().refusals().size(), 1u) << "secret " << secret;
       ASSERT_TRUE(rollback) << "secret " << secret;
       EXPECT_LE(*rollback, *first_unchecked_final) << "secret " << secret;
       rollbacks += 1;
     }
-    EXPECT_FALSE(d.take_rollback()) << "asked once";
+    EXPECT_FALSE(take_rollback(d)) << "asked once";
   }
   EXPECT_GT(rollbacks, 0) << "no secret let a lie become final before the liar was caught";
 }

@@ -69,14 +69,14 @@ TEST(HelloCheck, AWorkersViewKeepsItsNameToTwoHundredBytesAndItsThreadsWithinBou
   wire::Hello h = hello(wire::PROTOCOL_VERSION, 7, 9);
   h.set_name(std::string(300, 'n'));
   h.set_threads(0);
-  WorkerView view = view_of_hello("id", h);
+  WorkerFacts view = facts_of_hello("id", h);
   EXPECT_EQ(view.id, "id");
   EXPECT_EQ(view.name.size(), 200u);
   EXPECT_EQ(view.threads, 1);
   EXPECT_EQ(view.fingerprint_digest, 7u);
   EXPECT_EQ(view.arithmetic_digest, 9u);
   h.set_threads(100000);
-  EXPECT_EQ(view_of_hello("id", h).threads, 4096);
+  EXPECT_EQ(facts_of_hello("id", h).threads, 4096);
 }
 
 }  // namespace

@@ -27,7 +27,8 @@ enum class Liar { kManyIdentities, kManyConnectionsOnOneKey };
 struct Outcome {
   bool done = false;
   std::vector<RolloutResult> results;
-  std::set<std::string> refused;  // names of the workers refused
+  std::set<std::string> refused;       // names of the workers refused
+  std::set<std::string> refused_keys;  // CURVE keys refused
   int liar_answers = 0;
   int liar_identities = 0;
 };
@@ -50,7 +51,7 @@ Outcome run_schedule(Liar liar, uint64_t seed) {
   Dispatcher d(s);
   Outcome outcome;
   const int honest = 2 + pick(3);
-  const Witness honest_key = liar == Liar::kManyConnectionsOnOneKey ? "honest-key" : "";
+  const std::string honest_key = liar == Liar::kManyConnectionsOnOneKey ? "honest-key" : "";
   for (int i = 0; i < honest; ++i)
     join(d, "honest" + std::to_string(i), stranger_hello("honest" + std::to_string(i)), 0, honest_key);
   std::map<WorkerId, int> answered;  // by each liar identity
@@ -75,8 +76,8 @@ Outcome run_schedule(Liar liar, uint64_t seed) {
     std::vector<Pending> later;
     for (Pending& p : pending) {
       const WorkerId& id = p.job.worker;
-      if (p.due > now || !d.has_worker(id)) {
-        if (d.has_worker(id)) later.push_back(std::move(p));
+      if (p.due > now || !connected(d, id)) {
+        if (connected(d, id)) later.push_back(std::move(p));
         continue;
       }
       if (!is_liar(id)) {
@@ -86,17 +87,17 @@ Outcome run_schedule(Liar liar, uint64_t seed) {
       d.on_result(id, lie(p.job.message.job()), now);
       outcome.liar_answers += 1;
       // without CURVE an identity costs nothing: a new one every two jobs, the old one gone with its answers held
-      if (liar == Liar::kManyIdentities && ++answered[id] == 2 && d.has_worker(id) && outcome.liar_identities < 40) {
+      if (liar == Liar::kManyIdentities && ++answered[id] == 2 && connected(d, id) && outcome.liar_identities < 40) {
         d.remove_worker(id, /*died=*/false);
         new_liar(now);
       }
     }
     pending = std::move(later);
-    // the remote evaluator refuses every connection of a refused worker's key (remote_evaluator.cpp)
-    if (liar == Liar::kManyConnectionsOnOneKey && !d.wrong_workers().empty())
-      for (int i = 0; i < liar_connections; ++i)
-        if (d.has_worker("liar" + std::to_string(i)))
-          d.refuse("liar" + std::to_string(i), "holds the CURVE key of a worker refused for wrong results");
+    // a refused worker's key is refused at once, with every connection holding it
+    for (const std::string& key : d.take_refused_keys()) outcome.refused_keys.insert(key);
+    if (!outcome.refused_keys.empty()) {
+      for (int i = 0; i < liar_connections; ++i) EXPECT_FALSE(connected(d, "liar" + std::to_string(i))) << i;
+    }
     for (Dispatcher::CoordinatorCheck& check : d.take_coordinator_checks())
       checks.emplace_back(now + 10 * pick(5), std::move(check));
     std::erase_if(checks, [&](const auto& due_check) {
@@ -109,7 +110,7 @@ Outcome run_schedule(Liar liar, uint64_t seed) {
   }
   EXPECT_FALSE(d.failure()) << *d.failure();
   outcome.done = d.batch_done();
-  for (const Refusal& r : d.wrong_workers()) outcome.refused.insert(r.name);
+  for (const Refusal& r : d.referee().refusals()) outcome.refused.insert(r.name);
   if (outcome.done) outcome.results = d.take_results();
   return outcome;
 }
@@ -127,6 +128,10 @@ void expect_honest_outcome(Liar liar, uint64_t seed) {
   }
   if (liar == Liar::kManyConnectionsOnOneKey && outcome.liar_answers > 0) {
     EXPECT_EQ(outcome.refused.size(), static_cast<size_t>(outcome.liar_identities)) << "every connection of its key";
+    EXPECT_EQ(outcome.refused_keys, std::set<std::string>{"liar-key"});
+  }
+  if (liar == Liar::kManyIdentities) {
+    EXPECT_TRUE(outcome.refused_keys.empty()) << "without CURVE no key is refused";
   }
 }
 

@@ -6,39 +6,47 @@
 namespace poet {
 namespace {
 
-WorkerView hello(const WorkerId& id, bool proven = false) {
-  WorkerView view;
-  view.id = id;
-  view.name = "worker-" + id;
-  view.proven = proven;
-  return view;
+WorkerFacts hello(const WorkerId& id) {
+  WorkerFacts facts;
+  facts.id = id;
+  facts.name = "worker-" + id;
+  return facts;
 }
+
+// Standings as the referee keeps them, one proven.
+const Standing kNew;
+Standing proven() {
+  Standing s;
+  s.proven = true;
+  return s;
+}
+const Standing kProven = proven();
 
 TEST(WorkerRegistry, WorkersKeepTheOrderTheySaidHelloInWithTheirStanding) {
   WorkerRegistry registry;
-  registry.add(hello("b"), 0);
-  registry.add(hello("a", /*proven=*/true), 0);
-  registry.add(hello("c"), 0);
+  registry.add(hello("b"), kNew, 0);
+  registry.add(hello("a"), kProven, 0);
+  registry.add(hello("c"), kNew, 0);
   ASSERT_EQ(registry.in_order().size(), 3u);
-  EXPECT_EQ(registry.in_order()[0]->view.id, "b");
-  EXPECT_EQ(registry.in_order()[1]->view.id, "a");
-  EXPECT_TRUE(registry.find("a")->view.proven);
-  EXPECT_FALSE(registry.find("b")->view.proven);
+  EXPECT_EQ(registry.in_order()[0]->facts.id, "b");
+  EXPECT_EQ(registry.in_order()[1]->facts.id, "a");
+  EXPECT_TRUE(registry.find("a")->standing->proven);
+  EXPECT_FALSE(registry.find("b")->standing->proven);
   EXPECT_EQ(registry.proven(), 1u);
   EXPECT_EQ(registry.joined(), 3);
 
   const std::optional<RegisteredWorker> removed = registry.remove("a");
   ASSERT_TRUE(removed);
-  EXPECT_EQ(removed->view.name, "worker-a");
+  EXPECT_EQ(removed->facts.name, "worker-a");
   EXPECT_FALSE(registry.remove("a"));
-  EXPECT_EQ(registry.in_order()[1]->view.id, "c");
+  EXPECT_EQ(registry.in_order()[1]->facts.id, "c");
   EXPECT_EQ(registry.find("a"), nullptr);
 }
 
 TEST(WorkerRegistry, AWorkerIsReadyOnceHeardFromAndSilentOnceNotForLonger) {
   WorkerRegistry registry;
-  registry.add(hello("a"), 0);
-  registry.add(hello("b"), 0);
+  registry.add(hello("a"), kNew, 0);
+  registry.add(hello("b"), kNew, 0);
   EXPECT_EQ(registry.ready(), 0u);  // a Hello proves nothing about listening
   EXPECT_TRUE(registry.heard_from("a", 500));
   EXPECT_FALSE(registry.heard_from("stranger", 500));
@@ -49,7 +57,7 @@ TEST(WorkerRegistry, AWorkerIsReadyOnceHeardFromAndSilentOnceNotForLonger) {
 
 TEST(WorkerRegistry, AWorkerNotProvenIsOnTrialFromItsFirstJob) {
   WorkerRegistry registry;
-  RegisteredWorker& a = registry.add(hello("a"), 0);
+  RegisteredWorker& a = registry.add(hello("a"), kNew, 0);
   registry.sent_job(a, 7, 100);
   registry.sent_job(a, 8, 150);
   EXPECT_EQ(a.trial_since, 100);

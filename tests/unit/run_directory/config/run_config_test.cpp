@@ -384,6 +384,16 @@ TEST(RunConfig, TheTypesDefaultsAreTheSchemas) {
   EXPECT_EQ(w.push_scale, want_w.push_scale);
   EXPECT_EQ(w.lidar, want_w.lidar);
   EXPECT_EQ(s.episodes.max_steps, walker::kDefaultTimeLimit);
+  // the engine's settings have no defaults of their own: a config that names nothing carries the schema's
+  EXPECT_EQ(s.poet.mutation_interval, c.poet().mutation_interval());
+  EXPECT_EQ(s.poet.mc_high, c.poet().mc_high());
+  EXPECT_EQ(s.poet.admission_proposal, ProposalKind::kSgd);  // SGD_PROPOSAL
+  EXPECT_EQ(s.poet.transfer_proposal, ProposalKind::kAdam);  // ADAM_PROPOSAL
+  EXPECT_EQ(s.poet.child_ranking, ChildRanking::kNovelty);
+  EXPECT_EQ(s.poet.transfer_test, TransferTest::kFull);
+  EXPECT_EQ(s.poet.novelty, NoveltyMeasure::kEncodingDistance);
+  EXPECT_EQ(s.poet.reproduction_agent, ReproductionAgent::kCurrentTheta);
+  EXPECT_EQ(s.poet.environments, EnvironmentKind::kObstacleCourses);
   // and the generated constants are the schema's declared defaults, exactly
   EXPECT_EQ(EsSettings{}.adam_epsilon, c.es().adam_epsilon());
   EXPECT_EQ(EsSettings{}.lr_decay, c.es().lr_decay());
