@@ -3,7 +3,7 @@
 
 #include <benchmark/benchmark.h>
 
-#include "common/formats/build_fingerprint.h"
+#include "common/program/build_fingerprint.h"
 
 int main(int argc, char** argv) {
   benchmark::AddCustomContext("fingerprint", poet::build_fingerprint_line());

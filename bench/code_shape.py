@@ -121,6 +121,10 @@ def main():
         print(f"  {n:5d}  {where}")
     methods = public_methods(repo, "coordinator/dispatch/dispatcher.h", "Dispatcher")
     print(f"Dispatcher's public methods: {len(methods)} ({', '.join(methods)})")
+    # verification's one home, where there is one: the events it takes and what it is asked
+    if (repo / "coordinator/trust/referee.h").exists():
+        methods = public_methods(repo, "coordinator/trust/referee.h", "Referee")
+        print(f"Referee's public methods: {len(methods)} ({', '.join(methods)})")
     duplicates = duplicate_pairs(repo)
     if duplicates is None:
         print("repeated code: not measured (no duplicates program on PATH)")

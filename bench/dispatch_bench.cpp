@@ -20,7 +20,7 @@
 #include <thread>
 #include <zmq.hpp>
 
-#include "common/formats/build_fingerprint.h"
+#include "common/program/build_fingerprint.h"
 #include "coordinator/dispatch/local_workers.h"
 #include "coordinator/evaluator/local_evaluator.h"
 #include "coordinator/evaluator/remote_evaluator.h"

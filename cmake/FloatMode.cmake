@@ -1,7 +1,7 @@
 # The project's floating-point mode, stated once for every target.
 #
 # A run must give bit-identical numbers in every process: the coordinator and its workers are matched on the
-# build's fingerprint (common/formats/build_fingerprint.h), which records this mode. So nothing may depend on what a
+# build's fingerprint (common/program/build_fingerprint.h), which records this mode. So nothing may depend on what a
 # compiler or machine would pick by default:
 #   -ffp-contract=off   no a*b+c contracted into one FMA (GCC contracts by default in GNU mode when it can)
 #   -fno-fast-math      IEEE semantics: no reassociation, no flush-to-zero, NaN and -0 kept

@@ -22,10 +22,10 @@
 #include <string>
 #include <utility>
 
-#include "common/formats/build_fingerprint.h"
-#include "common/formats/tool_flags.h"
 #include "common/plumbing/stop_signals.h"
 #include "common/plumbing/zmq_endpoint.h"
+#include "common/program/build_fingerprint.h"
+#include "common/program/tool_flags.h"
 #include "coordinator/daemon/daemon_options.h"
 #include "coordinator/daemon/descriptor_limit.h"
 #include "coordinator/daemon/rollouts.h"

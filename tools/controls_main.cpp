@@ -15,8 +15,8 @@
 #include <string>
 #include <vector>
 
-#include "common/formats/tool_flags.h"
 #include "common/plumbing/text_file.h"
+#include "common/program/tool_flags.h"
 #include "engine/lineage.h"
 #include "report/report_plots.h"
 #include "run_directory/reading/run_metrics.h"

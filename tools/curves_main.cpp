@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "common/formats/tool_flags.h"
+#include "common/program/tool_flags.h"
 #include "report/learning_curves.h"
 
 namespace poet {

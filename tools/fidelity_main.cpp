@@ -13,7 +13,7 @@
 #include <thread>
 
 #include "common/formats/policy/policy_file.h"
-#include "common/formats/tool_flags.h"
+#include "common/program/tool_flags.h"
 #include "simulation/course_statistics.h"
 #include "simulation/course_sweep.h"
 #include "simulation/envgen/named_courses.h"

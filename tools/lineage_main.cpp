@@ -13,7 +13,7 @@
 #include <iostream>
 
 #include "common/formats/envgen/env_proto.h"
-#include "common/formats/tool_flags.h"
+#include "common/program/tool_flags.h"
 #include "engine/lineage.h"
 #include "run_directory/config/run_config.h"
 #include "run_directory/reading/run_snapshot.h"

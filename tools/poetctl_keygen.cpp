@@ -5,8 +5,8 @@
 #include <array>
 #include <cstdio>
 
-#include "common/formats/tool_flags.h"
 #include "common/plumbing/curve_keys.h"
+#include "common/program/tool_flags.h"
 #include "tools/poetctl_exit.h"
 
 namespace poet {

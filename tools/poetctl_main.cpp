@@ -19,8 +19,8 @@
 #include <optional>
 #include <string>
 
-#include "common/formats/tool_flags.h"
-#include "common/plumbing/status_defaults.h"
+#include "common/program/tool_flags.h"
+#include "common/protocol/status_defaults.h"
 #include "common/text/utf8.h"
 #include "status.pb.h"
 #include "tools/poetctl_exit.h"

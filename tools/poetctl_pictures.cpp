@@ -4,7 +4,7 @@
 #include <cctype>
 #include <cstdio>
 
-#include "common/formats/tool_flags.h"
+#include "common/program/tool_flags.h"
 #include "common/text/utf8.h"
 #include "pictures/canvas.h"
 #include "report/run_pictures.h"

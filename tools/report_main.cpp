@@ -19,8 +19,8 @@
 #include <thread>
 
 #include "common/formats/envgen/env_json.h"
-#include "common/formats/tool_flags.h"
 #include "common/plumbing/text_file.h"
+#include "common/program/tool_flags.h"
 #include "pictures/canvas.h"
 #include "report/report_plot_files.h"
 #include "report/report_tables.h"

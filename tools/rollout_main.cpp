@@ -9,7 +9,7 @@
 
 #include "common/formats/envgen/env_json.h"
 #include "common/formats/policy/policy_file.h"
-#include "common/formats/tool_flags.h"
+#include "common/program/tool_flags.h"
 #include "pictures/course_picture.h"
 #include "pictures/walker_pictures.h"
 #include "simulation/envgen/named_courses.h"

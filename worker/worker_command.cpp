@@ -18,12 +18,12 @@
 #include <string>
 #include <thread>
 
-#include "common/formats/build_fingerprint.h"
-#include "common/formats/tool_flags.h"
 #include "common/plumbing/curve_keys.h"
 #include "common/plumbing/local_token.h"
 #include "common/plumbing/stop_signals.h"
 #include "common/plumbing/zmq_endpoint.h"
+#include "common/program/build_fingerprint.h"
+#include "common/program/tool_flags.h"
 #include "worker/job_runner.h"
 #include "worker/worker_loop.h"
 

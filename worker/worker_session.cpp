@@ -6,7 +6,7 @@
 #include <algorithm>
 #include <utility>
 
-#include "common/formats/build_fingerprint.h"
+#include "common/program/build_fingerprint.h"
 
 namespace poet::worker {
 namespace {

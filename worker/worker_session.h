@@ -30,7 +30,7 @@
 #include <vector>
 
 #include "common/formats/rollout_task_proto.h"
-#include "common/plumbing/wire_timing.h"
+#include "common/protocol/wire_timing.h"
 #include "wire.pb.h"
 #include "worker/job_executor.h"
 

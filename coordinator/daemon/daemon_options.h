@@ -8,8 +8,8 @@
 #include <thread>
 #include <vector>
 
-#include "common/plumbing/status_defaults.h"
-#include "common/plumbing/wire_timing.h"
+#include "common/protocol/status_defaults.h"
+#include "common/protocol/wire_timing.h"
 
 namespace poet {
 

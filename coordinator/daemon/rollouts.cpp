@@ -10,9 +10,9 @@
 #include <thread>
 #include <utility>
 
-#include "common/formats/build_fingerprint.h"
 #include "common/plumbing/curve_keys.h"
 #include "common/plumbing/local_token.h"
+#include "common/program/build_fingerprint.h"
 #include "coordinator/evaluator/local_evaluator.h"
 #include "run_directory/files/run_directory.h"
 

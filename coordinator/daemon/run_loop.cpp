@@ -8,8 +8,8 @@
 #include <variant>
 #include <vector>
 
-#include "common/formats/tool_flags.h"
 #include "common/plumbing/text_file.h"
+#include "common/program/tool_flags.h"
 #include "common/text/event_text.h"
 #include "coordinator/console/progress_display.h"
 #include "coordinator/evaluator/caching_evaluator.h"

@@ -333,11 +333,11 @@ DispatchView Dispatcher::view(Millis now) const {
   v.workers_lost = lost_;
   v.backup_jobs = backup_jobs();
   v.leases_expired = jobs_.leases_expired();
-  v.workers_demoted = referee_.demoted();
-  v.verified_jobs = referee_.verified();
+  v.workers_demoted = referee_.counts().demoted;
+  v.verified_jobs = referee_.counts().verified;
   v.wrong_workers = static_cast<int64_t>(referee_.refusals().size());
-  v.coordinator_checks = referee_.coordinator_checks();
-  v.rollbacks = referee_.rollbacks();
+  v.coordinator_checks = referee_.counts().coordinator_checks;
+  v.rollbacks = referee_.counts().rollbacks;
   return v;
 }
 

@@ -34,7 +34,7 @@
 #include <utility>
 #include <vector>
 
-#include "common/plumbing/wire_timing.h"
+#include "common/protocol/wire_timing.h"
 #include "coordinator/dispatch/batch_results.h"
 #include "coordinator/dispatch/dispatch_view.h"
 #include "coordinator/dispatch/drop_reason.h"

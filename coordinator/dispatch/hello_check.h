@@ -18,7 +18,7 @@ struct HelloRefusal {
   std::string why;  // told to the worker
 };
 
-// What a Hello must match: the coordinator's build and arithmetic (common/formats/build_fingerprint.h). A digest of 0
+// What a Hello must match: the coordinator's build and arithmetic (common/program/build_fingerprint.h). A digest of 0
 // accepts any (for tests).
 struct HelloExpectation {
   uint64_t fingerprint_digest = 0;

@@ -250,7 +250,7 @@ void RemoteEvaluator::serve(Millis now) {
       note_drop(DropReason::kUnauthorisedKey, "a worker with CURVE key " + key + " (" + reason + ")");
     });
   }
-  const int64_t demoted_before = dispatcher_.referee().demoted();
+  const int64_t demoted_before = dispatcher_.referee().counts().demoted;
   receive_all(now);
   for (Dispatcher::Ready& ready : dispatcher_.take_ready())
     if (collect_ready_) ready_results_.push_back(std::move(ready));  // (else nobody listens)
@@ -263,12 +263,12 @@ void RemoteEvaluator::serve(Millis now) {
   const int64_t backups_before = dispatcher_.backup_jobs();
   refuse_keys();
   send_outgoing(now);
-  if (const int64_t demoted = dispatcher_.referee().demoted() - demoted_before; demoted > 0) {
+  if (const int64_t demoted = dispatcher_.referee().counts().demoted - demoted_before; demoted > 0) {
     if (const auto held_back = log_demoted_.admit(now))
       spdlog::warn(
           "{} worker(s) that never returned a result let a lease expire or returned an error: given "
           "no more jobs ({} so far){}",
-          demoted, dispatcher_.referee().demoted(), LogThrottle::held_back_note(*held_back));
+          demoted, dispatcher_.referee().counts().demoted, LogThrottle::held_back_note(*held_back));
   }
   start_coordinator_checks();
   // from every path: this thread's answers and the checker's (check_loop)

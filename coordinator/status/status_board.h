@@ -20,7 +20,7 @@
 #include <string_view>
 
 #include "common/plumbing/expected.h"
-#include "common/plumbing/status_defaults.h"
+#include "common/protocol/status_defaults.h"
 #include "coordinator/status/board_view.h"
 #include "coordinator/status/run_picture_cache.h"
 #include "engine/run_state.h"

@@ -11,7 +11,7 @@
 #include <string>
 #include <string_view>
 
-#include "common/plumbing/status_defaults.h"
+#include "common/protocol/status_defaults.h"
 #include "report/picture_request.h"
 
 namespace poet {

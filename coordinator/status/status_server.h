@@ -27,7 +27,7 @@
 
 #include "common/plumbing/expected.h"
 #include "common/plumbing/host_port.h"
-#include "common/plumbing/status_defaults.h"
+#include "common/protocol/status_defaults.h"
 #include "coordinator/status/connection_shedder.h"
 #include "coordinator/status/status_board.h"
 

@@ -95,10 +95,17 @@ class Referee {
   std::vector<uint64_t> unchecked_since() const { return trust_.unchecked_since(); }
   void went_back(uint64_t last_batch);
 
-  int64_t verified() const { return trust_.verified(); }  // answers found right by a second witness or the coordinator
-  int64_t coordinator_checks() const { return trust_.coordinator_checks(); }
-  int64_t rollbacks() const { return trust_.rollbacks(); }
-  int64_t demoted() const { return trust_.demoted(); }
+  // What it has counted: answers found right by a second witness or the coordinator, jobs settled by the
+  // coordinator's own answer, times it sent the run back, workers not proven demoted.
+  struct Counts {
+    int64_t verified = 0;
+    int64_t coordinator_checks = 0;
+    int64_t rollbacks = 0;
+    int64_t demoted = 0;
+  };
+  Counts counts() const {
+    return {trust_.verified(), trust_.coordinator_checks(), trust_.rollbacks(), trust_.demoted()};
+  }
   const std::vector<Refusal>& refusals() const { return trust_.refusals(); }  // in order
 
  private:

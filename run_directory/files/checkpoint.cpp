@@ -8,8 +8,8 @@
 #include <utility>
 #include <vector>
 
-#include "common/formats/build_fingerprint.h"
 #include "common/formats/envgen/env_proto.h"
+#include "common/program/build_fingerprint.h"
 #include "common/text/text_format.h"
 #include "engine/state_consistency.h"
 #include "run_directory/config/run_config.h"

@@ -15,7 +15,7 @@
 #include <vector>
 #include <zmq.hpp>
 
-#include "common/formats/build_fingerprint.h"
+#include "common/program/build_fingerprint.h"
 #include "coordinator_run_fixture.h"
 #include "rogue_peer.h"
 #include "wire.pb.h"

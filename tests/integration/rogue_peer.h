@@ -12,7 +12,7 @@
 #include <string>
 #include <zmq.hpp>
 
-#include "common/formats/build_fingerprint.h"
+#include "common/program/build_fingerprint.h"
 #include "loopback_port.h"
 #include "wire.pb.h"
 

@@ -25,7 +25,7 @@
 #include <vector>
 
 #include "child_process.h"
-#include "common/formats/build_fingerprint.h"
+#include "common/program/build_fingerprint.h"
 #include "coordinator/status/status_board.h"
 #include "engine/run_state.h"
 #include "loopback_port.h"

@@ -14,7 +14,7 @@
 #include <vector>
 
 #include "child_process.h"
-#include "common/formats/build_fingerprint.h"
+#include "common/program/build_fingerprint.h"
 #include "scratch_dir.h"
 
 namespace {

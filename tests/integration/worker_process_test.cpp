@@ -28,8 +28,8 @@
 #include <zmq.hpp>
 
 #include "child_process.h"
-#include "common/formats/build_fingerprint.h"
 #include "common/formats/rollout_task_proto.h"
+#include "common/program/build_fingerprint.h"
 #include "loopback_port.h"
 #include "scratch_dir.h"
 #include "simulation/envgen/named_courses.h"

@@ -11,11 +11,11 @@
 #include <string>
 #include <vector>
 
-#include "common/formats/tool_flags.h"
 #include "common/plumbing/expected.h"
 #include "common/plumbing/text_file.h"
-#include "tools/reference/status_reference.h"
+#include "common/program/tool_flags.h"
 #include "tools/reference/config_reference.h"
+#include "tools/reference/status_reference.h"
 
 namespace {
 

@@ -5,7 +5,7 @@
 
 #include <cstdio>
 
-#include "common/formats/build_fingerprint.h"
+#include "common/program/build_fingerprint.h"
 
 int main() {
   std::fputs(poet::build_fingerprint().c_str(), stdout);

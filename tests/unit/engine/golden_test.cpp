@@ -11,7 +11,7 @@
 #include <string>
 #include <vector>
 
-#include "common/formats/build_fingerprint.h"
+#include "common/program/build_fingerprint.h"
 #include "coordinator/evaluator/caching_evaluator.h"
 #include "coordinator/evaluator/local_evaluator.h"
 #include "engine/engine.h"

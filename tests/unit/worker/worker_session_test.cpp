@@ -4,7 +4,7 @@
 
 #include <string>
 
-#include "common/formats/build_fingerprint.h"
+#include "common/program/build_fingerprint.h"
 #include "simulation/envgen/named_courses.h"
 #include "simulation/policy/mlp.h"
 #include "simulation/rng.h"

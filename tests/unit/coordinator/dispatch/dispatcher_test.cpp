@@ -450,7 +450,7 @@ TEST(Dispatcher, ErrorsAndDeathsOfPeersNotProvenDoNotStopTheRun) {
   }
   EXPECT_FALSE(d.failure()) << *d.failure();
   EXPECT_EQ(d.view(0).dropped_frames.at("error_from_unproven"), 3);
-  EXPECT_EQ(d.referee().demoted(), 3);
+  EXPECT_EQ(d.referee().counts().demoted, 3);
   drive(d, for_real, now);
   EXPECT_TRUE(d.batch_done());
   EXPECT_FALSE(d.failure());
@@ -727,7 +727,7 @@ TEST(Dispatcher, APeerSayingItLacksTheThetaOfAJobSentWithItIsRefusedTheJob) {
       d.on_result("peer", missing, now);
     }
   }
-  EXPECT_EQ(d.referee().demoted(), 1) << "believed once, then an error";
+  EXPECT_EQ(d.referee().counts().demoted, 1) << "believed once, then an error";
   drive(d, for_real, now);
   EXPECT_TRUE(d.batch_done());
 }

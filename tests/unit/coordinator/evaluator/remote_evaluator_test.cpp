@@ -13,7 +13,7 @@
 #include <string>
 #include <thread>
 
-#include "common/formats/build_fingerprint.h"
+#include "common/program/build_fingerprint.h"
 #include "simulation/envgen/named_courses.h"
 #include "simulation/policy/mlp.h"
 #include "worker/job_runner.h"

@@ -50,7 +50,7 @@ TEST(Referee, AnAnswerOnProbationIsHeldUntilAnotherWitnessConfirmsItAndTheResult
   EXPECT_TRUE(taken.refuse.empty());
   EXPECT_EQ(a.checks_passed, 1);
   EXPECT_EQ(referee.level(a), Trust::kProven);
-  EXPECT_EQ(referee.verified(), 1);
+  EXPECT_EQ(referee.counts().verified, 1);
 }
 
 TEST(Referee, ConnectionsOfOneKeyAreOneWitnessAndAWrongOneTakesTheKeyAndEveryConnectionOfItWithIt) {
@@ -123,7 +123,7 @@ TEST(Referee, AnErrorOfAWorkerNotProvenPutsTheJobBackAndTwoProvenWorkersStopTheR
   const Effects fresh = referee.error(1, join["fresh"], 2);
   EXPECT_EQ(fresh.error, ErrorVerdict::kFromUnproven);
   EXPECT_EQ(fresh.requeue, (std::vector<uint64_t>{1}));
-  EXPECT_EQ(referee.demoted(), 1);
+  EXPECT_EQ(referee.counts().demoted, 1);
   EXPECT_EQ(referee.error(1, join["p1"], 2).error, ErrorVerdict::kRetry);
   const Effects stop = referee.error(1, join["p2"], 2);
   EXPECT_EQ(stop.error, ErrorVerdict::kStop);
@@ -148,7 +148,7 @@ TEST(Referee, ThreeAnswersNoneConfirmedGoToTheCoordinatorWhoseAnswerDecides) {
   ASSERT_EQ(settled.refuse.size(), 2u);
   EXPECT_EQ(settled.refuse[0].worker, "a");
   EXPECT_EQ(settled.refuse[1].worker, "c");
-  EXPECT_EQ(referee.coordinator_checks(), 1);
+  EXPECT_EQ(referee.counts().coordinator_checks, 1);
 }
 
 TEST(Referee, AJobStuckWithAnswersNoOneCanCheckGoesToTheCoordinatorOnce) {
@@ -201,7 +201,7 @@ TEST(Referee, LeasesAndTrialsRunOutDemoteWorkersNotProvenAndOnlyAProvenWorkersDe
   EXPECT_TRUE(quiet.demoted);
   referee.sent_nonsense(join["nonsense"]);
   EXPECT_TRUE(nonsense.demoted);
-  EXPECT_EQ(referee.demoted(), 3);
+  EXPECT_EQ(referee.counts().demoted, 3);
   EXPECT_EQ(referee.jobs_at_once(nonsense, false, 2), 0u);
 }
 
@@ -227,7 +227,7 @@ TEST(Referee, ADepartedWorkersAnswerIsJudgedUntilItsBatchEndsAndGoingBackIsTaken
   EXPECT_EQ(referee.rollback_asked(), batch);
   referee.went_back(batch - 1);
   EXPECT_FALSE(referee.rollback_asked());
-  EXPECT_EQ(referee.rollbacks(), 1);
+  EXPECT_EQ(referee.counts().rollbacks, 1);
   referee.batch_ended();
   referee.batch_started();  // the departed worker's record is gone
   referee.opened(2, batch + 2, 0, 1);

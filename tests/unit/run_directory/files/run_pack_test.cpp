@@ -17,8 +17,8 @@
 #include <vector>
 
 #include "../../engine/engine_test_support.h"
-#include "common/formats/build_fingerprint.h"
 #include "common/plumbing/text_file.h"
+#include "common/program/build_fingerprint.h"
 #include "coordinator/evaluator/local_evaluator.h"
 #include "engine/engine.h"
 #include "run_directory/files/checkpoint_file.h"

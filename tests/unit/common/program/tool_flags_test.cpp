@@ -1,11 +1,11 @@
-#include "common/formats/tool_flags.h"
+#include "common/program/tool_flags.h"
 
 #include <gtest/gtest.h>
 
 #include <string>
 #include <vector>
 
-#include "common/formats/build_fingerprint.h"
+#include "common/program/build_fingerprint.h"
 
 namespace poet {
 namespace {

@@ -1,4 +1,4 @@
-#include "common/formats/build_fingerprint.h"
+#include "common/program/build_fingerprint.h"
 
 #include <box2d/b2_common.h>
 

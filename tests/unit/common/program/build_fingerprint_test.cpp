@@ -1,4 +1,4 @@
-#include "common/formats/build_fingerprint.h"
+#include "common/program/build_fingerprint.h"
 
 #include <gtest/gtest.h>
 

@@ -1,11 +1,11 @@
-#include "common/formats/tool_flags.h"
+#include "common/program/tool_flags.h"
 
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
 #include <iostream>
 
-#include "common/formats/build_fingerprint.h"
+#include "common/program/build_fingerprint.h"
 
 namespace poet {
 
