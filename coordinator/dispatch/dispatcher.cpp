@@ -115,7 +115,7 @@ void Dispatcher::on_result(const WorkerId& id, const wire::Result& result, Milli
       if (j.leases.empty()) requeue(j, false);
       return;
     }
-    Effects effects = referee_.error(j.id, *w.standing, workers_.proven());
+    Effects effects = referee_.error(j.id, *w.standing);
     if (effects.error == ErrorVerdict::kStop && !failure_)
       failure_ = refused_by_worker(w.facts.name, encoder_.describe(j.begin), j.end - j.begin > 1, result.error(),
                                    referee_.job(j.id).refusing.size());
@@ -227,7 +227,7 @@ void Dispatcher::check_unanswerable(Millis now) {
     for (const uint64_t id : jobs_.queued()) {
       const OpenJob& job = jobs_.at(id);
       // proven workers that refused it may now be all there are (the others left): the error rule says again
-      if (referee_.refused_by_enough(id, workers_.proven()) && !failure_)
+      if (referee_.refused_by_enough(id) && !failure_)
         failure_ = refused_by_workers(encoder_.describe(job.begin), job.trust->refusing.size(), workers_.proven());
     }
   }

@@ -32,6 +32,19 @@ Standing* Referee::connected(const WorkerId& id) {
   return it != workers_.end() && it->second.connected ? &it->second : nullptr;
 }
 
+size_t Referee::proven_witnesses() const {
+  const Witness* first = nullptr;
+  for (const auto& [id, worker] : workers_) {
+    if (!worker.connected || !worker.proven) continue;
+    const Witness& witness = worker.witness.empty() ? id : worker.witness;
+    if (first == nullptr)
+      first = &witness;
+    else if (witness != *first)
+      return 2;
+  }
+  return first == nullptr ? 0 : 1;
+}
+
 const JobTrust& Referee::opened(uint64_t job, uint64_t batch, size_t begin, size_t end, std::vector<Answer> held) {
   if (jobs_.empty()) first_job_ = job;
   if (job < first_job_ + jobs_.size()) throw std::logic_error("a job opened twice, or out of order");
@@ -86,10 +99,10 @@ Effects Referee::late_answer(const WorkerId& id, std::vector<RolloutResult> late
   return out;
 }
 
-Effects Referee::error(uint64_t job, const Standing& worker, size_t proven_connected) {
+Effects Referee::error(uint64_t job, const Standing& worker) {
   Effects out;
   WorkerRecord& refusing = record_of(worker);
-  out.error = trust_.error(record(job), refusing.id, refusing, proven_connected);
+  out.error = trust_.error(record(job), refusing.id, refusing, proven_witnesses());
   if (*out.error != ErrorVerdict::kStop) out.requeue.push_back(job);
   return out;
 }

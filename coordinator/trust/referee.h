@@ -67,8 +67,9 @@ class Referee {
   // reported final, so checked or local), compared with them.
   Effects late_answer(const WorkerId& id, std::vector<RolloutResult> late, const WorkerId& taken_from,
                       std::span<const RolloutResult> taken, bool taken_final, size_t begin, size_t end, uint64_t batch);
-  // An error Result for a job; `proven_connected`: the proven workers connected (the error rule).
-  Effects error(uint64_t job, const Standing& worker, size_t proven_connected);
+  // An error Result for a job: the error rule counts witnesses (two, or the only one connected), so workers that
+  // share a key are one.
+  Effects error(uint64_t job, const Standing& worker);
   // The coordinator's own results for a job handed to it.
   Effects coordinator_answer(uint64_t job, std::vector<RolloutResult> results, uint64_t batch);
   // A holder not proven let its lease run out, or sent nonsense: demoted. A holder died with the job: whether that
@@ -82,9 +83,7 @@ class Referee {
   // (`checker_connected`), or whose every holder took it a lease ago (`newest_lease`): the coordinator checks it.
   Effects stuck(uint64_t job, bool queued, bool checker_connected, Millis newest_lease, Millis now, Millis lease);
   // The error rule, asked again of a queued job: proven workers that refused it are now enough.
-  bool refused_by_enough(uint64_t job, size_t proven_connected) const {
-    return trust_.refused_by_enough(this->job(job), proven_connected);
-  }
+  bool refused_by_enough(uint64_t job) const { return trust_.refused_by_enough(this->job(job), proven_witnesses()); }
 
   // Batches and going back. A batch starts (workers gone can no longer be found wrong) or ends (its jobs close);
   // the first batch to compute again, not yet gone back to; what must stay reachable meanwhile; the caller went back
@@ -119,6 +118,7 @@ class Referee {
   };
 
   Standing* connected(const WorkerId& id);
+  size_t proven_witnesses() const;  // of the proven workers connected, two at most: all the error rule asks
   // The record behind a standing joined() handed out (the referee's own object, so its own to change).
   static WorkerRecord& record_of(const Standing& worker) {
     return static_cast<WorkerRecord&>(const_cast<Standing&>(worker));

@@ -89,7 +89,7 @@ void WorkerTrust::lease_ran_out(JobTrust& job, const WorkerId& id, Standing& hol
   demote(holder);
 }
 
-ErrorVerdict WorkerTrust::error(JobTrust& job, const WorkerId& id, Standing& worker, size_t proven_connected) {
+ErrorVerdict WorkerTrust::error(JobTrust& job, const WorkerId& id, Standing& worker, size_t proven_witnesses) {
   job.failed.insert(id);
   job.tainted = true;
   if (!worker.proven) {  // a peer that never returned a result cannot stop the run: the job goes to a proven worker
@@ -97,11 +97,11 @@ ErrorVerdict WorkerTrust::error(JobTrust& job, const WorkerId& id, Standing& wor
     return ErrorVerdict::kFromUnproven;
   }
   job.refusing.insert(worker.witness.empty() ? id : worker.witness);
-  return refused_by_enough(job, proven_connected) ? ErrorVerdict::kStop : ErrorVerdict::kRetry;
+  return refused_by_enough(job, proven_witnesses) ? ErrorVerdict::kStop : ErrorVerdict::kRetry;
 }
 
-bool WorkerTrust::refused_by_enough(const JobTrust& job, size_t proven_connected) const {
-  return !job.refusing.empty() && job.refusing.size() >= std::min<size_t>(2, std::max<size_t>(1, proven_connected));
+bool WorkerTrust::refused_by_enough(const JobTrust& job, size_t proven_witnesses) const {
+  return !job.refusing.empty() && job.refusing.size() >= std::min<size_t>(2, std::max<size_t>(1, proven_witnesses));
 }
 
 Settlement WorkerTrust::answer(JobTrust& job, const WorkerId& id, Standing& worker, std::vector<RolloutResult> results,

@@ -10,8 +10,8 @@
 // coordinator, from its Hello: it showed local_token); whether its answers are right is verification's to say.
 // Until then its death, an error it returns or a lease it lets expire only takes the job back (the job is then
 // tainted and goes to proven workers only, while any is connected), and the latter two demote it (no more jobs).
-// The run stops on an error only when two proven workers (or the only one) refuse the job: a real error repeats,
-// runs being deterministic.
+// The run stops on an error only when two proven witnesses (or the only one connected; the connections of one CURVE
+// key are one) refuse the job: a real error repeats, runs being deterministic.
 //
 // Verification. With verify_fraction > 0, every answer of a worker on probation (not local, and fewer than
 // probation_checks of its answers checked and found right) and a fraction of the other answers of workers that are
@@ -123,9 +123,10 @@ class WorkerTrust {
   // proven proves nothing by dying, and taints the job.
   bool death_counts(JobTrust& job, const Standing& holder) const;
   void lease_ran_out(JobTrust& job, const WorkerId& id, Standing& holder);  // holder not proven: demoted
-  ErrorVerdict error(JobTrust& job, const WorkerId& id, Standing& worker, size_t proven_connected);
-  // The error rule: proven workers agree the job fails (two, or the only one connected).
-  bool refused_by_enough(const JobTrust& job, size_t proven_connected) const;
+  // `proven_witnesses`: the witnesses of the proven workers connected (connections of one key are one).
+  ErrorVerdict error(JobTrust& job, const WorkerId& id, Standing& worker, size_t proven_witnesses);
+  // The error rule: proven witnesses agree the job fails (two, or the only one connected).
+  bool refused_by_enough(const JobTrust& job, size_t proven_witnesses) const;
 
   // What an answer settles: a job's holder's answer in `batch`; the late answer of a holder beaten to it, against
   // the results taken (whose, and whether final: a final one was checked or local, and decides); the coordinator's

@@ -707,6 +707,30 @@ TEST(Dispatcher, AnErrorStopsTheRunWhenTheWorkersThatRefusedAreAllThatIsLeft) {
   EXPECT_TRUE(contains(*d.failure(), "1 of the 1 proven workers")) << *d.failure();
 }
 
+// Workers that share one CURVE key (Compose's one worker key pair) are one witness: the error rule asks two
+// witnesses, or the only one connected, so their error stops the run rather than leave the job to no one.
+TEST(Dispatcher, AnErrorStopsTheRunWhenEveryWorkerSharesOneKey) {
+  Dispatcher d(settings());
+  for (const char* id : {"a", "b", "c"}) join(d, id, stranger_hello(id), 0, "shared-key");
+  d.start_batch(batch(3));  // proven by answering
+  Millis now = 1;
+  for (int round = 0; round < 10 && !d.batch_done(); ++round, ++now)
+    for (const Outgoing& o : jobs_in(d.outgoing(now))) d.on_result(o.worker, answer(o.message.job()), now);
+  ASSERT_TRUE(d.batch_done());
+  d.take_results();
+  d.start_batch(batch(1));
+  for (int round = 0; round < 10 && !d.failure(); ++round, ++now) {
+    for (const Outgoing& o : jobs_in(d.outgoing(now))) {
+      wire::Result refusal;
+      refusal.set_job_id(o.message.job().job_id());
+      refusal.set_error("task refused");
+      d.on_result(o.worker, refusal, now);
+    }
+  }
+  ASSERT_TRUE(d.failure()) << "the job would wait forever: every worker refused it";
+  EXPECT_TRUE(contains(*d.failure(), "task refused")) << *d.failure();
+}
+
 TEST(Dispatcher, APeerSayingItLacksTheThetaOfAJobSentWithItIsRefusedTheJob) {
   Dispatcher d(settings());
   join(d, "peer", stranger_hello("peer"), 0);

@@ -120,16 +120,16 @@ TEST(Referee, AnErrorOfAWorkerNotProvenPutsTheJobBackAndTwoProvenWorkersStopTheR
   join("p1", "", true);
   join("p2", "", true);
   referee.opened(1, 1, 0, 1);
-  const Effects fresh = referee.error(1, join["fresh"], 2);
+  const Effects fresh = referee.error(1, join["fresh"]);
   EXPECT_EQ(fresh.error, ErrorVerdict::kFromUnproven);
   EXPECT_EQ(fresh.requeue, (std::vector<uint64_t>{1}));
   EXPECT_EQ(referee.counts().demoted, 1);
-  EXPECT_EQ(referee.error(1, join["p1"], 2).error, ErrorVerdict::kRetry);
-  const Effects stop = referee.error(1, join["p2"], 2);
+  EXPECT_EQ(referee.error(1, join["p1"]).error, ErrorVerdict::kRetry);
+  const Effects stop = referee.error(1, join["p2"]);
   EXPECT_EQ(stop.error, ErrorVerdict::kStop);
   EXPECT_TRUE(stop.requeue.empty());
   EXPECT_EQ(referee.job(1).refusing.size(), 2u);
-  EXPECT_TRUE(referee.refused_by_enough(1, 2));
+  EXPECT_TRUE(referee.refused_by_enough(1));
 }
 
 TEST(Referee, ThreeAnswersNoneConfirmedGoToTheCoordinatorWhoseAnswerDecides) {
