@@ -8,8 +8,9 @@
 // place — as WorkerSession turns the worker's events into actions. WorkerTrust (worker_trust.h) is its rule book,
 // verification.h the rules of independent witnesses. Pure: no queue, no sockets, no clock of its own.
 //
-// A worker found wrong is refused by its routing id and, with CURVE, by its key: every connected worker holding the
-// key is refused with it (effects), and so is any Hello with it from then on. Going back is a record, not an
+// A worker found wrong is refused by its routing id and, with CURVE, by its key: every worker holding the key is
+// refused with it (effects; one gone since is refused too, its results not final withdrawn), and so is any Hello
+// with it from then on. Going back is a record, not an
 // effect of one event: rollback_asked names the first batch whose final results may hold a lie, and the caller
 // goes back (went_back) once its batch is over.
 
