@@ -76,6 +76,9 @@ class Dispatcher {
       : settings_(settings),
         jobs_({settings.liveness_ms, settings.backup_factor, settings.backup_min_ms, settings.max_leases}),
         referee_({settings.verify_fraction, settings.verify_secret, settings.probation_checks}) {}
+  // Its parts point at one another (the assignment at the registry and the queue, each worker at its standing).
+  Dispatcher(const Dispatcher&) = delete;
+  Dispatcher& operator=(const Dispatcher&) = delete;
 
   // A Hello: the Welcome to send, or a Refused (wrong protocol version or build fingerprint, max_workers reached, or
   // its routing id or key refused for wrong results; counted). A welcomed worker gets jobs once it has sent another
