@@ -8,8 +8,12 @@
 // The state is checkpointed every checkpoint_interval iterations and at the end. SIGINT/SIGTERM abandon the
 // iteration in flight (within a second) and exit 128 + the signal's number, the last checkpoint being the state; a
 // resume repeats that iteration exactly. A signal during start-up (reading the config or checkpoint, opening the
-// run) exits so at once, and so does a second signal. Exit codes: 0 done, 1 runtime error (or a diverged run), 2 bad
-// command line, config or run directory (or one another process owns), 130 interrupted by SIGINT, 143 by SIGTERM.
+// run) exits so at once, and so does a second signal. SIGUSR1 or `poetctl stop --at-boundary` (a request file in
+// the run directory) stop it at the next iteration boundary instead: the iteration in flight finished and saved,
+// exit 3. With --listen it writes coordinator.endpoint into the run directory while it runs, where workers given
+// --coordinator-file find it. Exit codes: 0 done, 1 runtime error (or a diverged run), 2 bad command line, config or
+// run directory (or one another process owns), 3 stopped at an iteration boundary as asked (not finished), 130
+// interrupted by SIGINT, 143 by SIGTERM.
 
 #include <spdlog/sinks/stdout_color_sinks.h>
 #include <spdlog/spdlog.h>
@@ -28,6 +32,7 @@
 #include "common/program/tool_flags.h"
 #include "coordinator/daemon/daemon_options.h"
 #include "coordinator/daemon/descriptor_limit.h"
+#include "coordinator/daemon/endpoint_announcement.h"
 #include "coordinator/daemon/rollouts.h"
 #include "coordinator/daemon/run_loop.h"
 #include "coordinator/daemon/run_opening.h"
@@ -73,6 +78,10 @@ int run(const DaemonOptions& options, StopSignals& signals) {
   }
   std::optional<std::pair<RunDirectory, RunState>> opened = options.resume ? resume_run(options) : start_run(options);
   if (!opened) return kExitUsage;
+  std::optional<EndpointAnnouncement> announcement;  // the run directory is this process's now: say where it listens
+  if (rollouts->remote && !options.listen.empty())
+    announcement.emplace(options.run_dir, rollouts->remote->endpoint(), options.advertise_host,
+                         rollouts->curve_public_key);
   for (const std::string& repair : opened->first.repairs()) spdlog::warn("{}", repair);
   std::string wall_warning;
   WallTimes wall_times = WallTimes::open(options.run_dir, opened->second.next_iteration, &wall_warning);
@@ -111,7 +120,7 @@ int run(const DaemonOptions& options, StopSignals& signals) {
 
 int main(int argc, char** argv) {
   // first of all, so that a signal at any later point of start-up ends the process (130 or 143)
-  static poet::StopSignals signals;
+  static poet::StopSignals signals(-1, /*boundary_signal=*/true);
 
   poet::DaemonOptions options;
   CLI::App app{"Run POET (or a control) in a run directory; resume it after an interruption"};
@@ -141,6 +150,9 @@ int main(int argc, char** argv) {
             return poet::zmq_endpoint_problem(endpoint, poet::EndpointUse::kBind).value_or("");
           },
           "ENDPOINT"));
+  app.add_option("--advertise-host", options.advertise_host,
+                 "The host name or address workers reach this machine by, written for a --listen on every address "
+                 "(0.0.0.0, *) into the run directory's coordinator.endpoint (default: this machine's host name)");
   app.add_option("--local-workers", options.local_workers, "Start and supervise N poet-worker processes here")
       ->check(CLI::Range(0, 256));
   app.add_option("--liveness-ms", options.liveness_ms, "A worker silent this long is dead")

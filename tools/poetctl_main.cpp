@@ -4,6 +4,7 @@
 //   poetctl keygen DIR coordinator|worker [--authorize]
 //   poetctl picture KIND OUT [--pair ID] [--run-dir DIR]   a picture of the live run, or of a run directory's files
 //   poetctl pack RUN_DIR FILE | unpack FILE DIR           a run as one file, to move it between machines
+//   poetctl stop RUN_DIR --at-boundary      the run's coordinator stops at its next iteration boundary, exit 3
 // Prints a table for people, or with --json the server's JSON as it came (/metrics is always its text); whatever
 // the server sent is printed with its control characters written out (\u001b), so that it cannot drive the
 // terminal. Each request has a deadline for the whole answer and a cap on its size (status_request.h). The
@@ -27,6 +28,7 @@
 #include "tools/poetctl_keygen.h"
 #include "tools/poetctl_pack.h"
 #include "tools/poetctl_pictures.h"
+#include "tools/poetctl_stop.h"
 #include "tools/status_client/status_request.h"
 #include "tools/status_client/status_tables.h"
 
@@ -105,6 +107,8 @@ struct Options {
   std::string picture_kind_name, picture_out, picture_run_dir;
   int picture_pair = -1;
   std::string pack_dir, pack_file;
+  std::string stop_dir;
+  bool at_boundary = false;
 };
 
 // The subcommands that ask the status socket.
@@ -162,6 +166,17 @@ void add_pack_commands(CLI::App& app, Options& o) {
   unpack->add_option("dir", o.pack_dir, "The run directory to make")->required();
 }
 
+void add_stop_command(CLI::App& app, Options& o) {
+  auto* stop = app.add_subcommand(
+      "stop",
+      "Ask the coordinator of RUN_DIR to stop at its next iteration boundary: the iteration in flight finished and "
+      "checkpointed, exit code 3 (a request file in RUN_DIR, so any machine that sees it can ask; no socket "
+      "involved). An immediate stop is SIGINT or SIGTERM to the coordinator");
+  stop->add_option("run_dir", o.stop_dir, "The run directory")->required();
+  stop->add_flag("--at-boundary", o.at_boundary, "Stop at the next iteration boundary (the only stop asked this way)")
+      ->required();
+}
+
 // Parses the command line into `o`. nullopt: go on; otherwise the exit code (as parse_command_line).
 std::optional<int> parse_options(int argc, char** argv, Options& o) {
   CLI::App app{"Ask a running poet-coordinator's status socket what its run is doing"};
@@ -176,6 +191,7 @@ std::optional<int> parse_options(int argc, char** argv, Options& o) {
   add_keygen_command(app, o);
   add_picture_command(app, o);
   add_pack_commands(app, o);
+  add_stop_command(app, o);
   if (std::optional<int> code = parse_command_line(app, argc, argv)) return code;
   o.command = app.get_subcommands().front()->get_name();  // exactly one, as required
   return std::nullopt;
@@ -216,6 +232,7 @@ int run_tool(int argc, char** argv) {
   if (o.command == "keygen") return make_keys(o.key_dir, o.key_name, o.authorize);
   if (o.command == "pack") return pack_run(o.pack_dir, o.pack_file);
   if (o.command == "unpack") return unpack_run(o.pack_file, o.pack_dir);
+  if (o.command == "stop") return stop_at_boundary(o.stop_dir);
   if (o.command != "picture") return run(status_address(o.address), status_command(o), o.json);
 
   Expected<PictureRequest> request = picture_request(o.picture_kind_name, o.picture_out, o.picture_pair);

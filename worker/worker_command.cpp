@@ -10,6 +10,7 @@
 #include <atomic>
 #include <climits>
 #include <csignal>
+#include <cstdio>
 #include <cstdlib>
 #include <exception>
 #include <filesystem>
@@ -50,13 +51,19 @@ struct Options {
 // Parses the command line into `o`. nullopt: go on; otherwise the exit code (as parse_command_line).
 std::optional<int> parse_options(int argc, char** argv, Options& o, const WorkerProgram& program) {
   CLI::App app{"A POET worker: runs the rollouts a poet-coordinator sends it"};
-  app.add_option("--connect", o.settings.endpoint, "The coordinator's job endpoint, tcp://HOST:PORT")
-      ->required()
-      ->check(CLI::Validator(
-          [](const std::string& endpoint) {
-            return zmq_endpoint_problem(endpoint, EndpointUse::kConnect).value_or(std::string());
-          },
-          "ENDPOINT"));
+  auto* connect = app.add_option("--connect", o.settings.endpoint, "The coordinator's job endpoint, tcp://HOST:PORT")
+                      ->check(CLI::Validator(
+                          [](const std::string& endpoint) {
+                            return zmq_endpoint_problem(endpoint, EndpointUse::kConnect).value_or(std::string());
+                          },
+                          "ENDPOINT"));
+  auto* file = app.add_option("--coordinator-file", o.settings.endpoint_file,
+                              "Instead of --connect: the coordinator.endpoint file its run directory holds while it "
+                              "runs (on a shared file system), read again each time the coordinator is lost, so a "
+                              "coordinator that moves (a chained run's next job) is followed; with CURVE it gives "
+                              "the coordinator's public key too")
+                   ->excludes(connect);
+  connect->excludes(file);
   app.add_option("--threads", o.threads, "Episodes run at once (default: hardware concurrency)")
       ->check(CLI::Range(1, 4096));
   app.add_option("--name", o.name, "Name in the coordinator's logs (default: host:pid)");
@@ -72,7 +79,12 @@ std::optional<int> parse_options(int argc, char** argv, Options& o, const Worker
       ->group("");
   poet::add_fingerprint_flag(app);
   if (program.add_options) program.add_options(app);
-  return poet::parse_command_line(app, argc, argv);
+  if (std::optional<int> code = poet::parse_command_line(app, argc, argv)) return code;
+  if (connect->count() + file->count() == 0) {
+    std::fprintf(stderr, "give --connect tcp://HOST:PORT or --coordinator-file FILE\n");
+    return poet::kExitUsage;
+  }
+  return std::nullopt;
 }
 
 // A local worker ends with its coordinator, however that ends (a SIGKILL included): the kernel sends SIGTERM
@@ -86,11 +98,16 @@ bool follow_parent(int parent_pid) {
   return true;
 }
 
-// The keys in the --curve-keys directory: the worker's own pair and the coordinator's public key.
-poet::Expected<CurveClient> curve_client(const std::string& dir) {
+// The keys in the --curve-keys directory: the worker's own pair and the coordinator's public key, which a worker
+// given --coordinator-file may leave to that file (empty here: the file must have it).
+poet::Expected<CurveClient> curve_client(const std::string& dir, bool key_in_endpoint_file) {
   poet::Expected<poet::CurveKeyPair> own = poet::read_key_pair(dir, "worker");
-  poet::Expected<std::string> coordinator = poet::read_key_file(std::filesystem::path(dir) / "coordinator.key");
-  if (!own || !coordinator) return poet::Unexpected{own ? coordinator.error() : own.error()};
+  if (!own) return poet::Unexpected{own.error()};
+  const std::filesystem::path coordinator_key = std::filesystem::path(dir) / "coordinator.key";
+  if (key_in_endpoint_file && !std::filesystem::exists(coordinator_key))
+    return CurveClient{"", own->public_key, own->secret_key};
+  poet::Expected<std::string> coordinator = poet::read_key_file(coordinator_key);
+  if (!coordinator) return poet::Unexpected{coordinator.error()};
   return CurveClient{*coordinator, own->public_key, own->secret_key};
 }
 
@@ -121,7 +138,7 @@ int worker_main(int argc, char** argv, const WorkerProgram& program) {
 
   LoopSettings& settings = o.settings;
   if (!o.curve_keys.empty()) {
-    poet::Expected<CurveClient> curve = curve_client(o.curve_keys);
+    poet::Expected<CurveClient> curve = curve_client(o.curve_keys, !settings.endpoint_file.empty());
     if (!curve) {
       spdlog::error("--curve-keys: {} (make keys with `poetctl keygen`)", curve.error());
       return poet::kExitUsage;
@@ -129,9 +146,11 @@ int worker_main(int argc, char** argv, const WorkerProgram& program) {
     settings.curve = *curve;
   }
   set_session(o);
-  spdlog::info("{}: {} threads, connecting to {}; build digest {:016x}, arithmetic {:016x} ({})",
-               settings.session.name, o.threads, settings.endpoint, poet::build_fingerprint_digest(),
-               poet::arithmetic_digest(), poet::arithmetic_text());
+  spdlog::info(
+      "{}: {} threads, connecting to {}; build digest {:016x}, arithmetic {:016x} ({})", settings.session.name,
+      o.threads,
+      settings.endpoint_file.empty() ? settings.endpoint : "the coordinator " + settings.endpoint_file + " names",
+      poet::build_fingerprint_digest(), poet::arithmetic_digest(), poet::arithmetic_text());
 
   try {
     static poet::WakePipe wake;  // static: the signal thread may still touch it while the process ends

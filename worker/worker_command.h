@@ -3,7 +3,8 @@
 // everywhere, taken by one sigwait thread), the CURVE keys, --parent-pid, then the socket loop until it ends. A
 // program built on the worker calls it from its main with a WorkerProgram that adds its own options and runs the
 // jobs its own way; poet-worker calls it with none.
-//   poet-worker --connect tcp://HOST:PORT [--threads N] [--name NAME] [--curve-keys DIR] [--log-level L]
+//   poet-worker --connect tcp://HOST:PORT | --coordinator-file RUN_DIR/coordinator.endpoint
+//               [--threads N] [--name NAME] [--curve-keys DIR] [--log-level L]
 // Exit codes: 0 shut down or stopped, 1 runtime error, 2 bad command line or refused by the coordinator.
 
 #include <functional>

@@ -12,6 +12,7 @@
 #include <utility>
 #include <zmq.hpp>
 
+#include "common/plumbing/endpoint_file.h"
 #include "worker/handshake_failure.h"
 
 namespace poet::worker {
@@ -46,7 +47,13 @@ const char* kind_name(const wire::WorkerMessage& message) {
 class SocketLoop {
  public:
   SocketLoop(const LoopSettings& settings, JobExecutor& jobs, WakePipe& wake, const std::atomic<bool>& stop)
-      : settings_(settings), jobs_(jobs), wake_(wake), stop_(stop), session_(settings.session) {}
+      : settings_(settings),
+        jobs_(jobs),
+        wake_(wake),
+        stop_(stop),
+        endpoint_(settings.endpoint),
+        curve_(settings.curve),
+        session_(settings.session) {}
   ~SocketLoop() { close_socket(); }
 
   int run() {
@@ -73,28 +80,57 @@ class SocketLoop {
   }
 
  private:
+  // With --coordinator-file, where the coordinator is now (it may have moved: a chained run's next job on another
+  // node). False when the file cannot be read or does not fit this worker's keys; said when that changes.
+  bool follow_endpoint_file() {
+    if (settings_.endpoint_file.empty()) return true;
+    Expected<CoordinatorEndpoint> read = read_endpoint_file(settings_.endpoint_file);
+    std::string problem;
+    if (!read) {
+      problem = read.error();
+    } else if (!read->curve_public_key.empty() && !curve_) {
+      problem = "the coordinator uses CURVE (the file has its key): give --curve-keys DIR with this worker's pair";
+    } else if (read->curve_public_key.empty() && curve_ && curve_->server_public_key.empty()) {
+      problem = "the file has no curve_public_key and --curve-keys DIR has no coordinator.key";
+    }
+    if (!problem.empty()) {
+      if (problem != endpoint_file_problem_)
+        spdlog::warn("--coordinator-file {}: {}; trying again", settings_.endpoint_file, problem);
+      endpoint_file_problem_ = problem;
+      last_problem_ = settings_.endpoint_file + ": " + problem;
+      return false;
+    }
+    endpoint_file_problem_.clear();
+    if (read->endpoint != endpoint_)
+      spdlog::info("{} gives the coordinator at {}", settings_.endpoint_file, read->endpoint);
+    endpoint_ = read->endpoint;
+    if (curve_ && !read->curve_public_key.empty()) curve_->server_public_key = read->curve_public_key;
+    return true;
+  }
+
   // A fresh DEALER connected to the coordinator; false (and no socket) when the endpoint cannot be connected.
   bool connect() {
     close_socket();
+    if (!follow_endpoint_file()) return false;
     try {
       zmq::socket_t socket(context_, zmq::socket_type::dealer);
       socket.set(zmq::sockopt::linger, 0);
-      if (settings_.curve) {
-        socket.set(zmq::sockopt::curve_serverkey, settings_.curve->server_public_key);
-        socket.set(zmq::sockopt::curve_publickey, settings_.curve->public_key);
-        socket.set(zmq::sockopt::curve_secretkey, settings_.curve->secret_key);
+      if (curve_) {
+        socket.set(zmq::sockopt::curve_serverkey, curve_->server_public_key);
+        socket.set(zmq::sockopt::curve_publickey, curve_->public_key);
+        socket.set(zmq::sockopt::curve_secretkey, curve_->secret_key);
       }
       watch_handshakes(socket);
       socket.set(zmq::sockopt::maxmsgsize, static_cast<int64_t>(kMaxFrameBytes));
       // no queueing for a peer that is not connected: a Hello sent then fails at once (and is retried) instead
       // of piling up and arriving in a burst when the coordinator comes up
       socket.set(zmq::sockopt::immediate, 1);
-      socket.connect(settings_.endpoint);
+      socket.connect(endpoint_);
       socket_ = std::move(socket);
-      spdlog::debug("connecting to {}", settings_.endpoint);
+      spdlog::debug("connecting to {}", endpoint_);
       return true;
     } catch (const zmq::error_t& e) {
-      spdlog::warn("cannot connect to {}: {}", settings_.endpoint, e.what());
+      spdlog::warn("cannot connect to {}: {}", endpoint_, e.what());
       socket_.reset();
       return false;
     }
@@ -160,8 +196,7 @@ class SocketLoop {
           break;
       }
       handshaking_ = false;
-      const std::optional<std::string> failure =
-          handshake_failure(id, value, settings_.curve.has_value(), settings_.endpoint);
+      const std::optional<std::string> failure = handshake_failure(id, value, curve_.has_value(), endpoint_);
       if (!failure) continue;
       last_problem_ = *failure;
       if (*failure != logged_failure_) spdlog::error("{}; trying again", *failure);
@@ -232,7 +267,7 @@ class SocketLoop {
   // Does what the session asked, in the order Actions documents.
   std::optional<int> apply(Actions actions) {
     if (actions.still_trying) {
-      spdlog::warn("still trying to reach the coordinator at {}: no Welcome for {} s{}", settings_.endpoint,
+      spdlog::warn("still trying to reach the coordinator at {}: no Welcome for {} s{}", endpoint_,
                    std::chrono::duration_cast<std::chrono::seconds>(*actions.still_trying).count(),
                    last_problem_.empty() ? "" : " (" + last_problem_ + ")");
     }
@@ -268,6 +303,9 @@ class SocketLoop {
   bool handshaking_ = false;    // connected, the handshake not over
   std::string logged_failure_;  // the last handshake failure logged, until one succeeds
   std::string last_problem_;    // what happened last on the way to a Welcome, for the still-trying lines
+  std::string endpoint_;        // the coordinator's: --connect, or as --coordinator-file said last
+  std::optional<CurveClient> curve_;   // the same for the coordinator's key
+  std::string endpoint_file_problem_;  // what was wrong with --coordinator-file, said once until it changes
   WorkerSession session_;
 };
 

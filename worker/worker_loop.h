@@ -27,6 +27,9 @@ struct CurveClient {
 
 struct LoopSettings {
   std::string endpoint;  // tcp://HOST:PORT of the coordinator's ROUTER
+  // A coordinator's endpoint file (common/plumbing/endpoint_file.h), read instead of `endpoint` (and of curve's
+  // server key, when it has one) each time a fresh socket is opened: a coordinator that moves is followed.
+  std::string endpoint_file;
   SessionSettings session;
   std::optional<CurveClient> curve;  // none: no authentication
 };

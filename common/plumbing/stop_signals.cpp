@@ -7,10 +7,11 @@
 
 namespace poet {
 
-StopSignals::StopSignals(int fixed_exit_code) : fixed_exit_code_(fixed_exit_code) {
+StopSignals::StopSignals(int fixed_exit_code, bool boundary_signal) : fixed_exit_code_(fixed_exit_code) {
   sigemptyset(&set_);
   sigaddset(&set_, SIGINT);
   sigaddset(&set_, SIGTERM);
+  if (boundary_signal) sigaddset(&set_, SIGUSR1);
   pthread_sigmask(SIG_BLOCK, &set_, nullptr);
   std::thread([this] { watch(); }).detach();  // lives as long as the process
 }
@@ -24,6 +25,10 @@ void StopSignals::watch() {
   for (;;) {
     int signal = 0;
     if (sigwait(&set_, &signal) != 0) continue;
+    if (signal == SIGUSR1) {  // whenever it comes, start-up included: the loop stops at its first boundary
+      boundary_requested_.store(true, std::memory_order_release);
+      continue;
+    }
     if (!in_loop_.load(std::memory_order_acquire) || source_.stop_requested()) ::_exit(exit_code_for(signal));
     first_signal_.store(signal, std::memory_order_release);
     source_.request_stop();

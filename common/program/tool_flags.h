@@ -16,6 +16,9 @@ namespace poet {
 inline constexpr int kExitUsage = 2;
 // Exit code of a runtime error (a diverged run, a failed write, a failure reported by workers).
 inline constexpr int kExitError = 1;
+// poet-coordinator's exit code when it stopped at an iteration boundary, as asked (SIGUSR1, `poetctl stop
+// --at-boundary`): the run is not finished, its checkpoint is the state, and a resume goes on from there.
+inline constexpr int kExitStoppedAtBoundary = 3;
 
 // The environment options of the tools that run episodes (poet-rollout, poet-eval).
 struct WalkerFlags {

@@ -23,6 +23,7 @@ struct DaemonOptions {
   bool quiet = false;
   std::string log_level = "info";
   std::string listen;     // workers connect here; empty: rollouts on threads of this process
+  std::string advertise_host;  // the host name in the endpoint file for a wildcard --listen; empty: gethostname
   int local_workers = 0;  // worker processes to start and supervise on this machine
   int liveness_ms = wire_timing::kLivenessMs;
   std::string worker_binary;

@@ -25,7 +25,7 @@ constexpr double kListenVerifyFraction = 0.05;
 
 // The job socket's CURVE keys from DIR (common/plumbing/curve_keys.h), checked before anything listens; local workers
 // use DIR's worker key, so it must be there and authorised too.
-std::optional<CurveServer> curve_server(const std::filesystem::path& dir, bool local_workers) {
+std::optional<CurveServer> curve_server(const std::filesystem::path& dir, bool local_workers, std::string& public_key) {
   Expected<CurveKeyPair> keys = read_key_pair(dir, "coordinator");
   // a file of authorized/ that holds no key is skipped, here as at every handshake (curve_authenticator.h)
   Expected<AuthorizedKeys> authorized = scan_authorized_keys(dir);
@@ -46,6 +46,7 @@ std::optional<CurveServer> curve_server(const std::filesystem::path& dir, bool l
     spdlog::warn("--curve-keys: no key in {}: no worker can connect until one is added", (dir / "authorized").string());
   spdlog::info("CURVE on: workers need one of the {} keys in {}", authorized_keys.size(),
                (dir / "authorized").string());
+  public_key = keys->public_key;
   return CurveServer{keys->secret_key, dir, {}, {}};  // the callbacks and files: set by the caller
 }
 
@@ -84,7 +85,7 @@ std::optional<Rollouts> make_rollouts(const DaemonOptions& options, StopSignals&
   std::optional<CurveServer> curve;
   std::vector<std::string> worker_args;  // for every local worker
   if (!options.curve_keys.empty()) {
-    curve = curve_server(options.curve_keys, options.local_workers > 0);
+    curve = curve_server(options.curve_keys, options.local_workers > 0, r.curve_public_key);
     if (!curve) return std::nullopt;
     curve->skipped_key_file = [&board] { board.count_skipped_key_file(); };
     curve->refused_keys_file = std::filesystem::path(options.run_dir) / kRefusedKeysFile;

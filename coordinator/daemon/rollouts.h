@@ -23,6 +23,7 @@ struct Rollouts {
   RemoteEvaluator* remote = nullptr;
   std::vector<std::string> worker_args;  // for local workers
   std::string local_token;
+  std::string curve_public_key;  // the job socket's, with CURVE (for the endpoint file)
   std::unique_ptr<LocalWorkers> local_workers;
 };
 

@@ -15,6 +15,7 @@
 #include "coordinator/evaluator/caching_evaluator.h"
 #include "coordinator/evaluator/timed_evaluator.h"
 #include "engine/engine.h"
+#include "run_directory/files/boundary_stop.h"
 #include "run_directory/files/checkpoint_anchors.h"
 #include "run_directory/files/checkpoint_file.h"
 #include "run_directory/files/event_json.h"
@@ -77,6 +78,7 @@ class RunLoop {
     signals_.loop_started();
     while (!run_complete(state()) && !signals_.stop_requested()) {
       if (const std::optional<int> ended = iterate()) return {*ended, false, finished_when_opened_};
+      if (!run_complete(state()) && !signals_.stop_requested() && boundary_stop_asked()) return stop_at_boundary();
     }
     return finish();
   }
@@ -128,6 +130,41 @@ class RunLoop {
     board_.publish_run(state(), saved_iteration_);
     board_.publish_cache(evaluator_.episodes_saved(), evaluator_.steps_saved());
     return std::nullopt;
+  }
+
+  // Whether a stop at this boundary was asked: SIGUSR1 (SLURM's warning before a time limit) or the request file
+  // (`poetctl stop --at-boundary`, from any machine that sees the run directory).
+  bool boundary_stop_asked() {
+    if (signals_.boundary_stop_requested()) {
+      boundary_reason_ = "SIGUSR1";
+      return true;
+    }
+    const Expected<bool> requested = boundary_stop_requested(dir().path());
+    if (!requested) {
+      if (!request_unreadable_logged_)
+        spdlog::warn("{}: {}", (dir().path() / kBoundaryStopFile).string(), requested.error());
+      request_unreadable_logged_ = true;
+      return false;
+    }
+    if (*requested) boundary_reason_ = (dir().path() / kBoundaryStopFile).string();
+    return *requested;
+  }
+
+  // A stop at the boundary just reached: the iteration finished and saved, the request removed (so that the next
+  // job of a chain runs on), kExitStoppedAtBoundary.
+  RunEnd stop_at_boundary() {
+    if (state().next_iteration != saved_iteration_ && !save()) return {kExitError, false, finished_when_opened_};
+    progress_.finish();
+    log_summaries();
+    if (auto error = clear_boundary_stop(dir().path()))
+      spdlog::warn("{}: {} (remove it, or the next coordinator of this run stops after one iteration)",
+                   (dir().path() / kBoundaryStopFile).string(), *error);
+    spdlog::info(
+        "stopped at the boundary of iterations {} and {} as asked ({}); the checkpoint at iteration {} is the state: "
+        "poet-coordinator --run-dir {} --resume",
+        state().next_iteration - 1, state().next_iteration, boundary_reason_, saved_iteration_, options_.run_dir);
+    print_summary(state(), elapsed());
+    return {kExitStoppedAtBoundary, false, finished_when_opened_};
   }
 
   // The loop ended: the last iterations saved, the summaries logged.
@@ -250,6 +287,8 @@ class RunLoop {
   // the run's wall time stays the machine's time after going back: the times of the iterations given up are in it
   double wall_offset_ = 0;
   const bool may_go_back_;  // the evaluator may withdraw results (verification): checkpoints are kept for it
+  std::string boundary_reason_;             // who asked for the stop at the boundary, for the log
+  bool request_unreadable_logged_ = false;  // the request file could not be looked for: said once
 };
 
 }  // namespace

@@ -105,6 +105,11 @@ class CoordinatorProcessTest : public ::testing::Test {
     return wait(pid, name);
   }
 
+  // The run in dir resumed on two threads up to the reference run's end (iteration 6).
+  Outcome resume(const fs::path& dir, const std::string& name) {
+    return run({"--run-dir", dir.string(), "--resume", "--threads", "2", "--quiet", "--iterations", "6"}, name);
+  }
+
   // The uninterrupted run, in dir "A".
   fs::path reference_run() {
     const fs::path dir = root_ / "A";
@@ -179,8 +184,7 @@ TEST_F(CoordinatorProcessTest, SigintStopsAndTheResumeRepeatsTheIterationExactly
   const int stopped_at = checkpoint_iteration(c);
   ASSERT_GE(stopped_at, 2);
   ASSERT_LT(stopped_at, 6) << "the signal came after the reference run's end: nothing left to compare";
-  const Outcome resumed =
-      run({"--run-dir", c.string(), "--resume", "--threads", "2", "--quiet", "--iterations", "6"}, "C2");
+  const Outcome resumed = resume(c, "C2");
   ASSERT_EQ(resumed.code, 0) << resumed.err;
   expect_same_run_files(a, c);
 }
@@ -277,6 +281,82 @@ TEST_F(CoordinatorProcessTest, SigtermAbandonsALongIterationAtOnce) {
   EXPECT_TRUE(contains(stopped.err, "checkpoint at iteration 0")) << stopped.err;
   EXPECT_EQ(checkpoint_iteration(dir), 0);
   EXPECT_EQ(read(dir / "events.jsonl"), "");
+}
+
+// SIGUSR1 (SLURM's warning before a time limit) lets the iteration in flight finish, saves it and exits 3; the run
+// resumed from there ends in the files of a run never stopped.
+TEST_F(CoordinatorProcessTest, Sigusr1StopsAtTheNextBoundaryAndTheResumeEndsAsAStraightRun) {
+  const fs::path a = reference_run();
+  const fs::path c = root_ / "C";
+  const pid_t pid = start_endless_run(c, 2, "C1", config_);
+  ASSERT_GT(pid, 0);
+  ASSERT_EQ(::kill(pid, SIGUSR1), 0);
+  const Outcome stopped = wait(pid, "C1");
+  ASSERT_EQ(stopped.code, 3) << stopped.err;
+  EXPECT_TRUE(contains(stopped.err, "stopped at the boundary of iterations")) << stopped.err;
+  EXPECT_TRUE(contains(stopped.err, "as asked (SIGUSR1)")) << stopped.err;
+  const int stopped_at = checkpoint_iteration(c);
+  ASSERT_GE(stopped_at, 2);
+  ASSERT_LT(stopped_at, 6) << "the signal came after the reference run's end: nothing left to compare";
+  EXPECT_TRUE(contains(stopped.err, "checkpoint at iteration " + std::to_string(stopped_at))) << stopped.err;
+  const Outcome resumed = resume(c, "C2");
+  ASSERT_EQ(resumed.code, 0) << resumed.err;
+  expect_same_run_files(a, c);
+}
+
+// `poetctl stop --at-boundary` asks through the run directory: the coordinator running it stops at its next
+// boundary and removes the request; asked while none runs, the next to open the run stops after one iteration.
+TEST_F(CoordinatorProcessTest, PoetctlStopAtBoundaryAsksThroughTheRunDirectory) {
+  const fs::path a = reference_run();
+  const fs::path c = root_ / "C";
+  auto poetctl_stop = [&](const fs::path& dir, const std::string& name) {
+    const pid_t pid = children_.start({POETCTL_BIN, "stop", dir.string(), "--at-boundary"}, root_ / name);
+    return children_.wait(pid, 60s).value_or(-1);
+  };
+  const pid_t pid = start_endless_run(c, 2, "C1", config_);
+  ASSERT_GT(pid, 0);
+  ASSERT_EQ(poetctl_stop(c, "ask1"), 0) << read(root_ / "ask1.err");
+  EXPECT_TRUE(contains(read(root_ / "ask1.out"), "stops once the iteration in flight is done"))
+      << read(root_ / "ask1.out");
+  const Outcome stopped = wait(pid, "C1");
+  ASSERT_EQ(stopped.code, 3) << stopped.err;
+  EXPECT_TRUE(contains(stopped.err, "as asked (" + (c / "stop-at-boundary").string() + ")")) << stopped.err;
+  EXPECT_FALSE(fs::exists(c / "stop-at-boundary")) << "the request stays after it was acted on";
+  const int stopped_at = checkpoint_iteration(c);
+  ASSERT_LT(stopped_at, 5) << "the request came too late to see a stop between two resumes";
+
+  ASSERT_EQ(poetctl_stop(c, "ask2"), 0) << read(root_ / "ask2.err");
+  EXPECT_TRUE(contains(read(root_ / "ask2.out"), "no coordinator runs")) << read(root_ / "ask2.out");
+  const Outcome one_more = resume(c, "C2");
+  ASSERT_EQ(one_more.code, 3) << one_more.err;
+  EXPECT_EQ(checkpoint_iteration(c), stopped_at + 1);
+  const Outcome resumed = resume(c, "C3");
+  ASSERT_EQ(resumed.code, 0) << resumed.err;
+  expect_same_run_files(a, c);
+
+  EXPECT_EQ(poetctl_stop(root_ / "nothing", "ask3"), 1);
+  EXPECT_TRUE(contains(read(root_ / "ask3.err"), "holds no run")) << read(root_ / "ask3.err");
+}
+
+// A stop at the boundary waits for the iteration in flight, however long; SIGTERM after it keeps its meaning and
+// abandons the iteration at once.
+TEST_F(CoordinatorProcessTest, Sigusr1WaitsForALongIterationAndSigtermStillAbandonsIt) {
+  const fs::path slow = root_ / "slow.textproto";
+  std::ofstream(slow)
+      << "mode: POET\nseed: 3\ninit_zero: true\nes { perturbations: 2048 init_sigma: 0.0001 sigma_floor: 0 }\n";
+  const fs::path dir = root_ / "S";
+  const pid_t pid = start_endless_run(dir, 0, "S", slow);
+  ASSERT_GT(pid, 0);
+  std::this_thread::sleep_for(1500ms);  // well into iteration 0
+  ASSERT_EQ(::kill(pid, SIGUSR1), 0);
+  std::this_thread::sleep_for(1000ms);
+  ASSERT_EQ(children_.ended(pid), std::nullopt) << "SIGUSR1 ended the process: " << read(root_ / "S.err");
+  ASSERT_EQ(::kill(pid, SIGTERM), 0);
+  const Outcome stopped = wait(pid, "S");
+  EXPECT_EQ(stopped.code, 143) << stopped.err;
+  EXPECT_LT(stopped.seconds, 5.0) << "the stop waited for the iteration";
+  EXPECT_TRUE(contains(stopped.err, "stopped during iteration 0")) << stopped.err;
+  EXPECT_EQ(checkpoint_iteration(dir), 0);
 }
 
 // A signal while the process starts (here pending before its first instruction) ends it at once with 128 + its

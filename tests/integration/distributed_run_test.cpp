@@ -4,7 +4,8 @@
 // next; a worker that heartbeats but never answers only delays the run (its job is taken back after a lease); a
 // coordinator killed with SIGKILL and started again finds its workers back and ends in the same files; a job that
 // kills every worker stops the run naming the task; the status socket answers during a run. A CPPN run on workers,
-// killed and resumed, ends as on threads.
+// killed and resumed, ends as on threads. A worker given --coordinator-file follows the coordinator of a run that
+// moved, and waits, saying why, while the file is missing or broken.
 
 #include <gtest/gtest.h>
 #include <httplib.h>
@@ -114,6 +115,49 @@ TEST_F(DistributedRunTest, ARunWithoutWorkersWaitsForOne) {
   EXPECT_EQ(wait(pid), 0) << read(root_ / "N.err");
   expect_same_run(reference, root_ / "N");
   EXPECT_EQ(wait(worker), 0) << "the worker leaves when the run is finished\n" << read(root_ / "worker.err");
+}
+
+// A worker given --coordinator-file follows the run's coordinator.endpoint: to the first coordinator, and, once that
+// one stopped at a boundary (SIGUSR1, as before a SLURM time limit) and a second resumed the run on another port,
+// to the second, which finishes the run as on threads. The file is there while a coordinator runs, and only then.
+TEST_F(DistributedRunTest, AWorkerFollowsTheEndpointFileToACoordinatorThatMoved) {
+  std::ofstream(config_, std::ios::trunc) << config_with("perturbations: 4", "perturbations: 24");
+  const fs::path reference = threads_run();
+  const fs::path run_dir = root_ / "M";
+  const fs::path file = run_dir / "coordinator.endpoint";
+  const pid_t first = coordinator(run_dir, {"--listen", "tcp://127.0.0.1:*"}, "first");
+  const std::string first_endpoint = await_log("first", "workers reach this coordinator at (tcp://[0-9.]+:[0-9]+)");
+  ASSERT_FALSE(first_endpoint.empty());
+  EXPECT_TRUE(contains(read(file), "endpoint=" + first_endpoint + "\n")) << read(file);
+  const pid_t worker = spawn(POET_WORKER_BIN, {"--coordinator-file", file.string(), "--threads", "2"}, "worker");
+  await_log("first", "(iteration [1-9]):");
+  ASSERT_EQ(::kill(first, SIGUSR1), 0);
+  ASSERT_EQ(wait(first), 3) << read(root_ / "first.err");
+  EXPECT_FALSE(fs::exists(file)) << "a coordinator that stopped leaves its endpoint behind";
+  ASSERT_NE(read(run_dir / "events.jsonl"), read(reference / "events.jsonl")) << "the run ended before the stop";
+
+  const pid_t second = coordinator(run_dir, {"--listen", "tcp://127.0.0.1:*"}, "second");
+  const std::string second_endpoint = await_log("second", "workers reach this coordinator at (tcp://[0-9.]+:[0-9]+)");
+  EXPECT_NE(second_endpoint, first_endpoint);
+  EXPECT_EQ(wait(second), 0) << read(root_ / "second.err");
+  expect_same_run(reference, run_dir);
+  EXPECT_EQ(wait(worker), 0) << "the worker leaves when the run is finished\n" << read(root_ / "worker.err");
+  const std::string worker_log = read(root_ / "worker.err");
+  EXPECT_TRUE(contains(worker_log, "gives the coordinator at " + first_endpoint)) << worker_log;
+  EXPECT_TRUE(contains(worker_log, "gives the coordinator at " + second_endpoint)) << worker_log;
+  EXPECT_FALSE(fs::exists(file));
+}
+
+// A worker whose --coordinator-file is missing or broken waits and says why; it is refused no more than that.
+TEST_F(DistributedRunTest, AWorkerWaitsForAnEndpointFileThatIsMissingOrBroken) {
+  const fs::path file = root_ / "coordinator.endpoint";
+  const pid_t worker = spawn(POET_WORKER_BIN, {"--coordinator-file", file.string(), "--threads", "1"}, "worker");
+  await_log("worker", "(does not exist); trying again");
+  std::ofstream(file) << "endpoint=tcp://127.0.0.1:99999\n";
+  await_log("worker", "line 1: (.*); trying again");
+  ASSERT_EQ(children_.ended(worker), std::nullopt);
+  ASSERT_EQ(::kill(worker, SIGTERM), 0);
+  EXPECT_EQ(wait(worker), 0);
 }
 
 TEST_F(DistributedRunTest, ARunWhoseWorkersAllLeaveWaitsForTheNext) {
