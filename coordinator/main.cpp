@@ -152,7 +152,15 @@ int main(int argc, char** argv) {
           "ENDPOINT"));
   app.add_option("--advertise-host", options.advertise_host,
                  "The host name or address workers reach this machine by, written for a --listen on every address "
-                 "(0.0.0.0, *) into the run directory's coordinator.endpoint (default: this machine's host name)");
+                 "(0.0.0.0, *) into the run directory's coordinator.endpoint (default: this machine's host name)")
+      ->check(CLI::Validator(
+          [](const std::string& host) {
+            // what a worker can connect to: a name, an IPv4 address or a bracketed IPv6 one
+            return poet::zmq_endpoint_problem("tcp://" + host + ":1", poet::EndpointUse::kConnect).has_value()
+                       ? "not a host name or address a worker can connect to (an IPv6 address goes in brackets)"
+                       : "";
+          },
+          "HOST"));
   app.add_option("--local-workers", options.local_workers, "Start and supervise N poet-worker processes here")
       ->check(CLI::Range(0, 256));
   app.add_option("--liveness-ms", options.liveness_ms, "A worker silent this long is dead")

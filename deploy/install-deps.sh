@@ -42,6 +42,8 @@ test_packages=(
   mkdocs mkdocs-material
   # the cluster tests: hosts as network namespaces on a bridge, links cut and shaped (ip, tc)
   iproute2
+  # the SLURM tests (tests/slurm): a real cluster on this machine, slurmctld and slurmd nodes authenticated by munge
+  slurm-wlm munge
 )
 
 runtime_packages=(

@@ -14,6 +14,10 @@
 namespace poet {
 
 int stop_at_boundary(const std::filesystem::path& run_dir) {
+  if (run_dir.empty()) {
+    std::fprintf(stderr, "poetctl stop: give the run directory\n");
+    return kExitUnreachable;
+  }
   const Expected<bool> has_config = path_exists(run_dir / kConfigFile);
   if (!has_config || !*has_config) {
     std::fprintf(stderr, "poetctl stop: %s holds no run (no %s)\n", run_dir.c_str(), kConfigFile);

@@ -129,6 +129,9 @@ int worker_main(int argc, char** argv, const WorkerProgram& program) {
   // first of all, so that every thread started later has the signals blocked; before the loop a signal ends the
   // worker at once with 0 (there is nothing to say goodbye to)
   static poet::StopSignals signals(0);
+  // SIGUSR1 asks a coordinator to stop at a boundary; a scheduler may send it to every process of a job (scancel
+  // --signal=USR1), and a worker must not die of it while the coordinator finishes its iteration
+  std::signal(SIGUSR1, SIG_IGN);
 
   Options o;
   if (const std::optional<int> code = parse_options(argc, argv, o, program)) return *code;

@@ -88,6 +88,13 @@ class SocketLoop {
     std::string problem;
     if (!read) {
       problem = read.error();
+    } else if (!read->curve_public_key.empty() && curve_ && !settings_.curve->server_public_key.empty() &&
+               read->curve_public_key != settings_.curve->server_public_key) {
+      // a key given in --curve-keys DIR is the one trusted: whoever can write the run directory must not be able
+      // to send this worker to another coordinator
+      problem =
+          "its curve_public_key is not the coordinator.key of --curve-keys (remove that file to take the key "
+          "from the endpoint file)";
     } else if (!read->curve_public_key.empty() && !curve_) {
       problem = "the coordinator uses CURVE (the file has its key): give --curve-keys DIR with this worker's pair";
     } else if (read->curve_public_key.empty() && curve_ && curve_->server_public_key.empty()) {
@@ -267,7 +274,8 @@ class SocketLoop {
   // Does what the session asked, in the order Actions documents.
   std::optional<int> apply(Actions actions) {
     if (actions.still_trying) {
-      spdlog::warn("still trying to reach the coordinator at {}: no Welcome for {} s{}", endpoint_,
+      spdlog::warn("still trying to reach the coordinator at {}: no Welcome for {} s{}",
+                   endpoint_.empty() ? "the endpoint " + settings_.endpoint_file + " names" : endpoint_,
                    std::chrono::duration_cast<std::chrono::seconds>(*actions.still_trying).count(),
                    last_problem_.empty() ? "" : " (" + last_problem_ + ")");
     }

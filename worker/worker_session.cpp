@@ -105,6 +105,7 @@ Actions WorkerSession::on_message(const wire::CoordinatorMessage& message, TimeP
       if (!welcomed) {
         state_ = SessionState::kWelcomed;
         welcomed_at_ = now;
+        connect_failing_ = false;
         spdlog::info("welcomed by the coordinator: heartbeat every {} ms, liveness {} ms", ms(heartbeat_),
                      ms(liveness_));
         wire::WorkerMessage ready;  // the coordinator sends jobs once the worker has answered its Welcome
@@ -241,7 +242,11 @@ Actions WorkerSession::on_connect_failed(TimePoint now) {
   Actions actions;
   if (state_ == SessionState::kFinished) return actions;
   if (unwelcomed_since_ == TimePoint{}) lost_coordinator(now);  // the first socket failed: start() never ran
-  spdlog::warn("could not connect to the coordinator; trying again in {} ms", ms(backoff_));
+  // said once a streak (a coordinator's endpoint file missing for an hour fails every few seconds); the
+  // still-trying lines say how long it has lasted
+  spdlog::log(connect_failing_ ? spdlog::level::debug : spdlog::level::warn,
+              "could not connect to the coordinator; trying again in {} ms", ms(backoff_));
+  connect_failing_ = true;
   wait_to_reconnect(actions, now);
   return actions;
 }
@@ -304,7 +309,7 @@ Actions WorkerSession::on_tick(TimePoint now) {
         send(actions, hello(), now);
         next_hello_ = now + settings_.hello_interval;
         greeting_since_ = now;
-        spdlog::info("connecting again; Hello");
+        spdlog::log(connect_failing_ ? spdlog::level::debug : spdlog::level::info, "connecting again; Hello");
       }
       break;
     case SessionState::kFinished:

@@ -154,6 +154,7 @@ class WorkerSession {
   TimePoint welcomed_at_{};
   TimePoint reconnect_at_{};
   TimePoint greeting_since_{};    // this connection's first Hello
+  bool connect_failing_ = false;  // sockets could not be opened since the last Welcome: their lines at debug
   TimePoint unwelcomed_since_{};  // the still-trying lines: since when (epoch: not started), the next, the gap after
   TimePoint next_still_trying_{};
   Millis still_trying_gap_{};

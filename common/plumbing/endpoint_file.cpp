@@ -35,12 +35,15 @@ Expected<CoordinatorEndpoint> parse_endpoint_file(std::string_view text) {
     if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
     if (line.empty() || line.front() == '#') continue;
     const std::string where = "line " + std::to_string(number) + ": ";
+    for (const char c : line)  // nothing that could drive a terminal reaches a log line
+      if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f) return Unexpected{where + "a control character"};
     const size_t equals = line.find('=');
     if (equals == std::string_view::npos) return Unexpected{where + "not key=value"};
     const std::string_view key = line.substr(0, equals);
     const std::string_view value = line.substr(equals + 1);
     if (key == "endpoint") {
       if (!parsed.endpoint.empty()) return Unexpected{where + "a second endpoint"};
+      if (value.substr(0, 6) != "tcp://") return Unexpected{where + "the endpoint must be tcp://HOST:PORT"};
       if (auto problem = zmq_endpoint_problem(value, EndpointUse::kConnect)) return Unexpected{where + *problem};
       parsed.endpoint = value;
     } else if (key == "curve_public_key") {

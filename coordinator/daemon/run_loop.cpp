@@ -179,6 +179,8 @@ class RunLoop {
       print_summary(state(), elapsed());
       return {signals_.exit_code(), false, finished_when_opened_};
     }
+    if (auto error = clear_boundary_stop(dir().path()))  // a request the last iteration made moot
+      spdlog::warn("{}: {}", (dir().path() / kBoundaryStopFile).string(), *error);
     if (budget_reached(state()))
       spdlog::info("run finished at iteration {}: its environment-step budget of {} reached ({} steps)",
                    state().next_iteration, state().settings.env_step_budget, state().counters.env_steps);

@@ -479,6 +479,21 @@ def few_descriptors(args, procs, scratch):
     return {"few-descriptors": (out, {})}
 
 
+def stop_requests(args, procs, scratch):
+    """poetctl stop --at-boundary on a directory that holds no run (exit 1), and on a run no coordinator runs."""
+    nothing = os.path.join(scratch, "no-run")
+    os.makedirs(nothing)
+    code, refused = procs.run([args.poetctl, "stop", nothing, "--at-boundary"], "stop-no-run")
+    expect(code == 1, f"stop-no-run: exit {code}, not 1:\n{refused}")
+    idle = os.path.join(scratch, "idle-run")
+    os.makedirs(idle)
+    open(os.path.join(idle, "config.textproto"), "w").close()
+    code, asked = procs.run([args.poetctl, "stop", idle, "--at-boundary"], "stop-idle")
+    expect(code == 0, f"stop-idle: exit {code}, not 0:\n{asked}")
+    expect(os.path.exists(os.path.join(idle, "stop-at-boundary")), "stop-idle: no request file")
+    return {"stop-no-run": (refused, {"RUN_DIR": nothing}), "stop-idle": (asked, {"RUN_DIR": idle})}
+
+
 def keygen_refusals(args, procs, scratch):
     """poetctl keygen over an existing pair (exit 1), and --authorize for a coordinator pair (exit 2)."""
     keys = os.path.join(scratch, "keys")
@@ -598,7 +613,7 @@ def main():
     try:
         for case in (refused_configs, bad_command_line, refused_command_lines, refused_first_policies,
                      nothing_to_resume, damaged_checkpoints, checkpoints_of_other_arithmetic, refused_run_dirs, config_copy_rewritten, refused_packs,
-                     bad_status_address, few_descriptors, keygen_refusals, job_socket_in_use, owned_run):
+                     bad_status_address, few_descriptors, keygen_refusals, stop_requests, job_socket_in_use, owned_run):
             try:
                 seen.update(case(args, procs, scratch))
             except Exception as e:  # a case that fails is reported; the others still run

@@ -148,7 +148,8 @@ TEST_F(DistributedRunTest, AWorkerFollowsTheEndpointFileToACoordinatorThatMoved)
   EXPECT_FALSE(fs::exists(file));
 }
 
-// A worker whose --coordinator-file is missing or broken waits and says why; it is refused no more than that.
+// A worker whose --coordinator-file is missing, broken or names a coordinator key other than the one it was given
+// waits and says why; SIGUSR1 (a scheduler's warning, meant for the coordinator) does not end it.
 TEST_F(DistributedRunTest, AWorkerWaitsForAnEndpointFileThatIsMissingOrBroken) {
   const fs::path file = root_ / "coordinator.endpoint";
   const pid_t worker = spawn(POET_WORKER_BIN, {"--coordinator-file", file.string(), "--threads", "1"}, "worker");
@@ -156,8 +157,21 @@ TEST_F(DistributedRunTest, AWorkerWaitsForAnEndpointFileThatIsMissingOrBroken) {
   std::ofstream(file) << "endpoint=tcp://127.0.0.1:99999\n";
   await_log("worker", "line 1: (.*); trying again");
   ASSERT_EQ(children_.ended(worker), std::nullopt);
+  ASSERT_EQ(::kill(worker, SIGUSR1), 0);  // what a scheduler may send every process of a job: ignored
   ASSERT_EQ(::kill(worker, SIGTERM), 0);
   EXPECT_EQ(wait(worker), 0);
+
+  // the coordinator key given in --curve-keys is the one trusted: a file naming another is refused
+  const fs::path keys = root_ / "keys";
+  for (const std::string who : {"coordinator", "worker"})
+    ASSERT_EQ(wait(spawn(POETCTL_BIN, {"keygen", keys.string(), who}, "keygen-" + who)), 0);
+  std::ofstream(file, std::ios::trunc) << "endpoint=tcp://127.0.0.1:5\n"
+                                       << "curve_public_key=rq:rM>}U?@Lns47E1%kR.o@n%FcmmsL/@{H8]yf7\n";
+  const pid_t keyed = spawn(
+      POET_WORKER_BIN, {"--coordinator-file", file.string(), "--curve-keys", keys.string(), "--threads", "1"}, "keyed");
+  await_log("keyed", "(its curve_public_key is not the coordinator.key of --curve-keys)");
+  ASSERT_EQ(::kill(keyed, SIGTERM), 0);
+  EXPECT_EQ(wait(keyed), 0);
 }
 
 TEST_F(DistributedRunTest, ARunWhoseWorkersAllLeaveWaitsForTheNext) {

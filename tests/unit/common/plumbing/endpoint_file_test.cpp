@@ -49,6 +49,8 @@ TEST(EndpointFile, MalformedFilesAreRefusedNamingTheLine) {
       {"endpoint=udp://h:1\n", "line 1: "},
       {"endpoint=tcp://h:1\ncurve_public_key=short\n", "line 2: curve_public_key is not a Z85 key"},
       {"endpoint=tcp://h:1\ncurve_secret_key=x\n", "line 2: unknown key"},
+      {"endpoint=ipc:///tmp/x\n", "line 1: the endpoint must be tcp://HOST:PORT"},
+      {"endpoint=tcp://\x1b]0;x\x07h:1\n", "line 1: a control character"},
   };
   for (const auto& [text, message] : cases) {
     const Expected<CoordinatorEndpoint> read = parse_endpoint_file(text);
