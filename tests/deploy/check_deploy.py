@@ -4,8 +4,8 @@
 No container runs here. Instead:
   compose_config   docker-compose validates the compose files; their structure and variables are checked.
   k8s_manifests    every manifest parses and has the structure that matters (kinds, probes, ports, the Secret).
-  references       every binary, flag, config path and port the deployment files name exists: flags in the
-                   binary's --help, binaries produced by the build and copied by the Dockerfile, configs in the
+  references       every binary, flag, config path and port the deployment files (deploy/slurm's scripts too)
+                   name exists: flags in the binary's --help, binaries produced by the build and copied by the Dockerfile, configs in the
                    repository and copied, the runtime packages provide every library the binaries load.
   compose_run      the compose topology as plain processes: the coordinator's and the workers' commands exactly
                    as `docker-compose config` gives them, the image's paths mapped to the build tree and the
@@ -873,7 +873,40 @@ def check_references(args, binaries):
                         check.expect(m["mountPath"] in volumes,
                                      f"k8s/{name}: {m['mountPath']} is not a directory the image gives its user "
                                      f"({volumes})")
+    check_slurm_scripts(args, binaries, check)
     check.finish("references")
+
+
+# how deploy/slurm's scripts name the binaries (common.sh's poet_bin)
+SLURM_BINARIES = {'"$coordinator_bin"': "poet-coordinator", '"$worker_bin"': "poet-worker",
+                  '"$(poet_bin poetctl)"': "poetctl"}
+
+
+def check_slurm_scripts(args, binaries, check):
+    """Every flag deploy/slurm's scripts give a binary is in that binary's --help (poetctl's: its subcommand's),
+    and every preset and file they default to exists."""
+    slurm = os.path.join(args.source, "deploy", "slurm")
+    for name in sorted(os.listdir(slurm)):
+        text = open(os.path.join(slurm, name)).read().replace("\\\n", " ")
+        for line in text.splitlines():
+            for ref, binary in SLURM_BINARIES.items():
+                if ref not in line or line.lstrip().startswith("#"):
+                    continue
+                words = line.split(ref, 1)[1].split()
+                path = binaries.paths[binary]
+                help_args = [path, words[0], "--help"] if binary == "poetctl" else [path, "--help"]
+                text_of_help = subprocess.run(help_args, capture_output=True, text=True, timeout=30)
+                help_text = text_of_help.stdout + text_of_help.stderr
+                for flag in flags_of([binary] + words):
+                    check.expect(flag_in_help(flag, help_text),
+                                 f"deploy/slurm/{name}: {binary} has no {flag} ({' '.join(help_args[1:])})")
+    settings = open(os.path.join(slurm, "settings.sh")).read()
+    preset = re.search(r"POET_PRESET=\$\{POET_PRESET:-(\w+)\}", settings)
+    check.expect(preset and os.path.exists(os.path.join(args.source, "deploy", "configs", preset.group(1) +
+                                                        ".textproto")), "deploy/slurm/settings.sh: its preset")
+    walker = re.search(r"POET_START_FROM=\$\{POET_START_FROM-([^}]+)\}", settings)
+    check.expect(walker and os.path.exists(os.path.join(args.source, "data", walker.group(1))),
+                 "deploy/slurm/settings.sh: its first policy")
 
 
 # ---------------------------------------------------------------------------------------------------------
