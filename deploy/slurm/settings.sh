@@ -25,7 +25,7 @@ POET_PARTITION=${POET_PARTITION:-}
 # Seconds before the time limit the coordinator is asked to stop at the next iteration boundary (SIGUSR1). It must
 # cover the longest iteration (a transfer round: docs/slurm.md says how long) and the start-up; SLURM may send the
 # warning up to a minute early.
-POET_STOP_LEAD=${POET_STOP_LEAD:-1800}
+POET_STOP_LEAD=${POET_STOP_LEAD:-600}
 # Anything else sbatch needs on this cluster (an account, a QOS), as words: POET_SBATCH_ARGS="--account=abc123".
 POET_SBATCH_ARGS=${POET_SBATCH_ARGS:-}
 

@@ -26,8 +26,9 @@ user expects:
 No accounting database here (slurmdbd needs MariaDB): sacct has nothing to show, so the jobs' history is read from
 scontrol (MinJobAge keeps finished jobs) and jobcomp/filetxt, which records every end of a job, requeues included.
 The test cluster shortens two waits a site's defaults make long (cred_expire=5 and sched_interval=2: a requeued
-job starts within seconds instead of two minutes) and grants OverTimeLimit=1 (the quick preset's transfer
-iterations on a loaded two-core machine last about as long as its one-minute limit; docs/slurm.md has the rule).
+job starts within seconds instead of two minutes) and grants OverTimeLimit=2 (the quick preset's transfer
+iterations last 27-55 s on two cores, up to twice that beside other tests under ctest -j2: as long as or longer
+than its one-minute limit, which breaks the rule docs/slurm.md gives for the lead).
 Needs root and slurm-wlm and munge (deploy/install-deps.sh); without them the check is skipped (exit 77) saying why,
 and under CI=true a missing package is a failure.
 """
@@ -173,7 +174,7 @@ class SlurmCluster:
             "SlurmdParameters=config_overrides",
             "ReturnToService=2",
             "KillWait=10",
-            "OverTimeLimit=1",
+            "OverTimeLimit=2",
             "JobRequeue=1",
             "MinJobAge=3600",
             "PreemptType=preempt/partition_prio",
