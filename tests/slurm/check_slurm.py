@@ -162,7 +162,7 @@ class SlurmCluster:
         d = self.dir
         lines = [
             f"ClusterName=poetcheck",
-            f"SlurmctldHost={host}",
+            f"SlurmctldHost={host}(127.0.0.1)",  # its address, whether or not the name resolves here
             "SlurmUser=root",
             "AuthType=auth/munge",
             f"AuthInfo=socket={self.munge_socket},cred_expire=5",
