@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <string>
 
+#include "common/plumbing/host_name.h"
 #include "common/plumbing/text_file.h"
 #include "run_directory/files/boundary_stop.h"
 #include "run_directory/files/run_directory.h"
@@ -23,9 +24,7 @@ int stop_at_boundary(const std::filesystem::path& run_dir) {
     std::fprintf(stderr, "poetctl stop: %s holds no run (no %s)\n", run_dir.c_str(), kConfigFile);
     return kExitUnreachable;
   }
-  char host[256] = {};
-  if (::gethostname(host, sizeof host - 1) != 0) host[0] = '\0';
-  const std::string who = "poetctl stop --at-boundary, pid " + std::to_string(::getpid()) + " on " + host;
+  const std::string who = "poetctl stop --at-boundary, pid " + std::to_string(::getpid()) + " on " + host_name();
   if (auto error = request_boundary_stop(run_dir, who)) {
     std::fprintf(stderr, "poetctl stop: %s: %s\n", (run_dir / kBoundaryStopFile).c_str(), error->c_str());
     return kExitUnreachable;

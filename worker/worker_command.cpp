@@ -20,6 +20,7 @@
 #include <thread>
 
 #include "common/plumbing/curve_keys.h"
+#include "common/plumbing/host_name.h"
 #include "common/plumbing/local_token.h"
 #include "common/plumbing/stop_signals.h"
 #include "common/plumbing/zmq_endpoint.h"
@@ -32,11 +33,7 @@ namespace poet::worker {
 namespace {
 
 // "host:pid", the default name.
-std::string default_name() {
-  char host[256] = {};
-  if (::gethostname(host, sizeof host - 1) != 0) host[0] = '\0';
-  return std::string(host[0] != '\0' ? host : "worker") + ":" + std::to_string(::getpid());
-}
+std::string default_name() { return poet::host_name() + ":" + std::to_string(::getpid()); }
 
 // poet-worker's command line; --connect goes straight into the loop's settings.
 struct Options {

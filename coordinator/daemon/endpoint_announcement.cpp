@@ -6,18 +6,10 @@
 #include <system_error>
 
 #include "common/plumbing/endpoint_file.h"
+#include "common/plumbing/host_name.h"
 #include "common/plumbing/text_file.h"
 
 namespace poet {
-namespace {
-
-std::string host_name() {
-  char name[256] = {};
-  if (::gethostname(name, sizeof name - 1) != 0 || name[0] == '\0') return "localhost";
-  return name;
-}
-
-}  // namespace
 
 EndpointAnnouncement::EndpointAnnouncement(const std::filesystem::path& run_dir, const std::string& bound,
                                            std::string host, const std::string& curve_public_key) {
