@@ -124,27 +124,29 @@ int main(int argc, char** argv) {
 
   poet::DaemonOptions options;
   CLI::App app{"Run POET (or a control) in a run directory; resume it after an interruption"};
-  auto* config = app.add_option("--config", options.config_path, "Run config (protobuf text format): a new run");
+  auto* config = app.add_option("--config", options.config_path,
+                                "Run config (protobuf text format) of a new run (default: none, with --resume)");
   app.add_option("--run-dir", options.run_dir, "The run directory")->required();
   app.add_option("--threads", options.threads, "Rollout threads (default: hardware concurrency)")
       ->check(CLI::Range(1, 4096));
   int iterations = 0;
   auto* iterations_option =
-      app.add_option("--iterations", iterations, "Override the iteration limit (on resume it may extend it)")
+      app.add_option("--iterations", iterations,
+                     "Override the config's iteration limit; on resume it may extend it (default: the config's)")
           ->check(CLI::Range(0, INT_MAX));
   auto* resume = app.add_flag("--resume", options.resume, "Continue the run in --run-dir")->excludes(config);
   app.add_option("--from-pack", options.from_pack,
                  "With --resume: first restore the run packed in this file (`poetctl pack`) into --run-dir, which must "
-                 "not exist or be empty")
+                 "not exist or be empty (default: none)")
       ->needs(resume);
   app.add_option("--start-from", options.start_from,
-                 "A new run's first pair starts from this policy ([[θ...], score] as written in policies/) instead of "
-                 "random parameters")
+                 "A new run's first pair starts from this policy ([[θ...], score] as written in policies/) (default: "
+                 "none, random parameters)")
       ->needs(config);
   app.add_flag("--quiet", options.quiet, "No progress line");
   app.add_option("--listen", options.listen,
-                 "Run rollouts on workers that connect here (e.g. tcp://0.0.0.0:5555); default with "
-                 "--local-workers: a free loopback port")
+                 "Run rollouts on workers that connect here, e.g. tcp://0.0.0.0:5555 (default: none, rollouts on this "
+                 "process's threads, or a free loopback port with --local-workers)")
       ->check(CLI::Validator(
           [](const std::string& endpoint) {
             return poet::zmq_endpoint_problem(endpoint, poet::EndpointUse::kBind).value_or("");
@@ -162,6 +164,7 @@ int main(int argc, char** argv) {
           },
           "HOST"));
   app.add_option("--local-workers", options.local_workers, "Start and supervise N poet-worker processes here")
+      ->capture_default_str()
       ->check(CLI::Range(0, 256));
   app.add_option("--liveness-ms", options.liveness_ms, "A worker silent this long is dead")
       ->capture_default_str()
@@ -182,11 +185,12 @@ int main(int argc, char** argv) {
                  "socket, however many or slow, cannot delay it (default: none; /healthz is on the status socket too)");
   app.add_option("--linger", options.linger_seconds,
                  "A run found finished when opened stays up this long (seconds), telling each worker that connects "
-                 "that the run is finished, so that workers an orchestrator starts beside it exit too (default 0)")
+                 "that the run is finished, so that workers an orchestrator starts beside it exit too")
+      ->capture_default_str()
       ->check(CLI::Range(0, 3600));
   app.add_option("--curve-keys", options.curve_keys,
                  "CURVE authentication: DIR holds coordinator.key(_secret) and authorized/*.key, the workers' public "
-                 "keys (made by `poetctl keygen`); workers without an authorised key get no connection")
+                 "keys (made by `poetctl keygen`); workers without an authorised key get no connection (default: none)")
       ->check(CLI::ExistingDirectory);
   bool open_port = false;
   app.add_flag("--open-port", open_port,
@@ -194,7 +198,8 @@ int main(int argc, char** argv) {
                "the port may join, and verification bounds what one connection can do, not what one party holding "
                "many can")
       ->excludes("--curve-keys");
-  auto* log_level = app.add_option("--log-level", options.log_level, "trace, debug, info (default), warn, error or off")
+  auto* log_level = app.add_option("--log-level", options.log_level, "trace, debug, info, warn, error or off")
+                        ->capture_default_str()
                         ->check(CLI::IsMember({"trace", "debug", "info", "warn", "error", "off"}));
   bool verbose = false;
   app.add_flag("--verbose", verbose, "Log every mutation attempt and the dispatcher's details (--log-level debug)")
@@ -216,9 +221,10 @@ int main(int argc, char** argv) {
           options.listen);
       return poet::kExitUsage;
     }
-    spdlog::warn("--open-port: anyone who reaches {} may join as a worker; verification bounds what one connection "
-                 "can do, not what one party holding many can",
-                 options.listen);
+    spdlog::warn(
+        "--open-port: anyone who reaches {} may join as a worker; verification bounds what one connection "
+        "can do, not what one party holding many can",
+        options.listen);
   }
   if (!options.resume && options.config_path.empty()) {
     spdlog::error("give --config FILE for a new run, or --resume to continue the run in --run-dir");

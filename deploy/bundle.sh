@@ -106,6 +106,21 @@ digest=$(env -u LD_LIBRARY_PATH "$dir/bin/poet-coordinator" --fingerprint | sed 
 
 cp "$root"/deploy/configs/*.textproto "$dir/configs/"
 cp -r "$root/data/walkers" "$root/data/environments" "$dir/data/"
+
+# the licences that travel with the binaries: the project's (LICENSE, NOTICE), Box2D's (built into them), and the
+# Debian copyright file of each bundled library's package
+cp "$root/LICENSE" "$root/NOTICE" "$dir/"
+mkdir -p "$dir/licenses"
+box2d_source=$(sed -n 's/^POET_BOX2D_SOURCE_DIR:PATH=//p' "$build_dir/CMakeCache.txt")
+[ -f "$box2d_source/LICENSE" ] || die "Box2D's LICENSE is not in $box2d_source (POET_BOX2D_SOURCE_DIR of $build_dir)"
+cp "$box2d_source/LICENSE" "$dir/licenses/box2d"
+for soname in "${!libraries[@]}"; do
+  real=$(readlink -f "${libraries[$soname]}")
+  package=$(dpkg -S "$real" 2>/dev/null || dpkg -S "${real#/usr}" 2>/dev/null || true)
+  package=${package%%:*}
+  [ -n "$package" ] && [ -f "/usr/share/doc/$package/copyright" ] || die "no Debian copyright file found for $real"
+  cp "/usr/share/doc/$package/copyright" "$dir/licenses/$package"
+done
 cat >"$dir/README.md" <<EOF
 # $name
 
@@ -124,7 +139,8 @@ Build fingerprint digest: $digest. A worker joins only a coordinator with the sa
 (\`bin/poet-worker --fingerprint\`): use copies of this bundle on every machine.
 bin/ also holds the tools (poetctl, poet-report, poet-eval, ...; each has --help); configs/ the presets,
 data/walkers the shipped walkers, data/environments the shipped courses. Pictures take their fonts from the
-machine's fontconfig. Made by deploy/bundle.sh of the POET repository.
+machine's fontconfig. Made by deploy/bundle.sh of the POET repository. Licensed under the Apache License 2.0
+(LICENSE; NOTICE says what it reimplements); licenses/ holds Box2D's licence and each bundled library's.
 EOF
 
 # written beside OUT, then renamed: OUT is never a partial archive

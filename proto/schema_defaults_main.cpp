@@ -1,4 +1,4 @@
-// Writes schema_defaults.h (the path is the one argument): the declared default of every scalar field of the
+// poet-schema-defaults OUT.h: writes schema_defaults.h, the declared default of every scalar field of the
 // settings messages the simulation's types carry (EsConfig, MutationConfig, WalkerConfig), as C++ constants. The
 // schema is the one home of every default; EsSettings, MutationOptions and WalkerOptions take theirs from this
 // header, so they agree with a config that leaves a field out without the simulation linking protobuf. Run by
@@ -6,12 +6,14 @@
 
 #include <google/protobuf/descriptor.h>
 
+#include <CLI/CLI.hpp>
 #include <charconv>
 #include <cstdio>
 #include <fstream>
 #include <iostream>
 #include <string>
 
+#include "common/program/command_line.h"
 #include "poet.pb.h"
 
 namespace {
@@ -63,10 +65,12 @@ std::string constant(const protobuf::FieldDescriptor& f) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  if (argc != 2) {
-    std::cerr << "usage: " << argv[0] << " OUT.h\n";
-    return 2;
-  }
+  CLI::App app{
+      "Write schema_defaults.h: the schema's defaults of the simulation's settings as C++ constants (a build "
+      "tool)"};
+  std::string path;
+  app.add_option("out", path, "The header to write (replaced if it exists)")->required();
+  if (auto code = poet::parse_command_line(app, argc, argv)) return *code;
   std::string text =
       "#pragma once\n"
       "// Generated from proto/poet.proto by proto/schema_defaults_main.cpp: the schema's defaults of the settings\n"
@@ -86,12 +90,12 @@ int main(int argc, char** argv) {
     text += "}  // namespace " + snake_case(message->name()) + "\n";
   }
   text += "\n}  // namespace poet::schema_defaults\n";
-  std::ofstream out(argv[1], std::ios::binary | std::ios::trunc);
+  std::ofstream out(path, std::ios::binary | std::ios::trunc);
   out << text;
   out.close();
   if (!out) {
-    std::cerr << argv[0] << ": cannot write " << argv[1] << "\n";
-    return 1;
+    std::cerr << "poet-schema-defaults: cannot write " << path << "\n";
+    return poet::kExitError;
   }
   return 0;
 }

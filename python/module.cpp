@@ -17,6 +17,7 @@
 
 #include "common/formats/policy/policy_file.h"
 #include "common/formats/suite_score_json.h"
+#include "common/program/command_line.h"
 #include "pictures/walker_frame.h"
 #include "python/array_args.h"
 #include "python/course_spec.h"
@@ -29,6 +30,7 @@
 #include "simulation/rollout.h"
 #include "simulation/suite/course_suite.h"
 #include "simulation/walker/walker_constants.h"
+#include "simulation/walker/walker_spaces.h"
 
 namespace py = pybind11;
 
@@ -73,6 +75,55 @@ FloatArray float_array(const std::array<double, N>& values) {
   auto view = out.mutable_unchecked<1>();
   for (size_t i = 0; i < N; ++i) view(static_cast<py::ssize_t>(i)) = static_cast<float>(values[i]);
   return out;
+}
+
+// The names of a space's indices, in order: OBSERVATION_NAMES and ACTION_NAMES.
+template <size_t N>
+py::tuple index_names(const std::array<walker::SpaceIndex, N>& indices) {
+  py::tuple names(N);
+  for (size_t i = 0; i < N; ++i) names[i] = py::str(indices[i].name.data(), indices[i].name.size());
+  return names;
+}
+
+// Each index as a dict (name, meaning, low, high), for the environment's card.
+template <size_t N>
+py::list index_fields(const std::array<walker::SpaceIndex, N>& indices) {
+  py::list fields;
+  for (const walker::SpaceIndex& index : indices) {
+    py::dict field;
+    field["name"] = py::str(index.name.data(), index.name.size());
+    field["meaning"] = py::str(index.meaning.data(), index.meaning.size());
+    field["low"] = index.low;
+    field["high"] = index.high;
+    fields.append(field);
+  }
+  return fields;
+}
+
+// The constants of walker_constants.h that the environment's card states: its reward, episode end and start.
+py::dict walker_constants() {
+  using namespace walker;
+  py::dict c;
+  c["scale"] = kScale;
+  c["fps"] = kFps;
+  c["motors_torque"] = kMotorsTorque;
+  c["speed_hip"] = kSpeedHip;
+  c["speed_knee"] = kSpeedKnee;
+  c["lidar_range"] = kLidarRange;
+  c["lidar_rays"] = kLidarRays;
+  c["torque_cost"] = kTorqueCost;
+  c["fall_reward"] = kFallReward;
+  c["init_x"] = kInitX;
+  c["init_y"] = kInitY;
+  c["finish_x"] = kFinishX;
+  c["leg_start_angle"] = kLegStartAngle;
+  c["hip_lower"] = kHipLower;
+  c["hip_upper"] = kHipUpper;
+  c["knee_lower"] = kKneeLower;
+  c["knee_upper"] = kKneeUpper;
+  c["max_time_limit"] = kMaxTimeLimit;
+  c["max_env_seed"] = kMaxEnvSeed;
+  return c;
 }
 
 py::dict episode_info(const EpisodeEnv& env, bool finished, bool fell) {
@@ -285,14 +336,54 @@ PYBIND11_MODULE(_poet, m) {
       .def_property_readonly("seed", [](const PyWalkerEnv& e) { return e.episode().seed(); })
       .def_property_readonly("max_steps", [](const PyWalkerEnv& e) { return e.episode().max_steps(); });
 
-  py::class_<PyPolicy>(m, "Policy", "A 24→40→40→4 tanh network, the project's policy (and the reference's files).")
-      .def_static("load", &PyPolicy::load, py::arg("path"),
-                  "Reads a policy file ([[p0 ... p2803], score] or [[p...]]); ValueError with the reason if it "
-                  "cannot.")
-      .def("act", &PyPolicy::act, py::arg("obs"),
-           "The action (float32, shape (4,), each in [-1, 1]) for one observation (shape (24,)).")
-      .def_property_readonly("params", &PyPolicy::params, "The 2804 parameters, float64.")
-      .def_property_readonly("score", &PyPolicy::score, "The score recorded in the file, or None.");
+  py::class_<PyPolicy>(m, "Policy", R"doc(A 24→40→40→4 tanh network, the project's policy (and the reference's files).
+
+Made by Policy.load from a policy file; act gives the network's action for an observation, the action the
+coordinator's rollouts and poet-eval take.
+
+Example:
+    >>> walker = poet.Policy.load("data/walkers/flat-walker.json")
+    >>> walker.act(np.zeros(poet.OBS_DIM, dtype=np.float32)).shape
+    (4,)
+    >>> walker.params.shape
+    (2804,)
+)doc")
+      .def_static("load", &PyPolicy::load, py::arg("path"), R"doc(Reads a policy file.
+
+Args:
+    path (str): a policy file, JSON: [[p0, ..., p2803], score] or [[p0, ..., p2803]] (the reference's form).
+
+Returns:
+    Policy: the file's network, with the score it records.
+
+Raises:
+    ValueError: the file cannot be read or is not a policy file (the message says why).
+
+Example:
+    >>> poet.Policy.load("data/walkers/flat-walker.json").params.size
+    2804
+)doc")
+      .def("act", &PyPolicy::act, py::arg("obs"), R"doc(The network's action for one observation.
+
+Args:
+    obs (numpy.ndarray): one observation: shape (OBS_DIM,) = (24,), of a floating-point dtype, every value finite.
+
+Returns:
+    numpy.ndarray: the action, float32 of shape (4,), each in [-1, 1].
+
+Raises:
+    ValueError: obs is not a numpy array of a floating-point dtype and shape (24,), or a value is not finite.
+
+Example:
+    >>> walker = poet.Policy.load("data/walkers/flat-walker.json")
+    >>> action = walker.act(np.zeros(24, dtype=np.float32))
+    >>> action.dtype, bool(np.all(np.abs(action) <= 1))
+    (dtype('float32'), True)
+)doc")
+      .def_property_readonly("params", &PyPolicy::params,
+                             "numpy.ndarray: the 2804 parameters, float64, in the reference's layout (a copy).")
+      .def_property_readonly("score", &PyPolicy::score,
+                             "float or None: the score the file records, None when it records none.");
 
   py::class_<PyVectorWalkerEnv>(m, "_VectorWalkerEnv")
       .def(py::init<const std::vector<CourseSpec>&, const py::int_&, const py::int_&, const std::string&, double,
@@ -342,8 +433,16 @@ PYBIND11_MODULE(_poet, m) {
       },
       py::arg("dir"));
 
+  static_assert(walker::kObservationIndices.size() == size_t{kObsDim} &&
+                walker::kActionIndices.size() == size_t{kActDim});
   m.attr("OBS_DIM") = static_cast<int>(kObsDim);
   m.attr("ACT_DIM") = static_cast<int>(kActDim);
   m.attr("DEFAULT_PUSH_SCALE") = walker::kDefaultPushScale;
   m.attr("DEFAULT_MAX_STEPS") = walker::kDefaultTimeLimit;
+  m.attr("OBSERVATION_NAMES") = index_names(walker::kObservationIndices);
+  m.attr("ACTION_NAMES") = index_names(walker::kActionIndices);
+  m.def("_observation_fields", [] { return index_fields(walker::kObservationIndices); });
+  m.def("_action_fields", [] { return index_fields(walker::kActionIndices); });
+  m.def("_walker_constants", &walker_constants);
+  m.attr("__version__") = poet::project_version();  // the project's version (CMakeLists.txt)
 }

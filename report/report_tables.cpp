@@ -141,7 +141,8 @@ void run_header(std::string& out, const RunSnapshot& run, const RunMetrics& m) {
 
 void levels(std::string& out, const RunState& state, const RunMetrics& m) {
   append_printf(out,
-      "Environments by difficulty level (spec §1.4; the first environment counts as admitted at iteration 0)\n");
+                "Environments by difficulty level (the paper's Table 1; the first environment counts as admitted at "
+                "iteration 0)\n");
   append_printf(out, "  %-22s %8s %10s %9s %7s   %s\n", "level", "created", "passed MC", "admitted", "solved",
               "iterations from creation to solution");
   for (size_t l = 0; l < kLevels; ++l) {

@@ -114,8 +114,9 @@ std::optional<int> parse_options(int argc, char** argv, Options& o) {
   app.add_option("--pair", o.pair_id, "The pair whose environment the controls target")->required();
   app.add_option("controls", o.controls, "The control runs' directories (made from poet-lineage's configs)")
       ->required();
-  app.add_option("--rose", o.rose_path, "Draw the rose picture here (.png or .svg)");
-  app.add_option("--json", o.json_path, "Write the table as JSON here ('-' for stdout, instead of the table)");
+  app.add_option("--rose", o.rose_path, "Draw the rose picture here (.png or .svg) (default: none)");
+  app.add_option("--json", o.json_path,
+                 "Write the table as JSON here ('-' for stdout, instead of the table) (default: none)");
   add_fingerprint_flag(app);
   return parse_command_line(app, argc, argv);
 }

@@ -33,8 +33,10 @@ int run(int argc, char** argv) {
   app.add_option("curves", specs,
                  "LABEL=CURVE.csv: a curve written by experiments/learning_curve.sh and its legend label")
       ->required();
-  app.add_option("--plot", plot_path, "Draw the scores against ES steps, environment steps and wall time here");
+  app.add_option("--plot", plot_path,
+                 "Draw the scores against ES steps, environment steps and wall time here (default: none)");
   app.add_option("--solved-score", solved_score, "A course is solved when finished with at least this score")
+      ->capture_default_str()
       ->check(CLI::Range(-1e6, 1e6));
   add_fingerprint_flag(app);
   if (auto code = parse_command_line(app, argc, argv)) return *code;

@@ -57,23 +57,26 @@ struct Options {
 // Parses the command line into `o`. nullopt: go on; otherwise the exit code (as parse_command_line).
 std::optional<int> parse_options(int argc, char** argv, Options& o) {
   CLI::App app{"Evaluate a policy on courses over a range of terrain seeds, or on a held-out test suite"};
-  auto* policy_option = app.add_option("--policy", o.policy_path, "Policy file, JSON [[p0..p2803], score]");
-  auto* course_option =
-      app.add_option("--course", o.courses, "Named course (repeatable): flat, r1, r3, hard, hardcore-like");
-  auto* env_option = app.add_option("--env", o.env_paths,
-                                    "Environment definition file (repeatable); its seed is replaced by the sweep's");
+  auto* policy_option = app.add_option(
+      "--policy", o.policy_path, "Policy file, JSON [[p0..p2803], score] (default: none; this or --run-dir is needed)");
+  auto* course_option = app.add_option(
+      "--course", o.courses,
+      "Named course (repeatable): flat, r1, r3, hard, hardcore-like (default: flat when no --env is given)");
+  auto* env_option =
+      app.add_option("--env", o.env_paths,
+                     "Environment definition file (repeatable), its seed replaced by the sweep's (default: none)");
   auto* seeds_option = app.add_option("--seeds", o.seeds, "Terrain seeds FIRST:LAST, inclusive (default 0:49)");
-  auto* suite_option =
-      app.add_option("--suite", o.suite_name, "Held-out test suite instead of courses: " + suite_list())
-          ->excludes(course_option, env_option, seeds_option);
+  auto* suite_option = app.add_option("--suite", o.suite_name,
+                                      "Held-out test suite instead of courses: " + suite_list() + " (default: none)")
+                           ->excludes(course_option, env_option, seeds_option);
   auto* run_option = app.add_option("--run-dir", o.run_dir,
                                     "Evaluate every policy of this run directory (each pair's θ and best θ) on the "
-                                    "suite, with the run's own walker")
+                                    "suite, with the run's own walker (default: none)")
                          ->needs(suite_option)
                          ->excludes(policy_option);
   poet::add_walker_flags(app, o.walker);
-  app.add_option("--threads", o.threads, "Worker threads")->check(CLI::Range(1, 256));
-  app.add_option("--json", o.json_path, "Also write the results as JSON to this file ('-' for stdout)");
+  app.add_option("--threads", o.threads, "Worker threads (default: hardware concurrency)")->check(CLI::Range(1, 256));
+  app.add_option("--json", o.json_path, "Also write the results as JSON to this file ('-' for stdout) (default: none)");
   poet::add_fingerprint_flag(app);
   if (auto code = poet::parse_command_line(app, argc, argv)) return code;
   o.policy_given = static_cast<bool>(*policy_option);

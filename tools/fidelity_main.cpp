@@ -225,8 +225,10 @@ int run_tool(int argc, char** argv) {
   CLI::App app{"Print the fidelity table: the reference walker's figures next to this project's"};
   std::string reference = POET_REFERENCE_DIR;
   g_threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
-  app.add_option("--reference", reference, "Directory of the reference data (walker-traces/, estool-zoo/)");
-  app.add_option("--threads", g_threads, "Worker threads")->check(CLI::Range(1, 256));
+  app.add_option("--reference", reference,
+                 "Directory of the reference data, walker-traces/ and estool-zoo/ (default: POET_REFERENCE_DIR of the "
+                 "build's configure)");
+  app.add_option("--threads", g_threads, "Worker threads (default: hardware concurrency)")->check(CLI::Range(1, 256));
   add_fingerprint_flag(app);
   if (auto code = parse_command_line(app, argc, argv)) return *code;
 

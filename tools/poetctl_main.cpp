@@ -122,7 +122,9 @@ void add_status_commands(CLI::App& app, Options& o) {
   auto* events = app.add_subcommand("events", "The run's events (events.jsonl), from line --since");
   events->add_option("--since", o.since, "The first line (0-based; default 0)")
       ->check(CLI::Range(int64_t{0}, int64_t{1} << 50));
-  events->add_option("--limit", o.limit, "At most this many events")->check(CLI::Range(int64_t{1}, kMaxEventsPerPage));
+  events->add_option("--limit", o.limit, "At most this many events")
+      ->capture_default_str()
+      ->check(CLI::Range(int64_t{1}, kMaxEventsPerPage));
   app.add_subcommand("metrics", "The Prometheus metrics, as text");
 }
 
@@ -146,9 +148,12 @@ void add_picture_command(CLI::App& app, Options& o) {
                    "scores, levels, annecs, tree, rose, course, filmstrip, lineage or walk")
       ->required();
   picture->add_option("out", o.picture_out, "The file to write: .png, .svg or .gif")->required();
-  picture->add_option("--pair", o.picture_pair, "The pair (course, filmstrip, lineage, walk)")
+  picture
+      ->add_option("--pair", o.picture_pair, "The pair, which course, filmstrip, lineage and walk need (default: none)")
       ->check(CLI::Range(0, 999'999'999));
-  picture->add_option("--run-dir", o.picture_run_dir, "Draw from this run directory's files instead (never changed)");
+  picture->add_option(
+      "--run-dir", o.picture_run_dir,
+      "Draw from this run directory's files (never changed) instead of the live coordinator (default: none)");
 }
 
 void add_pack_commands(CLI::App& app, Options& o) {

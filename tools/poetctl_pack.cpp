@@ -45,6 +45,10 @@ int unpack_run(const std::filesystem::path& file, const std::filesystem::path& d
   std::printf("restored %s into %s at iteration %d (with the files derived from its checkpoint):\n", file.c_str(),
               dir.c_str(), pack->next_iteration);
   print_contents(*pack);
+  if (pack->unknown_fields) {
+    std::printf("to read only: %s\n", pack->unknown_fields->c_str());
+    return 0;
+  }
   if (const std::optional<std::string> refusal = arithmetic_refusal(pack->arithmetic_digest)) {
     std::printf("to read only: %s\n", refusal->c_str());
     return 0;

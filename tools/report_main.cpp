@@ -55,35 +55,37 @@ std::optional<int> parse_options(int argc, char** argv, Options& o) {
   CLI::App app{"The paper's metrics of a run directory: a table, JSON and plots. Never changes the run."};
   app.add_option("--run-dir", o.run_dir, "Run directory (finished, live or resumed)")->required();
   app.add_option("--json", o.json_path,
-                 "Write the metrics as JSON to this file ('-' for stdout, instead of the table)");
+                 "Write the metrics as JSON to this file ('-' for stdout, instead of the table) (default: none)");
   app.add_option(
       "--plots", o.plots_dir,
       "Write scores.png, levels.png, annecs.png, frontier.png, phases.png, tree.png and lineage.png (the courses along "
-      "the last lineage the table shows) into this directory");
+      "the last lineage the table shows) into this directory (default: none)");
   app.add_option("--target", o.target_path,
                  "Environment file (envs/*.env.json form): report the solved environment closest to it (default: a "
                  "control run's own target)");
-  app.add_option("--coverage-samples", o.samples_path, "Write the coverage sample and per-sample distances (CSV) here");
-  app.add_option("--coverage-seed", o.coverage_seed, "Seed of the coverage sample");
+  app.add_option("--coverage-samples", o.samples_path,
+                 "Write the coverage sample and per-sample distances (CSV) here (default: none)");
+  app.add_option("--coverage-seed", o.coverage_seed, "Seed of the coverage sample")->capture_default_str();
   app.add_option("--coverage-per-level", o.per_level, "Coverage samples per difficulty level (paper: 1000)")
+      ->capture_default_str()
       ->check(CLI::Range(1, 1000000));
   auto* until_option = app.add_option("--until-iteration", o.until_iteration,
                                       "Report the run as it stood at the end of this iteration (to compare runs at "
-                                      "equal budgets)")
+                                      "equal budgets; default: the last)")
                            ->check(CLI::Range(0, INT_MAX));
   app.add_option("--until-env-steps", o.until_env_steps,
                  "Report the run as it stood at the last iteration within this many environment steps (counted by "
-                 "that iteration's ES steps and evaluations)")
+                 "that iteration's ES steps and evaluations; default: no limit)")
       ->check(CLI::Range(int64_t{0}, INT64_MAX))
       ->excludes(until_option);
   auto* suite_option =
       app.add_option(
              "--suite", o.suite_name,
              "Also run every agent of the run (each pair's θ and its best θ) on this held-out test suite and report "
-             "the best single agent and the best per group (as poet-eval --run-dir does)")
+             "the best single agent and the best per group, as poet-eval --run-dir does (default: none)")
           // a cut run keeps today's θs (run_directory/reading/run_cut.h): its agents are not the ones it had then
           ->excludes(until_option, app.get_option("--until-env-steps"));
-  app.add_option("--threads", o.threads, "Threads for --suite's episodes")
+  app.add_option("--threads", o.threads, "Threads for --suite's episodes (default: hardware concurrency)")
       ->check(CLI::Range(1, 256))
       ->needs(suite_option);
   add_fingerprint_flag(app);

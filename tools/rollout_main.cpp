@@ -35,18 +35,26 @@ int run_tool(int argc, char** argv) {
   std::optional<uint32_t> seed;
   poet::WalkerFlags walker;
   int print_every = 100;
-  auto* policy_opt = app.add_option("--policy", policy_path, "Policy file, JSON [[p0..p2803], score]");
-  app.add_option("--random", random_seed, "Use random initial parameters θ ~ N(0, 0.1²) drawn with this seed")
+  auto* policy_opt = app.add_option("--policy", policy_path,
+                                    "Policy file, JSON [[p0..p2803], score] (default: none, random parameters)");
+  app.add_option(
+         "--random", random_seed,
+         "Use random initial parameters θ ~ N(0, 0.1²) drawn with this seed (default: 0 when --policy is not given)")
       ->excludes(policy_opt);
-  auto* env_opt = app.add_option("--env", env_path, "Environment definition, JSON {\"config\": ..., \"seed\": s}");
-  app.add_option("--course", course, "Named course: flat, r1, r3, hard, hardcore-like")->excludes(env_opt);
-  app.add_option("--seed", seed, "Terrain seed (overrides the env file's)")->check(CLI::Range(0u, 999999u));
+  auto* env_opt = app.add_option(
+      "--env", env_path, "Environment definition, JSON {\"config\": ..., \"seed\": s} (default: none, --course)");
+  app.add_option("--course", course, "Named course: flat, r1, r3, hard, hardcore-like")
+      ->capture_default_str()
+      ->excludes(env_opt);
+  app.add_option("--seed", seed, "Terrain seed, overriding the env file's (default: the env file's, or 0 for a course)")
+      ->check(CLI::Range(0u, 999999u));
   poet::add_walker_flags(app, walker);
   app.add_option("--print-every", print_every, "Print the walker's position every N steps (0: never)")
+      ->capture_default_str()
       ->check(CLI::Range(0, 1'000'000));
-  app.add_option("--picture", picture, "Picture to write: .svg or .png (empty: none)");
+  app.add_option("--picture", picture, "Picture to write: .svg or .png (empty: none)")->capture_default_str();
   std::string gif;
-  app.add_option("--gif", gif, "Also write the walker crossing its course as an animated GIF here");
+  app.add_option("--gif", gif, "Also write the walker crossing its course as an animated GIF here (default: none)");
   poet::add_fingerprint_flag(app);
   if (auto code = poet::parse_command_line(app, argc, argv)) return *code;
 

@@ -48,17 +48,20 @@ struct Options {
 // Parses the command line into `o`. nullopt: go on; otherwise the exit code (as parse_command_line).
 std::optional<int> parse_options(int argc, char** argv, Options& o, const WorkerProgram& program) {
   CLI::App app{"A POET worker: runs the rollouts a poet-coordinator sends it"};
-  auto* connect = app.add_option("--connect", o.settings.endpoint, "The coordinator's job endpoint, tcp://HOST:PORT")
-                      ->check(CLI::Validator(
-                          [](const std::string& endpoint) {
-                            return zmq_endpoint_problem(endpoint, EndpointUse::kConnect).value_or(std::string());
-                          },
-                          "ENDPOINT"));
+  auto* connect =
+      app.add_option(
+             "--connect", o.settings.endpoint,
+             "The coordinator's job endpoint, tcp://HOST:PORT (default: none; this or --coordinator-file is needed)")
+          ->check(CLI::Validator(
+              [](const std::string& endpoint) {
+                return zmq_endpoint_problem(endpoint, EndpointUse::kConnect).value_or(std::string());
+              },
+              "ENDPOINT"));
   auto* file = app.add_option("--coordinator-file", o.settings.endpoint_file,
                               "Instead of --connect: the coordinator.endpoint file its run directory holds while it "
                               "runs (on a shared file system), read again each time the coordinator is lost, so a "
                               "coordinator that moves (a chained run's next job) is followed; with CURVE it gives "
-                              "the coordinator's public key too")
+                              "the coordinator's public key too (default: none)")
                    ->excludes(connect);
   connect->excludes(file);
   app.add_option("--threads", o.threads, "Episodes run at once (default: hardware concurrency)")
@@ -66,9 +69,10 @@ std::optional<int> parse_options(int argc, char** argv, Options& o, const Worker
   app.add_option("--name", o.name, "Name in the coordinator's logs (default: host:pid)");
   app.add_option("--curve-keys", o.curve_keys,
                  "CURVE authentication: DIR holds worker.key(_secret), this worker's pair, and coordinator.key, the "
-                 "coordinator's public key (made by `poetctl keygen`)")
+                 "coordinator's public key (made by `poetctl keygen`) (default: none)")
       ->check(CLI::ExistingDirectory);
-  app.add_option("--log-level", o.log_level, "trace, debug, info (default), warn, error or off")
+  app.add_option("--log-level", o.log_level, "trace, debug, info, warn, error or off")
+      ->capture_default_str()
       ->check(CLI::IsMember({"trace", "debug", "info", "warn", "error", "off"}));
   app.add_option("--parent-pid", o.parent_pid,
                  "Exit when process PID, the coordinator that started this worker, is gone (--local-workers)")

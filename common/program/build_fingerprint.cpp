@@ -6,6 +6,7 @@
 #include <cfloat>
 #include <initializer_list>
 
+#include "common/program/command_line.h"
 #include "common/text/text_format.h"
 #include "simulation/arithmetic_probe.h"
 #include "simulation/rng.h"
@@ -94,7 +95,7 @@ const char* target() {
 // The lines the digest covers: what decides the numbers, the same on every machine that computes them alike.
 std::string compared_lines() {
   std::string text;
-  text += "poet: " POET_VERSION "\n";
+  text += "poet: " + std::string(project_version()) + "\n";
   text += std::string("compiler: ") + compiler() + "\n";
   // the library's own b2_version, then the source it was built from: Debian's 2.4.1 source reports 2.4.0
   text += "box2d: " + std::to_string(b2_version.major) + "." + std::to_string(b2_version.minor) + "." +

@@ -7,9 +7,7 @@ poet only when gymnasium is importable, which registers WALKER_ID so that gymnas
 import gymnasium
 import numpy as np
 
-from . import DEFAULT_MAX_STEPS, DEFAULT_PUSH_SCALE, WalkerEnv
-
-WALKER_ID = "poet/Walker-v0"
+from . import DEFAULT_MAX_STEPS, DEFAULT_PUSH_SCALE, WALKER_ID, WalkerEnv
 
 
 class GymnasiumWalker(gymnasium.Env):

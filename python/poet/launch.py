@@ -25,8 +25,31 @@ _TAIL_BYTES = 64 * 1024  # what is read of a long run's log for its error: the e
 
 
 class CoordinatorError(RuntimeError):
-    """The coordinator failed: exited nonzero (other than stopped by SIGINT or SIGTERM) or was killed. The message
-    is its own, from its log; returncode and log_path say the rest."""
+    """The coordinator failed: it exited nonzero (other than stopped by SIGINT or SIGTERM) or was killed.
+
+    Raised by start and Coordinator.wait. The message is the coordinator's own, from its log.
+
+    Args:
+        message (str): what the coordinator said.
+        returncode (int): its exit code (negative: killed by that signal).
+        log_path (str): its log.
+
+    Attributes:
+        returncode (int): the coordinator's exit code (negative: killed by that signal).
+        log_path (str): the coordinator's log, run_dir/coordinator.log.
+
+    Example:
+        >>> import pathlib, tempfile
+        >>> work = tempfile.TemporaryDirectory()
+        >>> config = pathlib.Path(work.name, "bad.textproto")
+        >>> _ = config.write_text("no_such_field: 1")
+        >>> try:
+        ...     poet.start(config, pathlib.Path(work.name, "run"))
+        ... except poet.CoordinatorError as error:
+        ...     print(error.returncode)
+        2
+        >>> work.cleanup()
+    """
 
     def __init__(self, message, returncode, log_path):
         super().__init__(message)
@@ -121,11 +144,38 @@ def _error_message(text):
 
 
 class Coordinator:
-    """A poet-coordinator process started by poet.start: status(), wait(), stop(), and the run it writes (run);
-    run_dir (absolute), log_path (its output) and url (its status socket and dashboard).
+    """A poet-coordinator process started by poet.start: its status, its end, and the run it writes.
 
     The handle does not own the run: losing it (or the Python process) leaves the coordinator running; stop() or
-    leaving a `with` block stops it.
+    leaving a `with` block stops it. Made by start, not by hand.
+
+    Args:
+        process (subprocess.Popen): the coordinator's process.
+        run_dir (str): its run directory, absolute.
+        log_path (str): its log.
+        log_offset (int): where this process's lines begin in the log.
+
+    Attributes:
+        run_dir (str): the run directory, absolute.
+        log_path (str): the coordinator's output, run_dir/coordinator.log.
+        url (str or None): its status socket and dashboard, http://127.0.0.1:PORT/, once it answers.
+
+    Example:
+        >>> import pathlib, tempfile
+        >>> work = tempfile.TemporaryDirectory()
+        >>> config = pathlib.Path(work.name, "tiny.textproto")
+        >>> _ = config.write_text("seed: 5 iterations: 1000000 es { perturbations: 3 } walker { max_steps: 100 }")
+        >>> run_dir = pathlib.Path(work.name, "run")
+        >>> coordinator = poet.start(config, run_dir, threads=1)
+        >>> coordinator.running, coordinator.status()["iterations"]
+        (True, 1000000)
+        >>> coordinator.stop()
+        130
+        >>> stopped_at = coordinator.run.next_iteration
+        >>> coordinator = poet.start(None, run_dir, iterations=stopped_at + 2, threads=1)
+        >>> coordinator.wait(progress=False), coordinator.run.next_iteration == stopped_at + 2
+        (0, True)
+        >>> work.cleanup()
     """
 
     def __init__(self, process, run_dir, log_path, log_offset):
@@ -137,22 +187,22 @@ class Coordinator:
 
     @property
     def pid(self):
-        """The coordinator's process id (its session's and process group's too)."""
+        """int: the coordinator's process id (its session's and process group's too)."""
         return self._process.pid
 
     @property
     def running(self):
-        """Whether the process is still running."""
+        """bool: whether the process is still running."""
         return self._process.poll() is None
 
     @property
     def returncode(self):
-        """The exit code once the process has ended (negative: killed by that signal), else None."""
+        """int or None: the exit code once the process has ended (negative: killed by that signal), else None."""
         return self._process.poll()
 
     @property
     def run(self):
-        """The run directory as a poet.Run (as of its last checkpoint)."""
+        """Run: the run directory as a poet.Run (as of its last checkpoint)."""
         from . import Run  # here: the package imports this module before it defines Run
 
         return Run(self.run_dir)
@@ -162,8 +212,15 @@ class Coordinator:
                             "the run as it ended is in .run")
 
     def status(self):
-        """The status socket's /status as a dict (iteration, iterations, pairs, rollouts, state, ...).
-        RuntimeError once the process has ended (the run's final state is then .run)."""
+        """The status socket's /status.
+
+        Returns:
+            dict: the run's status (iteration, iterations, pairs, rollouts, state, ...).
+
+        Raises:
+            RuntimeError: the process has ended (the run's final state is then .run).
+            ConnectionError: the status socket does not answer.
+        """
         if self._process.poll() is not None:
             raise self._ended()
         try:
@@ -175,11 +232,22 @@ class Coordinator:
             raise ConnectionError(f"{self.url}status does not answer: {error}") from error
 
     def wait(self, *, progress=True, timeout=None):
-        """Waits for the process to end and returns its exit code: 0 (the run is finished), 130 or 143 (stopped;
-        the last checkpoint is the state). CoordinatorError with its message if it failed or was killed;
-        TimeoutError after `timeout` seconds (the run goes on). progress: the iterations done, with tqdm (a
-        widget in a notebook, a bar in a terminal) when it is installed, else a line of text on stderr.
-        Interrupting wait() leaves the run going."""
+        """Waits for the process to end. Interrupting wait() leaves the run going.
+
+        Args:
+            progress (bool): show the iterations done, with tqdm (a widget in a notebook, a bar in a terminal) when
+                it is installed, else a line of text on stderr.
+            timeout (float, optional): seconds to wait at most; None: until the process ends.
+
+        Returns:
+            int: the exit code: 0 (the run is finished), 130 or 143 (stopped; the last checkpoint is the state).
+
+        Raises:
+            CoordinatorError: the coordinator failed or was killed (its message).
+            TimeoutError: it was still running after `timeout` seconds (the run goes on).
+            TypeError: timeout is not a number.
+            ValueError: timeout is not positive.
+        """
         deadline = None if timeout is None else time.monotonic() + _seconds(timeout, "timeout")
         bar = _Progress() if progress else None
         try:
@@ -208,10 +276,18 @@ class Coordinator:
         return code
 
     def stop(self, *, timeout=60):
-        """Stops the run with SIGINT, as Ctrl-C does (the iteration in flight is dropped; the last checkpoint is
-        the state, which poet.start on the same directory resumes) and returns the exit code, 130. If it has not
-        ended after `timeout` seconds it is killed with SIGKILL (the last checkpoint stays the state; its local
-        workers watch its pid and end with it) and the code is -9. An ended process: its exit code."""
+        """Stops the run with SIGINT, as Ctrl-C does.
+
+        The iteration in flight is dropped; the last checkpoint is the state, which poet.start on the same
+        directory resumes. If the process has not ended after `timeout` seconds it is killed with SIGKILL (the
+        last checkpoint stays the state; its local workers watch its pid and end with it).
+
+        Args:
+            timeout (float): seconds to wait for the process to end before killing it.
+
+        Returns:
+            int: the exit code: 130, -9 if it was killed, or the code of a process that had already ended.
+        """
         if self._process.poll() is None:
             self._process.send_signal(signal.SIGINT)
             try:
@@ -319,19 +395,45 @@ def _until_running(handle, timeout):
 
 def start(config, run_dir, *, iterations=None, threads=None, local_workers=None, start_from=None, coordinator=None,
           timeout=60):
-    """Starts poet-coordinator on run_dir in a process of its own and returns a Coordinator once its status socket
-    answers (on 127.0.0.1, a free port: .url).
+    """Starts poet-coordinator on run_dir in a process of its own session.
 
-    config: a config file (protobuf text format) for a new run; on a directory that holds a run of the same
-    config, the coordinator resumes it (and refuses another config). config=None resumes the run in run_dir
-    (--resume). iterations overrides the iteration limit (a resume may extend it); threads, local_workers and
-    start_from (a new run's first policy) are poet-coordinator's options. coordinator: the binary (see
-    find_coordinator). The coordinator's output is appended to run_dir/coordinator.log (.log_path).
+    The coordinator's output is appended to run_dir/coordinator.log. The Python process may end, a notebook's
+    kernel die or restart: the run goes on. A run already finished ends at once (the handle's returncode is 0).
 
-    A run already finished ends at once: the handle's returncode is 0. Raises CoordinatorError with the
-    coordinator's message if it exits otherwise before it is running (a bad config, a directory another process
-    owns: exit 2); TimeoutError if it is not running after `timeout` seconds (it is then stopped); TypeError,
-    ValueError or FileNotFoundError for bad arguments, before anything is started.
+    Args:
+        config (str, os.PathLike or None): a config file (protobuf text format) for a new run; on a directory that
+            holds a run of the same config, the coordinator resumes it (and refuses another config). None resumes
+            the run in run_dir (--resume).
+        run_dir (str or os.PathLike): the run directory, made if missing.
+        iterations (int, optional): overrides the iteration limit (a resume may extend it).
+        threads (int, optional): poet-coordinator's --threads.
+        local_workers (int, optional): poet-coordinator's --local-workers.
+        start_from (str or os.PathLike, optional): a new run's first policy file.
+        coordinator (str or os.PathLike, optional): the poet-coordinator to run; default $POET_COORDINATOR_BIN,
+            else the build tree's beside this module, else poet-coordinator on PATH.
+        timeout (float): seconds to wait for the status socket to answer.
+
+    Returns:
+        Coordinator: the handle, once the status socket answers (on 127.0.0.1, a free port: .url).
+
+    Raises:
+        CoordinatorError: the coordinator exited before it was running (a bad config, a directory another process
+            owns: exit 2), with its message.
+        TimeoutError: it was not running after `timeout` seconds (it is then stopped).
+        TypeError: an argument of the wrong type, before anything is started.
+        ValueError: an argument out of range, or no config for a directory without a run.
+        FileNotFoundError: config, start_from or the coordinator is not a file.
+
+    Example:
+        >>> import pathlib, tempfile
+        >>> work = tempfile.TemporaryDirectory()
+        >>> config = pathlib.Path(work.name, "tiny.textproto")
+        >>> _ = config.write_text("seed: 5 iterations: 2 es { perturbations: 3 } walker { max_steps: 100 }")
+        >>> with poet.start(config, pathlib.Path(work.name, "run"), threads=1) as coordinator:
+        ...     code = coordinator.wait(progress=False)
+        >>> code, coordinator.log_path.endswith("coordinator.log")
+        (0, True)
+        >>> work.cleanup()
     """
     run_dir = _path(run_dir, "run_dir")
     command = _command(config, run_dir, iterations, threads, local_workers, start_from, coordinator)

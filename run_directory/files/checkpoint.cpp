@@ -1,5 +1,6 @@
 #include "run_directory/files/checkpoint.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <optional>
@@ -10,7 +11,9 @@
 
 #include "common/formats/envgen/env_proto.h"
 #include "common/program/build_fingerprint.h"
+#include "common/program/command_line.h"
 #include "common/text/text_format.h"
+#include "common/text/utf8.h"
 #include "engine/state_consistency.h"
 #include "run_directory/config/run_config.h"
 #include "simulation/policy/mlp.h"
@@ -333,6 +336,50 @@ Expected<RunState> from_checkpoint(const pb::Checkpoint& checkpoint) {
   }
   if (Error error = check_state_consistency(state)) return Unexpected{*error};
   return state;
+}
+
+namespace {
+
+// The paths of the unknown fields in message and the messages it holds: "field 13", "pairs[0] field 22".
+void collect_unknown_fields(const google::protobuf::Message& message, const std::string& path,
+                            std::vector<std::string>& out) {
+  const google::protobuf::Reflection* reflection = message.GetReflection();
+  const google::protobuf::UnknownFieldSet& unknown = reflection->GetUnknownFields(message);
+  std::set<int> numbers;  // a repeated field comes once per value
+  for (int i = 0; i < unknown.field_count(); ++i) numbers.insert(unknown.field(i).number());
+  for (int number : numbers) out.push_back((path.empty() ? "" : path + " ") + "field " + std::to_string(number));
+  std::vector<const google::protobuf::FieldDescriptor*> fields;
+  reflection->ListFields(message, &fields);
+  for (const google::protobuf::FieldDescriptor* field : fields) {
+    if (field->cpp_type() != google::protobuf::FieldDescriptor::CPPTYPE_MESSAGE) continue;
+    const std::string name = (path.empty() ? "" : path + ".") + std::string(field->name());
+    if (!field->is_repeated()) {
+      collect_unknown_fields(reflection->GetMessage(message, field), name, out);
+      continue;
+    }
+    for (int i = 0; i < reflection->FieldSize(message, field); ++i)
+      collect_unknown_fields(reflection->GetRepeatedMessage(message, field, i), name + "[" + std::to_string(i) + "]",
+                             out);
+  }
+}
+
+}  // namespace
+
+std::optional<std::string> unknown_fields_refusal(const pb::Checkpoint& checkpoint) {
+  std::vector<std::string> paths;
+  collect_unknown_fields(checkpoint, "", paths);
+  if (paths.empty()) return std::nullopt;
+  constexpr size_t kNamed = 5;
+  std::string named;
+  for (size_t i = 0; i < std::min(paths.size(), kNamed); ++i) named += (i == 0 ? "" : ", ") + paths[i];
+  if (paths.size() > kNamed) named += " and " + std::to_string(paths.size() - kNamed) + " more";
+  const std::string ours = std::string("poet ") + project_version();
+  const std::string writer = checkpoint.has_written_by()
+                                 ? "poet " + printable_text(checkpoint.written_by().substr(0, 40))
+                                 : std::string("a later build");
+  return "the checkpoint holds fields this build does not know (" + named + "): it was written by " + writer +
+         ", this build is " + ours + ". Resumed here the run would drop them and go on as another run: go on with " +
+         (checkpoint.has_written_by() ? writer + " or later" : std::string("the build that wrote it"));
 }
 
 std::optional<std::string> arithmetic_refusal(std::optional<uint64_t> written_by) {

@@ -28,6 +28,12 @@ Expected<RunState> from_checkpoint(const pb::Checkpoint& checkpoint);
 // when it computes as the writer did.
 std::optional<std::string> arithmetic_refusal(std::optional<uint64_t> written_by);
 
+// Why this build must not compute on from a checkpoint that holds fields it does not know (proto2 keeps them as
+// unknown fields, new enum values included): a later build wrote them, and resumed here the run would drop them and
+// go on as another run. The message names the fields by path ("pairs[0] field 22", at most five) and both versions:
+// the checkpoint's written_by ("a later build" when it has none) and this build's. nullopt when every field is known.
+std::optional<std::string> unknown_fields_refusal(const pb::Checkpoint& checkpoint);
+
 // What a run is opened or restored for: to compute further, which a checkpoint of other arithmetic refuses, or
 // only to read it and write the files derived from its checkpoint (poetctl unpack), which any checkpoint allows.
 enum class OpenFor { kComputing, kReading };

@@ -14,6 +14,7 @@
 #include "common/formats/envgen/env_json.h"
 #include "common/formats/policy/policy_file.h"
 #include "common/plumbing/text_file.h"
+#include "common/program/command_line.h"
 #include "common/text/text_format.h"
 #include "run_directory/config/run_config.h"
 #include "run_directory/files/annecs_log.h"
@@ -141,6 +142,7 @@ pb::Checkpoint checkpoint_with_logs(const pb::RunConfig& config, const RunState&
   checkpoint.set_stats_bytes(bytes[1]);
   checkpoint.set_events_crc32(crcs[0]);
   checkpoint.set_stats_crc32(crcs[1]);
+  checkpoint.set_written_by(project_version());
   return checkpoint;
 }
 
@@ -236,8 +238,14 @@ Expected<std::pair<RunDirectory, RunState>> RunDirectory::resume(const fs::path&
     if (value < 0)
       return Unexpected{checkpoint_path.string() + ": " + name + ": must be >= 0 (got " + std::to_string(value) + ")"};
   }
+  // A later build's checkpoint is named as such before the state's checks, whose rules that build may have changed.
+  const std::optional<std::string> unknown_fields = unknown_fields_refusal(*checkpoint);
+  if (unknown_fields && purpose == OpenFor::kComputing)
+    return Unexpected{checkpoint_path.string() + ": " + *unknown_fields};
   Expected<RunState> state = from_checkpoint(*checkpoint);
-  if (!state) return Unexpected{checkpoint_path.string() + ": " + state.error()};
+  if (!state)
+    return Unexpected{checkpoint_path.string() + ": " + state.error() +
+                      (unknown_fields ? " (" + *unknown_fields + ")" : std::string())};
   if (purpose == OpenFor::kComputing) {
     if (const std::optional<std::string> refusal = arithmetic_refusal(
             checkpoint->has_arithmetic_digest() ? std::optional(checkpoint->arithmetic_digest()) : std::nullopt))

@@ -74,10 +74,11 @@ class RunDirectory {
   // truncates the logs to the sizes the checkpoint records and checks their CRC-32, removes temporary files an
   // interrupted write left, checks that files can be written, and rewrites config.textproto, annecs.csv and the
   // pair files where they differ from the state's (repairs() says which of the first). A directory another process
-  // owns, or a missing, corrupt or inconsistent run is an error; so is, for computing, a checkpoint written by a
-  // process whose arithmetic differs (arithmetic_refusal).
+  // owns, or a missing, corrupt or inconsistent run is an error; so is, for computing, a checkpoint holding fields
+  // this build does not know (unknown_fields_refusal) or written by a process whose arithmetic differs
+  // (arithmetic_refusal).
   static Expected<std::pair<RunDirectory, RunState>> resume(const std::filesystem::path& dir,
-                                                             OpenFor purpose = OpenFor::kComputing);
+                                                            OpenFor purpose = OpenFor::kComputing);
 
   RunDirectory(RunDirectory&& other) noexcept = default;
   RunDirectory& operator=(RunDirectory&& other) noexcept = default;

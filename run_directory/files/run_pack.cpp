@@ -103,8 +103,11 @@ Expected<PackSummary> check_entries(std::vector<PackEntry> entries) {
     if (!find(required)) return Unexpected{std::string("no ") + required + " in the pack"};
   Expected<pb::Checkpoint> checkpoint = decode_checkpoint_file(find(kCheckpointFile)->content);
   if (!checkpoint) return Unexpected{std::string(kCheckpointFile) + ": " + checkpoint.error()};
+  const std::optional<std::string> unknown_fields = unknown_fields_refusal(*checkpoint);
   Expected<RunState> state = from_checkpoint(*checkpoint);
-  if (!state) return Unexpected{std::string(kCheckpointFile) + ": " + state.error()};
+  if (!state)  // a later build's rules may be what the state breaks: say so
+    return Unexpected{std::string(kCheckpointFile) + ": " + state.error() +
+                      (unknown_fields ? " (" + *unknown_fields + ")" : std::string())};
   const struct {
     const char* name;
     bool has_size;
@@ -137,6 +140,7 @@ Expected<PackSummary> check_entries(std::vector<PackEntry> entries) {
   PackSummary summary;
   summary.next_iteration = state->next_iteration;
   if (checkpoint->has_arithmetic_digest()) summary.arithmetic_digest = checkpoint->arithmetic_digest();
+  summary.unknown_fields = unknown_fields;
   summary.entries = std::move(entries);
   return summary;
 }
@@ -299,6 +303,8 @@ Expected<PackSummary> restore_run_pack(const fs::path& pack_path, const fs::path
   Expected<PackSummary> summary = decode_pack(*bytes);
   if (!summary) return Unexpected{pack_path.string() + ": " + summary.error() + " (nothing was restored)"};
   if (purpose == OpenFor::kComputing) {
+    if (summary->unknown_fields)
+      return Unexpected{pack_path.string() + ": " + *summary->unknown_fields + " (nothing was restored)"};
     if (const std::optional<std::string> refusal = arithmetic_refusal(summary->arithmetic_digest))
       return Unexpected{pack_path.string() + ": " + *refusal + " (nothing was restored)"};
   }

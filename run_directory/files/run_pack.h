@@ -40,8 +40,9 @@ struct PackEntry {
 
 // What a pack holds, for the messages of the tools.
 struct PackSummary {
-  int next_iteration = 0;  // the iteration the run does next
+  int next_iteration = 0;                     // the iteration the run does next
   std::optional<uint64_t> arithmetic_digest;  // of the process that wrote its checkpoint (checkpoint.h)
+  std::optional<std::string> unknown_fields;  // unknown_fields_refusal of its checkpoint: a later build wrote it
   std::vector<PackEntry> entries;
   uint64_t pack_bytes = 0;
 };
@@ -63,7 +64,7 @@ Expected<PackSummary> write_run_pack(const std::filesystem::path& run_dir, const
 // the pack is checked whole, its files are written into a fresh directory beside run_dir and made durable, and
 // that directory is renamed to run_dir. Nothing is written when the pack or the destination is refused, and an
 // existing run directory is never overwritten, nor, for computing, is a pack restored that this process may not
-// resume (arithmetic_refusal). Resume the run there next (RunDirectory::resume).
+// resume (unknown_fields_refusal, arithmetic_refusal). Resume the run there next (RunDirectory::resume).
 Expected<PackSummary> restore_run_pack(const std::filesystem::path& pack_path, const std::filesystem::path& run_dir,
                                        OpenFor purpose = OpenFor::kComputing);
 

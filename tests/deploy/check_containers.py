@@ -271,6 +271,12 @@ def expect(condition, message):
 # the checks
 
 
+def project_version(source):
+    """CMake's PROJECT_VERSION, the one home of the version the image is labelled with."""
+    with open(os.path.join(source, "CMakeLists.txt"), encoding="utf-8") as f:
+        return re.search(r"^project\(poet VERSION ([0-9.]+)", f.read(), re.M).group(1)
+
+
 def check_image(args):
     tag = image_tag(args.source)
     if image_exists(tag):
@@ -283,7 +289,8 @@ def check_image(args):
         started = time.monotonic()
         print(f"  building {tag} (docker build --network host: the build installs packages with apt-get)")
         build = subprocess.run(["docker", "build", "--network", "host", "-f",
-                                os.path.join(args.source, "deploy", "Dockerfile"), "-t", tag, args.source],
+                                os.path.join(args.source, "deploy", "Dockerfile"), "--build-arg",
+                                f"POET_VERSION={project_version(args.source)}", "-t", tag, args.source],
                                capture_output=True, text=True, timeout=BUILD_TIMEOUT_S)
         new_dangling = sorted(dangling_images() - before)
         created = build.returncode == 0
@@ -292,6 +299,11 @@ def check_image(args):
         if build.returncode != 0:
             raise Failed(f"docker build: exit {build.returncode}\n{build.stdout[-4000:]}\n{build.stderr[-4000:]}")
         print(f"  built in {time.monotonic() - started:.0f} s")
+    label = run(["docker", "image", "inspect", "--format",
+                 '{{index .Config.Labels "org.opencontainers.image.version"}}', tag]).stdout.strip()
+    expect(label == project_version(args.source),
+           f"the image's org.opencontainers.image.version is {label!r}, CMakeLists.txt's version "
+           f"{project_version(args.source)}")
     size = int(run(["docker", "image", "inspect", "--format", "{{.Size}}", tag]).stdout)
     volumes = run(["docker", "image", "inspect", "--format", "{{json .Config.Volumes}}", tag]).stdout.strip()
     expect(volumes in ("null", "{}"), f"the image declares volumes {volumes}: every container would get one")

@@ -354,24 +354,62 @@ def refused_checkpoints(args, procs, scratch, cases, run=None):
     return seen
 
 
+def _read_varint(data, at):
+    value, shift = 0, 0
+    while True:
+        byte = data[at]
+        at += 1
+        value |= (byte & 0x7F) << shift
+        shift += 7
+        if byte < 0x80:
+            return value, at
+
+
+def checkpoint_fields(body):
+    """The top-level fields of a serialised message, in order: (field number, start, end) of each key and value."""
+    spans, at = [], 0
+    while at < len(body):
+        start = at
+        key, at = _read_varint(body, at)
+        wire = key & 7
+        if wire == 0:
+            _, at = _read_varint(body, at)
+        elif wire == 1:
+            at += 8
+        elif wire == 2:
+            length, at = _read_varint(body, at)
+            at += length
+        elif wire == 5:
+            at += 4
+        else:
+            raise AssertionError(f"the checkpoint's field {key >> 3} has wire type {wire}")
+        spans.append((key >> 3, start, at))
+    return spans
+
+
 def checkpoints_of_other_arithmetic(args, procs, scratch):
     """A run whose checkpoint has no arithmetic digest (written before the project's own math), or another one (a
     machine that computes differently): each resume refused with exit 2, the checkpoint left as it was."""
     sound = finished_run(args, procs, scratch, "arithmetic-sound")
     good = open(os.path.join(sound, "checkpoint.pb"), "rb").read()
     body = good[CHECKPOINT_HEADER.size:]
-    # the deterministic serialisation ends with field 12, arithmetic_digest: tag 0x61, then 8 bytes
-    expect(body[-9] == 0x61, "the checkpoint does not end with its arithmetic digest (field 12)")
-    written = struct.unpack("<Q", body[-8:])[0]
+    # the top-level fields, as (number, start, end) spans: field 12 is arithmetic_digest (fixed64), and a build
+    # before the project's own math wrote neither it nor what came after it (field 13, written_by)
+    spans = checkpoint_fields(body)
+    digest = [(start, end) for number, start, end in spans if number == 12]
+    expect(len(digest) == 1 and digest[0][1] - digest[0][0] == 9, "the checkpoint has no arithmetic digest (field 12)")
+    value_at = digest[0][1] - 8
+    written = struct.unpack("<Q", body[value_at:value_at + 8])[0]
     ours, parts = fingerprint_arithmetic(args.coordinator)
     expect(written == ours, f"the checkpoint's arithmetic digest {written:016x} is not --fingerprint's {ours:016x}")
+    before_own_math = b"".join(body[start:end] for number, start, end in spans if number < 12)
 
     def with_body(new_body):
         header = CHECKPOINT_HEADER.pack(b"POETCKPT", 1, len(new_body), zlib.crc32(new_body))
         return header + new_body
     cases = {
-        "checkpoint-before-own-math": (with_body(body[:-9]), {}),
-        "checkpoint-other-arithmetic": (with_body(body[:-8] + struct.pack("<Q", ours ^ 1)), {
+        "checkpoint-before-own-math": (with_body(before_own_math), {}),
+        "checkpoint-other-arithmetic": (with_body(body[:value_at] + struct.pack("<Q", ours ^ 1) + body[value_at + 8:]), {
             "ARITHMETIC": f"{ours:016x}", "ARITHMETIC_PARTS": parts, "WRITTEN_ARITHMETIC": f"{ours ^ 1:016x}"}),
     }
     return refused_checkpoints(args, procs, scratch, cases, sound)
@@ -421,6 +459,43 @@ def refused_run_dirs(args, procs, scratch):
     expect(not os.path.exists(os.path.join(logs, "checkpoint.pb")), "logs-only: a checkpoint was written")
     seen["run-dir-logs-without-checkpoint"] = (out, {"RUN_DIR": logs})
     return seen
+
+
+def run_dir_of_another_user(args, procs, scratch):
+    """A run directory the image's user (uid 10001) cannot write, as a root-owned bind mount is: shown, as the page's
+    container section shows every message, with the container's path, /var/lib/poet/runs/quick."""
+    shown = "/var/lib/poet/runs/quick"
+    base = tempfile.mkdtemp(prefix="poet-troubleshooting-uid-")  # not under scratch (0700): the user must reach it
+    try:
+        run_dir = os.path.join(base, "runs", "quick")
+        os.makedirs(run_dir)
+        # The user reaches nothing of the checkout's (it may lie under a 0700 home): the binary and its inputs are
+        # copied beside the run directory, readable by all.
+        inputs = {}
+        for name, path, mode in (("coordinator", args.coordinator, 0o755), ("quick", args.quick, 0o644),
+                                 ("walker", args.walker, 0o644)):
+            inputs[name] = os.path.join(base, os.path.basename(path))
+            shutil.copyfile(path, inputs[name])
+            os.chmod(inputs[name], mode)
+        for path in (base, os.path.join(base, "runs"), run_dir):
+            os.chmod(path, 0o755 if os.geteuid() == 0 else 0o555)  # as root, another user; else a read-only directory
+
+        def image_user():
+            if os.geteuid() == 0:
+                os.setgroups([])
+                os.setgid(10001)
+                os.setuid(10001)
+
+        code, out = procs.run([inputs["coordinator"], "--config", inputs["quick"], "--run-dir", run_dir,
+                               "--start-from", inputs["walker"], "--status-address", ""], "run-dir-another-user",
+                              preexec_fn=image_user)
+        expect(code == 2, f"run-dir-another-user: exit {code}, not 2:\n{out}")
+        return {"run-dir-another-user": (out.replace(run_dir, shown), {})}
+    finally:
+        for path in (base, os.path.join(base, "runs")):
+            if os.path.isdir(path):
+                os.chmod(path, 0o755)
+        shutil.rmtree(base, ignore_errors=True)
 
 
 def config_copy_rewritten(args, procs, scratch):
@@ -612,7 +687,8 @@ def main():
     seen = {}
     try:
         for case in (refused_configs, bad_command_line, refused_command_lines, refused_first_policies,
-                     nothing_to_resume, damaged_checkpoints, checkpoints_of_other_arithmetic, refused_run_dirs, config_copy_rewritten, refused_packs,
+                     nothing_to_resume, damaged_checkpoints, checkpoints_of_other_arithmetic, refused_run_dirs, run_dir_of_another_user,
+                     config_copy_rewritten, refused_packs,
                      bad_status_address, few_descriptors, keygen_refusals, stop_requests, job_socket_in_use, owned_run):
             try:
                 seen.update(case(args, procs, scratch))

@@ -16,6 +16,7 @@
 #include <zmq.hpp>
 
 #include "common/program/build_fingerprint.h"
+#include "common/text/text_format.h"
 #include "coordinator_run_fixture.h"
 #include "rogue_peer.h"
 #include "wire.pb.h"
@@ -70,11 +71,18 @@ TEST_F(HostilePeersTest, RoguePeersAreCountedAndARealWorkerIsStillServed) {
   rogue.send(zmq::buffer(hello(99, poet::build_fingerprint_digest())));
   const auto old_version = answer(rogue);
   ASSERT_TRUE(old_version && old_version->has_refused());
-  EXPECT_TRUE(contains(old_version->refused().reason(), "protocol version 99")) << old_version->refused().reason();
+  // both versions named, as docs/compatibility.md promises
+  EXPECT_TRUE(contains(old_version->refused().reason(),
+                       "protocol version 99, the coordinator speaks " + std::to_string(poet::wire::PROTOCOL_VERSION)))
+      << old_version->refused().reason();
   rogue.send(zmq::buffer(hello(poet::wire::PROTOCOL_VERSION, 0x1234)));
   const auto other_build = answer(rogue);
   ASSERT_TRUE(other_build && other_build->has_refused());
-  EXPECT_TRUE(contains(other_build->refused().reason(), "fingerprint")) << other_build->refused().reason();
+  EXPECT_TRUE(contains(other_build->refused().reason(),
+                       "build fingerprint 0000000000001234 differs from the "
+                       "coordinator's " +
+                           poet::hex_text(poet::build_fingerprint_digest())))
+      << other_build->refused().reason();
   {  // 20 MB: over ZMQ_MAXMSGSIZE, so libzmq drops this peer's connection before the coordinator sees it
     zmq::socket_t huge = rogue_socket(context, endpoint, "huge");
     huge.send(zmq::buffer(std::string(20 << 20, 'x')));

@@ -1,5 +1,6 @@
 // Tests the command-line tools as real processes: every bad command line exits 2, --fingerprint prints the same
-// text in every tool (and in this test binary, built with the same flags), poet-rollout names the policy it runs,
+// text in every tool (and in this test binary, built with the same flags), --version the binary's name and the
+// project's version, --help-json the command line as JSON, poet-rollout names the policy it runs,
 // poet-curves summarises and draws learning curves and names a bad field.
 
 #include <gtest/gtest.h>
@@ -15,6 +16,7 @@
 
 #include "child_process.h"
 #include "common/program/build_fingerprint.h"
+#include "common/program/command_line.h"
 #include "scratch_dir.h"
 
 namespace {
@@ -31,9 +33,13 @@ struct Tool {
 
 // Every binary of the project, poet-coordinator and poet-worker included: the same rules for all.
 const Tool kTools[] = {
-    {"poet-coordinator", POET_COORDINATOR_BIN}, {"poet-rollout", POET_ROLLOUT_BIN}, {"poet-eval", POET_EVAL_BIN},
-    {"poet-fidelity", POET_FIDELITY_BIN},       {"poet-lineage", POET_LINEAGE_BIN}, {"poet-report", POET_REPORT_BIN},
-    {"poet-curves", POET_CURVES_BIN},           {"poet-worker", POET_WORKER_BIN},   {"poetctl", POETCTL_BIN}};
+    {"poet-coordinator", POET_COORDINATOR_BIN}, {"poet-rollout", POET_ROLLOUT_BIN},    {"poet-eval", POET_EVAL_BIN},
+    {"poet-fidelity", POET_FIDELITY_BIN},       {"poet-lineage", POET_LINEAGE_BIN},    {"poet-report", POET_REPORT_BIN},
+    {"poet-curves", POET_CURVES_BIN},           {"poet-worker", POET_WORKER_BIN},      {"poetctl", POETCTL_BIN},
+    {"poet-controls", POET_CONTROLS_BIN},       {"poet-reference", POET_REFERENCE_BIN}};
+// The build tool that writes schema_defaults.h, which the simulation waits for: the same command line without
+// --fingerprint (which needs the simulation).
+const Tool kBuildTool = {"poet-schema-defaults", POET_SCHEMA_DEFAULTS_BIN};
 
 using Outcome = poet::testing::ChildOutcome;
 
@@ -59,6 +65,32 @@ TEST_F(ToolsProcessTest, UnknownFlagExitsTwo) {
     const Outcome o = run(tool.path, {"--no-such-flag"}, tool.name);
     EXPECT_EQ(o.code, 2) << tool.name << "\n" << o.err;
     EXPECT_FALSE(o.err.empty()) << tool.name;
+  }
+}
+
+TEST_F(ToolsProcessTest, VersionPrintsTheBinarysNameAndTheProjectsVersion) {
+  std::vector<Tool> tools(std::begin(kTools), std::end(kTools));
+  tools.push_back(kBuildTool);
+  for (const Tool& tool : tools) {
+    const Outcome o = run(tool.path, {"--version"}, tool.name);
+    EXPECT_EQ(o.code, 0) << tool.name << "\n" << o.err;
+    EXPECT_EQ(o.out, std::string(tool.name) + " " + poet::project_version() + "\n") << tool.name;
+    EXPECT_EQ(o.err, "") << tool.name;
+  }
+}
+
+// What poet-reference cli reads: every binary's command line as JSON, with its name, even where options are required.
+TEST_F(ToolsProcessTest, HelpJsonPrintsTheCommandLine) {
+  std::vector<Tool> tools(std::begin(kTools), std::end(kTools));
+  tools.push_back(kBuildTool);
+  for (const Tool& tool : tools) {
+    const Outcome o = run(tool.path, {"--help-json"}, tool.name);
+    ASSERT_EQ(o.code, 0) << tool.name << "\n" << o.err;
+    const nlohmann::json json = nlohmann::json::parse(o.out, nullptr, /*allow_exceptions=*/false);
+    ASSERT_TRUE(json.is_object()) << tool.name << "\n" << o.out;
+    EXPECT_EQ(json["name"], tool.name);
+    EXPECT_FALSE(json["description"].get<std::string>().empty()) << tool.name;
+    EXPECT_FALSE(json["options"].empty()) << tool.name;
   }
 }
 

@@ -77,6 +77,33 @@ const Section* section_of(std::string_view message) {
   return nullptr;
 }
 
+// The schema's comments cite the behavioural specification the project was written from ("spec §3.1"), which is no
+// page of the site: the page cites the paper instead, Table 1 by name (spec §1.4 is the paper's §4.3, Table 1).
+std::string cited(std::string_view text) {
+  constexpr std::string_view kSpec = "spec §";
+  std::string out;
+  size_t at = 0;
+  for (size_t found = text.find(kSpec); found != std::string_view::npos; found = text.find(kSpec, at)) {
+    out += text.substr(at, found - at);
+    size_t end = found + kSpec.size();
+    const auto alnum = [&](size_t i) { return i < text.size() && std::isalnum(static_cast<unsigned char>(text[i])); };
+    while (alnum(end)) ++end;
+    while (end < text.size() && text[end] == '.' && alnum(end + 1)) {
+      ++end;
+      while (alnum(end)) ++end;
+    }
+    const std::string_view section = text.substr(found + kSpec.size(), end - found - kSpec.size());
+    if (text.substr(end).starts_with(" step ") && alnum(end + 6)) {
+      end += 6;
+      while (alnum(end)) ++end;
+    }
+    out += section == "1.4" ? "the paper's Table 1" : "the paper";
+    at = end;
+  }
+  out += text.substr(at);
+  return out;
+}
+
 // Text of a paragraph: angle brackets would open HTML, asterisks emphasis.
 std::string prose(std::string_view text) {
   std::string out;
@@ -317,7 +344,7 @@ Expected<std::string> section_text(const Section& section, const Inputs& in) {
   const protobuf::Descriptor* message = schema_message(section.message);
   if (!message) return Unexpected{std::string(section.message) + ": not in the schema's descriptor set"};
   std::string out = heading_line(section) + "\n\n";
-  const std::string about = schema_comment(*message);
+  const std::string about = cited(schema_comment(*message));
   if (!about.empty()) out += prose(about) + "\n\n";
   out += "| field | type | default (reference) | paper | bounds | meaning |\n";
   out += "|---|---|---|---|---|---|\n";
@@ -325,7 +352,7 @@ Expected<std::string> section_text(const Section& section, const Inputs& in) {
   for (int i = 0; i < message->field_count(); ++i) {
     const protobuf::FieldDescriptor& field = *message->field(i);
     const std::string path = join_path(section.prefix, field.name());
-    std::string meaning = schema_comment(field);
+    std::string meaning = cited(schema_comment(field));
     if (meaning.empty())
       return Unexpected{"proto/poet.proto: " + field.full_name() + " has no comment (the page gives its meaning)"};
     meaning = cell(meaning);
@@ -350,12 +377,12 @@ Expected<std::string> section_text(const Section& section, const Inputs& in) {
     if (field.cpp_type() == protobuf::FieldDescriptor::CPPTYPE_ENUM) {
       const protobuf::EnumDescriptor& e = *field.enum_type();
       enums += "\n" + code(path) + " is a " + e.name() + ".";
-      const std::string enum_about = schema_comment(e);
+      const std::string enum_about = cited(schema_comment(e));
       if (!enum_about.empty()) enums += " " + prose(sentence(enum_about));
       enums += " Its values:\n\n";
       for (int v = 0; v < e.value_count(); ++v) {
         const protobuf::EnumValueDescriptor& value = *e.value(v);
-        const std::string what = schema_comment(value);
+        const std::string what = cited(schema_comment(value));
         if (what.empty())
           return Unexpected{"proto/poet.proto: " + value.full_name() + " has no comment (the page gives its meaning)"};
         enums += "- " + code(value.name()) + " — " + prose(what) + "\n";
@@ -383,7 +410,8 @@ Each section below is one message of the config. Its table gives, for every fiel
 (the reference implementation's value), the paper's value (the preset `paper.textproto`, in bold where it differs
 from the default), the bounds the validator applies (in the words of its error message: a rule worded as a
 refusal, "true contradicts mode ES_ALONE", says what is refused) and the meaning (the field's comment in
-`proto/poet.proto`).
+`proto/poet.proto`). "The paper" is the POET paper (Wang, Lehman, Clune and Stanley, GECCO 2019, arXiv:1901.01753,
+with its supplement); "the reference" is the authors' implementation (uber-research/poet, branch `original_poet`).
 
 )";
 }
@@ -443,11 +471,14 @@ Expected<std::string> environments_intro() {
          "). An error names the field inside the target: `es_alone.target." + refused.error() + "`.\n\n";
 }
 
-// The comment block at the head of a preset, without the proto-file and proto-message lines.
-std::string preset_comment(const std::string& text) {
-  std::string out;
-  size_t start = 0;
-  while (start < text.size()) {
+// A preset made from another says so in a header line, "# derives-from: quick.textproto"; the page then lists the
+// fields where the two differ, computed from both files, so that what the comment says of the pair can be checked.
+constexpr std::string_view kDerivesFrom = "derives-from:";
+
+// The lines of the comment block at the head of a preset, each without its "#" and one space after it.
+std::vector<std::string_view> header_lines(const std::string& text) {
+  std::vector<std::string_view> lines;
+  for (size_t start = 0; start < text.size();) {
     size_t end = text.find('\n', start);
     if (end == std::string::npos) end = text.size();
     std::string_view line(text.data() + start, end - start);
@@ -455,7 +486,30 @@ std::string preset_comment(const std::string& text) {
     if (!line.starts_with("#")) break;
     line.remove_prefix(1);
     if (line.starts_with(" ")) line.remove_prefix(1);
-    if (line.starts_with("proto-file:") || line.starts_with("proto-message:")) continue;
+    lines.push_back(line);
+  }
+  return lines;
+}
+
+// The preset a preset's header names in its derives-from line ("" when none).
+std::string derived_from(const std::string& text) {
+  for (std::string_view line : header_lines(text)) {
+    while (line.starts_with(" ")) line.remove_prefix(1);
+    if (!line.starts_with(kDerivesFrom)) continue;
+    line.remove_prefix(kDerivesFrom.size());
+    while (line.starts_with(" ")) line.remove_prefix(1);
+    while (line.ends_with(" ")) line.remove_suffix(1);
+    return std::string(line);
+  }
+  return "";
+}
+
+// The comment block at the head of a preset, without the proto-file, proto-message and derives-from lines.
+std::string preset_comment(const std::string& text) {
+  std::string out;
+  for (std::string_view line : header_lines(text)) {
+    if (line.starts_with("proto-file:") || line.starts_with("proto-message:") || line.starts_with(kDerivesFrom))
+      continue;
     if (line.empty()) {
       if (!out.empty() && !out.ends_with("\n\n")) out += "\n\n";
       continue;
@@ -470,6 +524,7 @@ std::string preset_comment(const std::string& text) {
 struct Preset {
   std::string name;  // file name
   std::string comment;
+  std::string base;  // the preset it derives from ("" when none)
   std::vector<std::pair<std::string, std::string>> leaves;
 };
 
@@ -486,18 +541,52 @@ Expected<std::vector<Preset>> read_presets(const std::filesystem::path& dir) {
     if (!config) return Unexpected{config.error()};
     const Expected<std::string> text = read_text_file(file, kMaxRunConfigBytes);
     if (!text) return Unexpected{file.string() + ": " + text.error()};
-    Preset preset{file.filename().string(), preset_comment(*text), {}};
+    Preset preset{file.filename().string(), preset_comment(*text), derived_from(*text), {}};
     set_leaves(*config, "", preset.leaves);
     presets.push_back(std::move(preset));
   }
+  for (const Preset& preset : presets) {
+    if (preset.base.empty()) continue;
+    const bool known =
+        std::any_of(presets.begin(), presets.end(), [&](const Preset& p) { return p.name == preset.base; });
+    if (!known || preset.base == preset.name)
+      return Unexpected{(dir / preset.name).string() + ": derives-from names " + preset.base +
+                        ", which is no other preset of " + dir.string()};
+  }
   return presets;
+}
+
+// A preset's value of every leaf either sets, the default where it sets none ("—" for a target's gene it lacks).
+std::map<std::string, std::string> values_with_defaults(const Preset& preset,
+                                                        const std::vector<std::pair<std::string, std::string>>& other) {
+  std::map<std::string, std::string> values(preset.leaves.begin(), preset.leaves.end());
+  for (const auto& [path, value] : other)
+    if (!values.contains(path)) values[path] = default_at(path).value_or("—");
+  return values;
+}
+
+// The fields where a preset differs from the one it derives from, as a table: computed, never written by hand.
+std::string differences_text(const Preset& preset, const Preset& base) {
+  const std::map<std::string, std::string> ours = values_with_defaults(preset, base.leaves);
+  const std::map<std::string, std::string> theirs = values_with_defaults(base, preset.leaves);
+  std::string rows;
+  for (const auto& [path, value] : ours) {
+    const std::string& other = theirs.at(path);
+    if (value != other) rows += "| " + code(path) + " | " + code(value) + " | " + code(other) + " |\n";
+  }
+  const std::string head = "It derives from [" + base.name + "](#" + slug(base.name) + ")";
+  if (rows.empty()) return head + " and differs from it in no field.\n\n";
+  return head + "; where the two differ (computed from both files):\n\n| field | " + preset.name + " | " + base.name +
+         " |\n|---|---|---|\n" + rows + "\n";
 }
 
 std::string presets_text(const std::vector<Preset>& presets) {
   std::string out =
       "## Presets — what each file changes\n\n"
       "The presets of `deploy/configs/`, each with its own comment and the fields whose value differs from the "
-      "default (a preset may write out more, as `paper.textproto` writes every field), and a target's every gene.\n\n";
+      "default (a preset may write out more, as `paper.textproto` writes every field), and a target's every gene. A "
+      "preset made from another (its header's `derives-from:` line) lists the fields where the two differ, "
+      "computed from both files.\n\n";
   for (const Preset& preset : presets) {
     out += "### " + preset.name + "\n\n";
     // the file's own comment, quoted: it speaks of the file ("each difference is named below" means its lines)
@@ -523,6 +612,11 @@ std::string presets_text(const std::vector<Preset>& presets) {
       out += "It changes no default.\n\n";
     } else {
       out += "| field | value | default |\n|---|---|---|\n" + rows + "\n";
+    }
+    if (!preset.base.empty()) {
+      const auto base =
+          std::find_if(presets.begin(), presets.end(), [&](const Preset& p) { return p.name == preset.base; });
+      out += differences_text(preset, *base);
     }
   }
   return out;
@@ -556,6 +650,12 @@ Expected<std::string> config_reference_page(const std::filesystem::path& configs
   }
   page += presets_text(*presets);
   while (page.ends_with("\n\n")) page.pop_back();
+  // the specification the project was written from is no page of the site: the page cites the paper (cited())
+  for (const std::string_view off_site : {"spec §", "spec/"})
+    if (const size_t at = page.find(off_site); at != std::string::npos)
+      return Unexpected{"the page cites " + std::string(off_site) + "… (\"" + page.substr(at, 40) +
+                        "\"), which is no page of the site: cite the paper or a page (a preset's comment, or the "
+                        "schema's through cited())"};
   return page;
 }
 

@@ -3,6 +3,7 @@
 //   poet-reference config --configs deploy/configs [--out docs/reference/config.md]
 //   poet-reference http --examples docs/reference/examples [--out docs/reference/http.md]
 //   poet-reference metrics [--out docs/reference/metrics.md]
+//   poet-reference cli --binaries build [--out docs/reference/cli.md]
 // tests/docs/check_reference_pages.py regenerates every page and fails when a committed one differs.
 
 #include <CLI/CLI.hpp>
@@ -14,6 +15,7 @@
 #include "common/plumbing/expected.h"
 #include "common/plumbing/text_file.h"
 #include "common/program/tool_flags.h"
+#include "tools/reference/cli_reference.h"
 #include "tools/reference/config_reference.h"
 #include "tools/reference/status_reference.h"
 
@@ -31,20 +33,28 @@ struct Page {
 
 std::function<Expected<std::string>()> add_config_page(CLI::App& command) {
   auto configs = std::make_shared<std::string>();
-  command.add_option("--configs", *configs, "Directory of the presets (*.textproto, with paper.textproto)")
-      ->required();
+  command.add_option("--configs", *configs, "Directory of the presets (*.textproto, with paper.textproto)")->required();
   return [configs] { return poet::config_reference_page(*configs); };
 }
 
 std::function<Expected<std::string>()> add_http_page(CLI::App& command) {
   auto examples = std::make_shared<std::string>();
-  command.add_option("--examples", *examples, "Directory of the example answers (docs/reference/examples)")
-      ->required();
+  command.add_option("--examples", *examples, "Directory of the example answers (docs/reference/examples)")->required();
   return [examples] { return poet::http_reference_page(*examples); };
 }
 
 std::function<Expected<std::string>()> add_metrics_page(CLI::App&) {
   return [] { return Expected<std::string>(poet::metrics_reference_page()); };
+}
+
+std::function<Expected<std::string>()> add_cli_page(CLI::App& command) {
+  auto binaries = std::make_shared<std::string>();
+  command
+      .add_option("--binaries", *binaries,
+                  "A build tree (each binary in its folder: coordinator/, worker/, tools/, proto/) or a folder of "
+                  "installed binaries")
+      ->required();
+  return [binaries] { return poet::cli_reference_page(*binaries); };
 }
 
 const std::vector<Page>& pages() {
@@ -55,6 +65,8 @@ const std::vector<Page>& pages() {
        add_http_page},
       {"metrics", "The metrics of /metrics: every family with its type, labels and HELP, and PromQL examples",
        add_metrics_page},
+      {"cli", "Every binary's command line: each option with its type, default and meaning, and the subcommands",
+       add_cli_page},
   };
   return kPages;
 }
@@ -63,7 +75,7 @@ int run_tool(int argc, char** argv) {
   CLI::App app{"The reference pages of the documentation site, generated from the code"};
   app.require_subcommand(1);
   std::string out;
-  app.add_option("--out", out, "Write the page to this file (atomically) instead of standard output")
+  app.add_option("--out", out, "Write the page to this file (atomically) instead of standard output (default: none)")
       ->option_text("FILE");
   app.fallthrough();
   poet::add_fingerprint_flag(app);

@@ -201,7 +201,7 @@ void http_intro(std::string& out) {
       "(`int64`, `uint64`) are JSON strings (`\"rollouts\": \"123456\"`), since a JSON number loses precision "
       "beyond 2^53; 32-bit integers and doubles are JSON numbers. An absent pair id or iteration is -1.\n\n"
       "The example answers below, one for each route, are a real run's, `poet-coordinator --config "
-      "deploy/configs/quick.textproto --run-dir /tmp/h2-run --local-workers 2 --start-from "
+      "deploy/configs/quick.textproto --run-dir out/quick-capture --local-workers 2 --start-from "
       "data/walkers/flat-walker.json --iterations 6 --status-address 127.0.0.1:0`, taken at iteration 5 by "
       "`python3 docs/reference/examples/capture.py 127.0.0.1:PORT --at-iteration 5` (PORT from the log's `status:` "
       "line), the one way to refresh them: it indents the JSON answers and cuts their lists to three entries, keeps "

@@ -5,26 +5,11 @@
 #include <string>
 #include <vector>
 
+#include "command_args.h"
 #include "common/program/build_fingerprint.h"
 
 namespace poet {
 namespace {
-
-// argv for parse_command_line: the program name, then `args`. Owns the strings.
-class Args {
- public:
-  explicit Args(std::vector<std::string> args) : strings_(std::move(args)) {
-    strings_.insert(strings_.begin(), "poet-test");
-    for (std::string& s : strings_) argv_.push_back(s.data());
-    argv_.push_back(nullptr);
-  }
-  int argc() const { return static_cast<int>(strings_.size()); }
-  char** argv() { return argv_.data(); }
-
- private:
-  std::vector<std::string> strings_;
-  std::vector<char*> argv_;
-};
 
 // A tool's command line: the walker flags, --fingerprint and one required option.
 struct Tool {
@@ -39,7 +24,7 @@ struct Tool {
   }
 
   std::optional<int> parse(std::vector<std::string> args) {
-    Args a(std::move(args));
+    testing::CommandArgs a("poet-test", std::move(args));
     return parse_command_line(app, a.argc(), a.argv());
   }
 };
@@ -61,9 +46,9 @@ TEST(ToolFlags, BadCommandLinesExitTwoWithCli11sMessage) {
   };
   for (const auto& args : bad) {
     Tool tool;
-    testing::internal::CaptureStderr();
+    ::testing::internal::CaptureStderr();
     const std::optional<int> code = tool.parse(args);
-    const std::string err = testing::internal::GetCapturedStderr();
+    const std::string err = ::testing::internal::GetCapturedStderr();
     EXPECT_EQ(code, kExitUsage) << args.back();
     EXPECT_FALSE(err.empty()) << args.back();
   }
@@ -72,9 +57,9 @@ TEST(ToolFlags, BadCommandLinesExitTwoWithCli11sMessage) {
 
 TEST(ToolFlags, HelpExitsZero) {
   Tool tool;
-  testing::internal::CaptureStdout();
+  ::testing::internal::CaptureStdout();
   const std::optional<int> code = tool.parse({"--help"});
-  const std::string out = testing::internal::GetCapturedStdout();
+  const std::string out = ::testing::internal::GetCapturedStdout();
   EXPECT_EQ(code, 0);
   EXPECT_NE(out.find("--push-scale"), std::string::npos) << out;
   EXPECT_NE(out.find("--fingerprint"), std::string::npos) << out;
@@ -82,9 +67,9 @@ TEST(ToolFlags, HelpExitsZero) {
 
 TEST(ToolFlags, FingerprintPrintsItAndExitsZeroWithoutRequiredOptions) {
   Tool tool;
-  testing::internal::CaptureStdout();
+  ::testing::internal::CaptureStdout();
   const std::optional<int> code = tool.parse({"--fingerprint"});
-  const std::string out = testing::internal::GetCapturedStdout();
+  const std::string out = ::testing::internal::GetCapturedStdout();
   EXPECT_EQ(code, 0);
   EXPECT_EQ(out, build_fingerprint());
 }

@@ -19,6 +19,7 @@
 
 #include "common/formats/envgen/env_json.h"
 #include "common/formats/policy/policy_file.h"
+#include "common/program/command_line.h"
 #include "run_directory/config/run_config.h"
 #include "run_directory/files/annecs_log.h"
 #include "run_directory/files/checkpoint.h"
@@ -158,6 +159,8 @@ TEST_F(RunDirectoryTest, CreateAndSaveWriteTheFiles) {
   checkpoint.clear_stats_bytes();
   checkpoint.clear_events_crc32();
   checkpoint.clear_stats_crc32();
+  EXPECT_EQ(checkpoint.written_by(), project_version());
+  checkpoint.clear_written_by();
   EXPECT_EQ(checkpoint.SerializeAsString(), to_checkpoint(small_config(), state).SerializeAsString());
   for (const Pair& pair : state.pairs) {
     const std::string stem = "pair-" + std::to_string(pair.id);

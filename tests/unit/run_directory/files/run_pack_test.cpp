@@ -21,15 +21,19 @@
 #include "common/program/build_fingerprint.h"
 #include "coordinator/evaluator/local_evaluator.h"
 #include "engine/engine.h"
+#include "pack_with_checkpoint.h"
 #include "run_directory/files/checkpoint_file.h"
 #include "run_directory/files/run_directory.h"
 #include "run_directory/files/wall_times.h"
+#include "run_files.h"
 #include "scratch_dir.h"
 
 namespace poet {
 namespace {
 
 namespace fs = std::filesystem;
+using testing::pack_with_checkpoint;
+using testing::run_files;
 
 std::string read(const fs::path& path) {
   std::ifstream in(path, std::ios::binary);
@@ -37,18 +41,6 @@ std::string read(const fs::path& path) {
 }
 
 bool contains(const std::string& text, std::string_view part) { return text.find(part) != std::string::npos; }
-
-// Every file under dir, by its relative path (run.lock's pid and the machine's wall times aside).
-std::map<std::string, std::string> run_files(const fs::path& dir) {
-  std::map<std::string, std::string> files;
-  for (const auto& entry : fs::recursive_directory_iterator(dir)) {
-    if (!entry.is_regular_file()) continue;
-    const std::string name = fs::relative(entry.path(), dir).string();
-    if (name == "run.lock" || name == kWallTimesFile) continue;
-    files[name] = read(entry.path());
-  }
-  return files;
-}
 
 constexpr int kIterations = 6;
 
@@ -258,20 +250,6 @@ TEST_F(RunPackTest, PackingAChangedOrMissingRunIsAClearError) {
 namespace poet {
 namespace {
 
-// The pack's bytes with its checkpoint changed by `change` (the entry re-encoded; the logs stay as they were).
-std::string with_checkpoint(const std::string& pack, const std::function<void(pb::Checkpoint&)>& change) {
-  Expected<PackSummary> decoded = decode_pack(pack);
-  EXPECT_TRUE(decoded) << decoded.error();
-  for (PackEntry& entry : decoded->entries) {
-    if (entry.name != kCheckpointFile) continue;
-    Expected<pb::Checkpoint> checkpoint = decode_checkpoint_file(entry.content);
-    EXPECT_TRUE(checkpoint) << checkpoint.error();
-    change(*checkpoint);
-    entry.content = encode_checkpoint_file(*checkpoint);
-  }
-  return encode_pack(decoded->entries);
-}
-
 // A checkpoint records the arithmetic of the process that wrote it; a pack written before the project computed its
 // own math (no digest), or by a machine that computes differently, is refused for computing before anything is
 // written, and a restored run directory likewise; for reading (poetctl unpack) both are restored and opened.
@@ -293,7 +271,7 @@ TEST_F(RunPackTest, APackOfOtherArithmeticIsRefusedForComputingAndRestoredForRea
   };
   for (const Case& c : cases) {
     const fs::path file = root_ / (std::string(c.name) + ".pack");
-    std::ofstream(file, std::ios::binary) << with_checkpoint(pack, c.change);
+    std::ofstream(file, std::ios::binary) << pack_with_checkpoint(pack, c.change);
     const Expected<PackSummary> refused = restore_run_pack(file, root_ / c.name);
     ASSERT_FALSE(refused) << c.name;
     EXPECT_TRUE(contains(refused.error(), c.says)) << refused.error();
