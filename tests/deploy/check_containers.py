@@ -304,6 +304,11 @@ def check_image(args):
     expect(label == project_version(args.source),
            f"the image's org.opencontainers.image.version is {label!r}, CMakeLists.txt's version "
            f"{project_version(args.source)}")
+    # the licences travel with the binaries: the project's, and Box2D's, which they contain
+    licences = run(["docker", "run", "--rm", "--entrypoint", "ls", tag, "/usr/share/doc/poet",
+                    "/usr/share/doc/poet/box2d"], check=False)
+    expect(licences.returncode == 0 and all(name in licences.stdout.split() for name in ("LICENSE", "NOTICE")),
+           f"the image lacks /usr/share/doc/poet/LICENSE, NOTICE or box2d/LICENSE:\n{licences.stdout}{licences.stderr}")
     size = int(run(["docker", "image", "inspect", "--format", "{{.Size}}", tag]).stdout)
     volumes = run(["docker", "image", "inspect", "--format", "{{json .Config.Volumes}}", tag]).stdout.strip()
     expect(volumes in ("null", "{}"), f"the image declares volumes {volumes}: every container would get one")
