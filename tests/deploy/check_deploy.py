@@ -379,6 +379,11 @@ def flag_in_help(flag, text):
     return re.search(r"(^|[\s,])" + re.escape(flag) + r"($|[\s,=])", text, re.MULTILINE) is not None
 
 
+# Where deploy/install-deps.sh --build puts the sources it fetches (third_party/box2d/fetch-source.sh), in the
+# image's build stage as on this machine.
+FETCHED_SOURCES = "/usr/local/src/poet"
+
+
 class Image:
     """The image's file system as seen from this machine: binaries in the build tree, files in the repository."""
 
@@ -395,7 +400,13 @@ class Image:
         self.copied_binaries = {}  # name -> image path
         by_relative = {binaries.relative(n): n for n in binaries.paths}
         for image_path, source, origin in self.dockerfile.image_map(source_dir):
-            if origin.startswith("build:"):
+            if origin.startswith("build:") and source.startswith(FETCHED_SOURCES + "/"):
+                # a file of the sources install-deps.sh --build fetches (Box2D's licence): the same path here
+                found = sorted(glob.glob(source))
+                if check.expect(found, f"Dockerfile copies {source} from the build stage, and no such file is "
+                                       f"here (deploy/install-deps.sh --build fetches {FETCHED_SOURCES})"):
+                    self.map.append((image_path, found[-1], "build"))
+            elif origin.startswith("build:"):
                 rel = os.path.relpath(source, self.build_tree) if self.build_tree else source
                 name = by_relative.get(rel)
                 if check.expect(name is not None and not rel.startswith(".."),
