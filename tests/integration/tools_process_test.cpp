@@ -68,10 +68,15 @@ TEST_F(ToolsProcessTest, UnknownFlagExitsTwo) {
   }
 }
 
-TEST_F(ToolsProcessTest, VersionPrintsTheBinarysNameAndTheProjectsVersion) {
+// The tools and the build tool: every binary that parses its command line through common/program.
+std::vector<Tool> every_binary() {
   std::vector<Tool> tools(std::begin(kTools), std::end(kTools));
   tools.push_back(kBuildTool);
-  for (const Tool& tool : tools) {
+  return tools;
+}
+
+TEST_F(ToolsProcessTest, VersionPrintsTheBinarysNameAndTheProjectsVersion) {
+  for (const Tool& tool : every_binary()) {
     const Outcome o = run(tool.path, {"--version"}, tool.name);
     EXPECT_EQ(o.code, 0) << tool.name << "\n" << o.err;
     EXPECT_EQ(o.out, std::string(tool.name) + " " + poet::project_version() + "\n") << tool.name;
@@ -81,9 +86,7 @@ TEST_F(ToolsProcessTest, VersionPrintsTheBinarysNameAndTheProjectsVersion) {
 
 // What poet-reference cli reads: every binary's command line as JSON, with its name, even where options are required.
 TEST_F(ToolsProcessTest, HelpJsonPrintsTheCommandLine) {
-  std::vector<Tool> tools(std::begin(kTools), std::end(kTools));
-  tools.push_back(kBuildTool);
-  for (const Tool& tool : tools) {
+  for (const Tool& tool : every_binary()) {
     const Outcome o = run(tool.path, {"--help-json"}, tool.name);
     ASSERT_EQ(o.code, 0) << tool.name << "\n" << o.err;
     const nlohmann::json json = nlohmann::json::parse(o.out, nullptr, /*allow_exceptions=*/false);
