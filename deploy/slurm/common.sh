@@ -46,6 +46,27 @@ poet_start_from() {
   esac
 }
 
+# The seconds of a SLURM time limit in --time's formats (M, M:S, H:M:S, D-H, D-H:M, D-H:M:S); nothing for no limit
+# (INFINITE, UNLIMITED, -1); status 1 for anything else.
+poet_time_seconds() {
+  local t=$1 d=0 h=0 m=0 s=0
+  case $t in
+  INFINITE | UNLIMITED | infinite | unlimited | -1) return 0 ;;
+  esac
+  if [[ $t =~ ^([0-9]+)-([0-9]+)(:([0-9]+)(:([0-9]+))?)?$ ]]; then
+    d=${BASH_REMATCH[1]} h=${BASH_REMATCH[2]} m=${BASH_REMATCH[4]:-0} s=${BASH_REMATCH[6]:-0}
+  elif [[ $t =~ ^([0-9]+)$ ]]; then
+    m=${BASH_REMATCH[1]}
+  elif [[ $t =~ ^([0-9]+):([0-9]+)$ ]]; then
+    m=${BASH_REMATCH[1]} s=${BASH_REMATCH[2]}
+  elif [[ $t =~ ^([0-9]+):([0-9]+):([0-9]+)$ ]]; then
+    h=${BASH_REMATCH[1]} m=${BASH_REMATCH[2]} s=${BASH_REMATCH[3]}
+  else
+    return 1
+  fi
+  echo $((((10#$d * 24 + 10#$h) * 60 + 10#$m) * 60 + 10#$s))
+}
+
 # The CURVE keys, made once: the coordinator's pair and one worker pair, authorised (every worker of the run holds
 # it). A lock keeps two jobs starting at once from making two.
 poet_keys() {

@@ -24,7 +24,7 @@ POET_TIME=${POET_TIME:-24:00:00}
 POET_PARTITION=${POET_PARTITION:-}
 # Seconds before the time limit the coordinator is asked to stop at the next iteration boundary (SIGUSR1). It must
 # cover the longest iteration (a transfer round: docs/slurm.md says how long) and the start-up; SLURM may send the
-# warning up to a minute early.
+# warning up to a minute early, so POET_TIME must exceed it by more than a minute (submit.sh refuses less).
 POET_STOP_LEAD=${POET_STOP_LEAD:-600}
 # Anything else sbatch needs on this cluster (an account, a QOS), as words: POET_SBATCH_ARGS="--account=abc123".
 POET_SBATCH_ARGS=${POET_SBATCH_ARGS:-}

@@ -30,6 +30,15 @@ mkdir -p "$logs"
 
 case $what in
 run)
+  # SLURM checks limits about every 30 s, so its warning may come up to a minute before the lead: a limit within a
+  # minute of the lead could see it as the job starts, before the batch script can take it (the job then fails
+  # to launch).
+  limit=$(poet_time_seconds "$POET_TIME") ||
+    die "POET_TIME=$POET_TIME is no SLURM time limit (minutes, M:S, H:M:S, D-H, D-H:M or D-H:M:S)"
+  [[ $POET_STOP_LEAD =~ ^[0-9]+$ ]] || die "POET_STOP_LEAD=$POET_STOP_LEAD is no number of seconds"
+  if [ -n "$limit" ] && [ "$limit" -le $((10#$POET_STOP_LEAD + 60)) ]; then
+    die "POET_TIME=$POET_TIME ($limit s) leaves no minute beyond POET_STOP_LEAD=$POET_STOP_LEAD s: SLURM may send its warning up to a minute early, as the job starts; give a longer limit or a shorter lead"
+  fi
   # component 0: the coordinator (one task; its threads run the dispatch and the checkpoint); component 1: the
   # workers, a process a core. Options before the first `:` are the job's as a whole (SLURM takes --time,
   # --signal and --requeue from there).
