@@ -1,13 +1,11 @@
 #!/usr/bin/env bash
 # Installs the dependencies (if missing) and builds everything into build/ (Release). Idempotent.
 #   deploy/build.sh --image [TAG]   instead builds the image (deploy/Dockerfile, default tag poet), labelled with
-#                                   the version of CMakeLists.txt's project() line
+#                                   the project's version
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 if [[ ${1:-} == --image ]]; then
-  version=$(sed -n 's/^project(poet VERSION \([0-9.]*\).*/\1/p' "$root/CMakeLists.txt")
-  exec docker build --network host -f "$root/deploy/Dockerfile" --build-arg POET_VERSION="$version" \
-       -t "${2:-poet}" "$root"
+  exec docker build --network host -f "$root/deploy/Dockerfile" -t "${2:-poet}" "$root"
 fi
 bash "$root/deploy/install-deps.sh"
 # POET_REFERENCE_DIR in the environment: the optional reference data for the alignment tests (tests/README.md)
